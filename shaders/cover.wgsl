@@ -1,0 +1,101 @@
+// Coverage (paper §3.2, second half of S2). CPU mirror: src/sampler/cpu/cover.rs.
+//
+// One thread per survivor walks the rows of its reach; each row's span comes
+// from an exact integer square root, and the bits of the coverage map are set
+// a word at a time with atomicOr.
+
+@group(0) @binding(0) var<uniform> cfg: Config;
+@group(0) @binding(1) var<storage, read> survivors: array<Dart>;
+@group(0) @binding(2) var<storage, read> survivor_count: array<u32>;
+@group(0) @binding(3) var<storage, read_write> coverage: array<atomic<u32>>;
+@group(0) @binding(4) var radius_map: texture_2d<u32>;
+
+fn radius_at(x: u32, y: u32) -> u32 {
+    if cfg.uniform_radius != 0u {
+        return cfg.uniform_radius;
+    }
+    return textureLoad(radius_map, vec2<i32>(i32(x), i32(y)), 0).x;
+}
+
+// The largest d with d * d <= m.
+fn isqrt64(m: vec2<u32>) -> u32 {
+    var d = u32(sqrt(f32(m.y) * 4294967296.0 + f32(m.x)));
+    while lt64(m, mul_wide(d, d)) {
+        d -= 1u;
+    }
+    while !lt64(m, mul_wide(d + 1u, d + 1u)) {
+        d += 1u;
+    }
+    return d;
+}
+
+fn wrap(q: i32, n: u32) -> i32 {
+    let m = i32(n);
+    return ((q % m) + m) % m;
+}
+
+@compute @workgroup_size(256)
+fn cover(
+    @builtin(workgroup_id) wg: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) local: u32,
+) {
+    let k = thread_index(wg, groups, local);
+    if k >= survivor_count[0] {
+        return;
+    }
+    let s = survivors[k];
+    var reach = s.radius;
+    if cfg.policy == POLICY_CURRENT || cfg.policy == POLICY_BIGGER {
+        reach = max(s.radius, cfg.max_radius);
+    }
+    let r = i32(reach << (POS_FRAC_BITS - RADIUS_FRAC_BITS));
+    let cx = i32(s.x);
+    let cy = i32(s.y);
+    let periodic = cfg.period_x != 0u;
+    let y0 = -((-(cy - r + 1 - 128)) >> 8u);
+    let y1 = (cy + r - 1 - 128) >> 8u;
+    for (var qy = y0; qy <= y1; qy++) {
+        var y = qy;
+        if periodic {
+            y = wrap(qy, cfg.height);
+        } else if qy < 0 || qy >= i32(cfg.height) {
+            continue;
+        }
+        let dy = u32(abs(qy * 256 + 128 - cy));
+        let m = sub64(sub64(mul_wide(u32(r), u32(r)), mul_wide(dy, dy)), vec2<u32>(1u, 0u));
+        let dx_max = i32(isqrt64(m));
+        let x0 = -((-(cx - dx_max - 128)) >> 8u);
+        let x1 = (cx + dx_max - 128) >> 8u;
+        var word = 0xffffffffu;
+        var mask = 0u;
+        for (var qx = x0; qx <= x1; qx++) {
+            var x = qx;
+            if periodic {
+                x = wrap(qx, cfg.width);
+            } else if qx < 0 || qx >= i32(cfg.width) {
+                continue;
+            }
+            var covered = cfg.policy == POLICY_PRIOR;
+            if !covered {
+                let dx = u32(abs(qx * 256 + 128 - cx));
+                let f = coverage_radius(cfg.policy, s.radius, radius_at(u32(x), u32(y)));
+                covered = inside(dx, dy, f);
+            }
+            if covered {
+                let p = u32(y) * cfg.width + u32(x);
+                if (p >> 5u) != word {
+                    if mask != 0u {
+                        atomicOr(&coverage[word], mask);
+                    }
+                    word = p >> 5u;
+                    mask = 0u;
+                }
+                mask |= 1u << (p & 31u);
+            }
+        }
+        if mask != 0u {
+            atomicOr(&coverage[word], mask);
+        }
+    }
+}

@@ -1,0 +1,233 @@
+//! `pixelpie sample`: headless export of maximal Poisson-disk point sets.
+
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use anyhow::{Context, Result, bail};
+use clap::Args;
+use indicatif::{ProgressBar, ProgressStyle};
+use serde::Serialize;
+
+use pixelpie::backend::{self, BackendChoice};
+use pixelpie::count;
+use pixelpie::io;
+use pixelpie::sampler::{self, Control, Params, Policy, Progress, RadiusMap, SampleSet};
+
+/// Arguments of `pixelpie sample`.
+#[derive(Args, Debug, Serialize)]
+pub struct SampleArgs {
+    /// Domain width in pixels (default: the radius map's).
+    #[arg(long)]
+    width: Option<u32>,
+    /// Domain height in pixels (default: the radius map's).
+    #[arg(long)]
+    height: Option<u32>,
+    /// Disk radius in pixels.
+    #[arg(long, conflicts_with_all = ["points", "radius_map"])]
+    radius: Option<f32>,
+    /// Target point count (±3%): picks the radius, or scales the radius map.
+    #[arg(long)]
+    points: Option<usize>,
+    /// Single-channel float OpenEXR of radii in pixels.
+    #[arg(long)]
+    radius_map: Option<PathBuf>,
+    /// Disk policy for varying radii (paper §3.4).
+    #[arg(long, value_enum, default_value_t = PolicyArg::Prior)]
+    policy: PolicyArg,
+    /// Seed of the dart hash.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Sub-pixel bits per axis of dart positions (0 = pixel centres, at most 7).
+    #[arg(long, default_value_t = sampler::DEFAULT_SUBPIXEL_BITS)]
+    subpixel_bits: u32,
+    /// Darts per iteration (default: half the expected count).
+    #[arg(long)]
+    batch: Option<u32>,
+    /// Wrap distances and disks around the domain (tileable output).
+    #[arg(long)]
+    periodic: bool,
+    /// Backend.
+    #[arg(long, value_enum, default_value_t = BackendChoice::Auto)]
+    backend: BackendChoice,
+    /// Cap on iterations; a capped run is reported as not maximal.
+    #[arg(long, default_value_t = sampler::DEFAULT_MAX_ITERATIONS)]
+    max_iterations: u32,
+    /// Output file: .csv or .json.
+    #[arg(long, short)]
+    output: PathBuf,
+    /// Statistics as JSON.
+    #[arg(long)]
+    stats: Option<PathBuf>,
+    /// No progress bar.
+    #[arg(long, short)]
+    quiet: bool,
+    /// Print the backend and adapter on stderr.
+    #[arg(long, short)]
+    verbose: bool,
+}
+
+/// The disk policy on the command line.
+#[derive(Clone, Copy, Debug, clap::ValueEnum, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum PolicyArg {
+    /// f = r(earlier sample).
+    Prior,
+    /// f = r(later sample).
+    Current,
+    /// f = max of the two.
+    Bigger,
+    /// f = min of the two.
+    Smaller,
+}
+
+impl From<PolicyArg> for Policy {
+    fn from(p: PolicyArg) -> Self {
+        match p {
+            PolicyArg::Prior => Self::Prior,
+            PolicyArg::Current => Self::Current,
+            PolicyArg::Bigger => Self::Bigger,
+            PolicyArg::Smaller => Self::Smaller,
+        }
+    }
+}
+
+/// Checks that a JSON side output has the right extension.
+pub fn check_json_path(path: &Path) -> Result<()> {
+    if path.extension().and_then(|e| e.to_str()) != Some("json") {
+        bail!("statistics file '{}' must end in .json", path.display());
+    }
+    Ok(())
+}
+
+/// A progress bar on stderr, hidden when quiet or not a terminal.
+pub fn progress_bar(quiet: bool) -> ProgressBar {
+    if quiet || !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::new(100);
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} {msg} [{bar:30}] {percent}% covered")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    bar
+}
+
+/// Runs the sampler with a progress bar, on the chosen backend.
+pub fn run_with_progress(
+    params: &Params,
+    choice: BackendChoice,
+    bar: &ProgressBar,
+    verbose: bool,
+) -> Result<SampleSet> {
+    let progress = |p: Progress| {
+        bar.set_position(100 - 100 * p.empty_pixels / p.pixels.max(1));
+        bar.set_message(format!("iteration {}, {} points", p.iteration, p.points));
+    };
+    let ctl = Control {
+        progress: Some(&progress),
+        cancel: None,
+    };
+    let quiet = bar.is_hidden() && !verbose;
+    let set = backend::sample(params, choice, ctl, &mut |msg| {
+        if !quiet || verbose {
+            bar.suspend(|| eprintln!("{msg}"));
+        }
+    })?;
+    if verbose {
+        eprintln!(
+            "backend: {} ({}), {} points in {} iterations, {:.3} s",
+            set.stats.backend, set.stats.device, set.stats.points, set.stats.iterations, set.stats.seconds
+        );
+    }
+    Ok(set)
+}
+
+pub fn run(a: &SampleArgs) -> Result<()> {
+    io::PointFormat::from_path(&a.output)?;
+    if let Some(s) = &a.stats {
+        check_json_path(s)?;
+    }
+    let map = match &a.radius_map {
+        Some(path) => {
+            let (w, h, radii) = io::read_radius_map(path)?;
+            if a.width.is_some_and(|x| x != w) || a.height.is_some_and(|x| x != h) {
+                bail!(
+                    "radius map '{}' is {w}x{h}, not the {}x{} domain asked for",
+                    path.display(),
+                    a.width.unwrap_or(w),
+                    a.height.unwrap_or(h)
+                );
+            }
+            Some((w, h, radii, path))
+        }
+        None => None,
+    };
+    let (width, height) = match &map {
+        Some((w, h, ..)) => (*w, *h),
+        None => match (a.width, a.height) {
+            (Some(w), Some(h)) => (w, h),
+            _ => bail!("--width and --height are needed without a radius map"),
+        },
+    };
+    if map.is_none() && a.radius.is_none() && a.points.is_none() {
+        bail!("give --radius, --points or --radius-map");
+    }
+    let base = Params::new(width, height)
+        .with_policy(a.policy.into())
+        .with_seed(a.seed)
+        .with_subpixel_bits(a.subpixel_bits)
+        .with_periodic(a.periodic)
+        .with_max_iterations(a.max_iterations);
+    let base = match a.batch {
+        Some(b) => base.with_batch(b),
+        None => base,
+    };
+    let make = |scale: f64| -> Result<Params> {
+        Ok(match &map {
+            Some((w, h, radii, path)) => {
+                let scaled: Vec<f32> = radii.iter().map(|&r| (f64::from(r) * scale) as f32).collect();
+                let m = RadiusMap::from_pixels(*w, *h, &scaled)
+                    .with_context(|| format!("radius map '{}'", path.display()))?;
+                base.clone().with_radius_map(Arc::new(m))
+            }
+            None => base.clone().with_radius(scale as f32),
+        })
+    };
+    let bar = progress_bar(a.quiet);
+    let set = match a.points {
+        None => run_with_progress(&make(f64::from(a.radius.unwrap_or(1.0)))?, a.backend, &bar, a.verbose)?,
+        Some(n) => {
+            // Start from the RSA estimate: radius (or map scale) for n points.
+            let expected = make(1.0)?.plan()?.expected_points;
+            let initial = match &map {
+                Some(_) => (expected / n as f64).sqrt(),
+                None => (expected / n.max(1) as f64).sqrt(),
+            };
+            let (_, set, runs) = count::fit_scale(n, initial, |s| {
+                let set = run_with_progress(&make(s)?, a.backend, &bar, a.verbose)?;
+                Ok((set.points.len(), set))
+            })?;
+            if a.verbose {
+                eprintln!("count target {n}: {} points after {runs} runs", set.points.len());
+            }
+            set
+        }
+    };
+    bar.finish_and_clear();
+    io::write_points(&a.output, &set, a)?;
+    if let Some(path) = &a.stats {
+        io::write_atomic(path, |w| {
+            serde_json::to_writer_pretty(&mut *w, &set.stats)?;
+            writeln!(w)?;
+            Ok(())
+        })?;
+    }
+    if !set.maximal && !a.quiet {
+        eprintln!(
+            "warning: stopped after {} iterations before the set was maximal",
+            set.iterations
+        );
+    }
+    Ok(())
+}

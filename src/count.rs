@@ -1,0 +1,45 @@
+//! Point-count targeting: finds the radius scale that yields about N points.
+//!
+//! The count of a maximal set goes as 1/r², so each run corrects the scale by
+//! sqrt(count / target), starting from the RSA density estimate.
+
+use anyhow::{Result, bail};
+
+/// The relative tolerance that `--points` promises.
+pub const COUNT_TOLERANCE: f64 = 0.03;
+/// The most sampler runs a search makes.
+pub const MAX_RUNS: usize = 8;
+
+/// Searches the scale `s` (radii multiply by `s`) for which `run(s)` returns
+/// about `target` points, starting at `initial`. Returns the best scale, its
+/// result and the number of runs made.
+pub fn fit_scale<T>(
+    target: usize,
+    initial: f64,
+    mut run: impl FnMut(f64) -> Result<(usize, T)>,
+) -> Result<(f64, T, usize)> {
+    if target == 0 {
+        bail!("the point count must be positive");
+    }
+    let target_f = target as f64;
+    let mut scale = initial;
+    let mut best: Option<(f64, f64, T)> = None;
+    let mut runs = 0;
+    while runs < MAX_RUNS {
+        runs += 1;
+        let (count, out) = run(scale)?;
+        let err = (count as f64 - target_f).abs() / target_f;
+        let next = scale * (count.max(1) as f64 / target_f).sqrt();
+        if best.as_ref().is_none_or(|b| err < b.1) {
+            best = Some((scale, err, out));
+        }
+        if err <= COUNT_TOLERANCE || next == scale {
+            break;
+        }
+        scale = next;
+    }
+    let Some((scale, _, out)) = best else {
+        bail!("no sampler run was made");
+    };
+    Ok((scale, out, runs))
+}

@@ -1,0 +1,276 @@
+//! The wgpu backend: the paper's pipeline (Figure 3) as compute passes and an
+//! instanced depth-only draw, bit-identical to `sampler::cpu`.
+//!
+//! | paper | here | shader |
+//! |---|---|---|
+//! | S1 dart throwing (geometry + fragment shader) | [`throw`]: compute darts, vertex-pulled instanced quads, depth = key | `throw.wgsl`, `raster.wgsl` |
+//! | S2 conflict removal (transform feedback) | [`cull`]: depth read at each dart, scan, gather | `cull.wgsl` |
+//! | S2 coverage map | [`cover`]: compute rasterization into a coverage bitmap | `cover.wgsl` |
+//! | PP Thrust compaction | [`compact`]: prefix-sum scans | `compact.wgsl` |
+//!
+//! The sampler borrows the caller's `Device` and `Queue` (the app shares
+//! egui's), and keeps its pipelines and buffers across runs.
+
+pub mod compact;
+pub mod cover;
+pub mod cull;
+mod resources;
+pub mod throw;
+pub mod util;
+
+use std::time::Instant;
+
+pub use resources::Resources;
+
+use crate::sampler::fixed::{fx_to_pos, fx_to_radius, iteration_key};
+use crate::sampler::{Control, Error, Params, Plan, Point, Progress, Result, SampleSet, Stats};
+
+/// The run's configuration. Mirrors `struct Config` in `shaders/common.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct Config {
+    width: u32,
+    height: u32,
+    period_x: u32,
+    period_y: u32,
+    policy: u32,
+    subpixel_bits: u32,
+    index_bits: u32,
+    radius_bits: u32,
+    min_radius: u32,
+    max_radius: u32,
+    uniform_radius: u32,
+    iteration_key: u32,
+    empty: u32,
+    darts: u32,
+    first: u32,
+    words: u32,
+}
+
+impl Config {
+    fn new(plan: &Plan) -> Self {
+        let (period_x, period_y) = plan.periods();
+        Self {
+            width: plan.width,
+            height: plan.height,
+            period_x,
+            period_y,
+            policy: plan.policy.index(),
+            subpixel_bits: plan.subpixel_bits,
+            index_bits: plan.layout.index_bits,
+            radius_bits: plan.layout.radius_bits,
+            min_radius: plan.radius_range.0,
+            max_radius: plan.radius_range.1,
+            uniform_radius: if plan.map.is_some() { 0 } else { plan.radius_range.0 },
+            iteration_key: 0,
+            empty: plan.pixels(),
+            darts: 0,
+            first: 1,
+            words: plan.pixels().div_ceil(32),
+        }
+    }
+}
+
+/// A headless device: an adapter, its device and queue.
+pub struct GpuContext {
+    /// The device.
+    pub device: wgpu::Device,
+    /// Its queue.
+    pub queue: wgpu::Queue,
+    /// The adapter's description.
+    pub info: wgpu::AdapterInfo,
+}
+
+impl GpuContext {
+    /// Opens the first high-performance adapter (Vulkan, Metal or DX12 unless
+    /// `WGPU_BACKEND` says otherwise) with its own limits, not the defaults.
+    pub fn new() -> Result<Self> {
+        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
+        if std::env::var_os("WGPU_BACKEND").is_none() {
+            desc.backends = wgpu::Backends::PRIMARY;
+        }
+        let instance = wgpu::Instance::new(desc);
+        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::HighPerformance,
+            ..Default::default()
+        }))
+        .map_err(|e| Error::Gpu(format!("no GPU adapter: {e}")))?;
+        check_adapter(&adapter)?;
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("pixelpie"),
+            required_features: adapter.features() & wgpu::Features::TIMESTAMP_QUERY,
+            required_limits: adapter.limits(),
+            ..Default::default()
+        }))
+        .map_err(|e| Error::Gpu(format!("cannot open the GPU device: {e}")))?;
+        Ok(Self {
+            device,
+            queue,
+            info: adapter.get_info(),
+        })
+    }
+}
+
+/// Refuses adapters that cannot run the pipeline (GL without vertex storage).
+pub fn check_adapter(adapter: &wgpu::Adapter) -> Result<()> {
+    let caps = adapter.get_downlevel_capabilities();
+    let need = wgpu::DownlevelFlags::COMPUTE_SHADERS | wgpu::DownlevelFlags::VERTEX_STORAGE;
+    if !caps.flags.contains(need) {
+        return Err(Error::Gpu(format!(
+            "adapter '{}' lacks compute shaders or vertex storage",
+            adapter.get_info().name
+        )));
+    }
+    Ok(())
+}
+
+/// The GPU sampler: pipelines built once, buffers kept between runs.
+pub struct GpuSampler {
+    throw: throw::ThrowStage,
+    cull: cull::CullStage,
+    cover: cover::CoverStage,
+    compact: compact::CompactStage,
+    resources: Option<Resources>,
+    adapter: String,
+}
+
+impl GpuSampler {
+    /// Compiles the pipelines on `device`; `adapter` names it in the stats.
+    pub fn new(device: &wgpu::Device, adapter: impl Into<String>) -> Result<Self> {
+        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let internal = device.push_error_scope(wgpu::ErrorFilter::Internal);
+        let s = Self {
+            throw: throw::ThrowStage::new(device),
+            cull: cull::CullStage::new(device),
+            cover: cover::CoverStage::new(device),
+            compact: compact::CompactStage::new(device),
+            resources: None,
+            adapter: adapter.into(),
+        };
+        for err in [pollster::block_on(internal.pop()), pollster::block_on(scope.pop())]
+            .into_iter()
+            .flatten()
+        {
+            return Err(Error::Gpu(format!("cannot build the pipelines: {err}")));
+        }
+        Ok(s)
+    }
+
+    /// The adapter's name.
+    pub fn adapter(&self) -> &str {
+        &self.adapter
+    }
+
+    /// Runs the sampler on `device`.
+    pub fn sample(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        params: &Params,
+        ctl: Control<'_>,
+    ) -> Result<SampleSet> {
+        let oom = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let result = self.run(device, queue, params, ctl);
+        let errors = [pollster::block_on(scope.pop()), pollster::block_on(oom.pop())];
+        if let Some(err) = errors.into_iter().flatten().next() {
+            self.resources = None;
+            return Err(Error::Gpu(err.to_string()));
+        }
+        result
+    }
+
+    fn run(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        params: &Params,
+        ctl: Control<'_>,
+    ) -> Result<SampleSet> {
+        let start = Instant::now();
+        let plan = params.plan()?;
+        let limits = device.limits();
+        let max = limits.max_texture_dimension_2d;
+        if plan.width > max || plan.height > max {
+            return Err(Error::Gpu(format!(
+                "the {}x{} domain exceeds the adapter's largest texture, {max}x{max}",
+                plan.width, plan.height
+            )));
+        }
+        let cap = plan.batch.min(plan.pixels()).min(plan.layout.max_batch());
+        let timestamps = device.features().contains(wgpu::Features::TIMESTAMP_QUERY);
+        let fits = self
+            .resources
+            .as_ref()
+            .is_some_and(|r| r.fits(&plan, cap));
+        if !fits {
+            self.resources = None;
+            self.resources = Some(Resources::new(
+                device, queue, &self.throw, &self.cull, &self.cover, &self.compact, &plan, cap, timestamps,
+            )?);
+        }
+        let Some(res) = self.resources.as_ref() else {
+            return Err(Error::Gpu("no resources".into()));
+        };
+        res.upload_map(queue, &plan);
+        let mut config = Config::new(&plan);
+        let mut encoder = device.create_command_encoder(&Default::default());
+        encoder.clear_buffer(&res.coverage, 0, None);
+        queue.submit([encoder.finish()]);
+
+        let mut stats = Stats {
+            backend: "gpu".into(),
+            device: self.adapter.clone(),
+            gpu_timestamps: timestamps,
+            ..Stats::default()
+        };
+        let mut points = Vec::new();
+        let mut iteration = 0;
+        while config.empty > 0 && iteration < plan.max_iterations {
+            let darts = plan.darts_for(config.empty);
+            config.iteration_key = iteration_key(plan.seed_key, iteration);
+            config.darts = darts;
+            queue.write_buffer(&res.config, 0, bytemuck::bytes_of(&config));
+            res.dart_scan.set_len(queue, darts, 0);
+            let step = res.iterate(
+                device,
+                queue,
+                (&self.throw, &self.cull, &self.cover, &self.compact),
+                &plan,
+                darts,
+                timestamps,
+            )?;
+            stats.throw_seconds += step.seconds[0];
+            stats.cull_seconds += step.seconds[1];
+            stats.compact_seconds += step.seconds[2];
+            points.extend(step.survivors.iter().map(|d| Point {
+                x: fx_to_pos(d.x),
+                y: fx_to_pos(d.y),
+                radius: fx_to_radius(d.radius),
+            }));
+            config.empty = step.empty;
+            config.first = 0;
+            iteration += 1;
+            ctl.step(Progress {
+                iteration,
+                points: points.len(),
+                empty_pixels: u64::from(config.empty),
+                pixels: u64::from(plan.pixels()),
+            })?;
+        }
+        let maximal = config.empty == 0;
+        stats.points = points.len();
+        stats.iterations = iteration;
+        stats.maximal = maximal;
+        stats.seconds = start.elapsed().as_secs_f64();
+        stats.bytes_per_pixel = res.bytes() as f64 / f64::from(plan.pixels());
+        Ok(SampleSet {
+            width: plan.width,
+            height: plan.height,
+            points,
+            maximal,
+            iterations: iteration,
+            stats,
+        })
+    }
+}

@@ -1,0 +1,354 @@
+//! The GPU memory of a run, allocated once per domain and reused: darts,
+//! survivors, the depth map, the coverage bitmap, the scans, the radius map
+//! and the read-back buffer; and the encoding of one iteration.
+
+use std::time::Instant;
+
+use super::compact::{CompactStage, ScanChain};
+use super::cover::CoverStage;
+use super::cull::CullStage;
+use super::throw::ThrowStage;
+use super::util;
+use crate::sampler::cpu::throw::Dart;
+use crate::sampler::{Error, Plan, Result};
+
+/// Bytes of the read-back header: empty count, survivor count, padding and
+/// six timestamps.
+const HEADER: u64 = 64;
+const DART_BYTES: u64 = std::mem::size_of::<Dart>() as u64;
+
+/// What one iteration returns.
+pub struct Step {
+    /// Empty pixels after the iteration.
+    pub empty: u32,
+    /// Survivors in dart order.
+    pub survivors: Vec<Dart>,
+    /// Seconds of S1, S2 and PP.
+    pub seconds: [f64; 3],
+}
+
+/// Buffers, textures and bind groups of one domain size.
+pub struct Resources {
+    width: u32,
+    height: u32,
+    has_map: bool,
+    capacity: u32,
+    /// The run's configuration (uniform).
+    pub config: wgpu::Buffer,
+    survivors: wgpu::Buffer,
+    /// The coverage bitmap, one bit per pixel.
+    pub coverage: wgpu::Buffer,
+    words: u32,
+    word_scan: ScanChain,
+    /// The scan of the survivor flags.
+    pub dart_scan: ScanChain,
+    depth: wgpu::TextureView,
+    radius: wgpu::Texture,
+    staging: wgpu::Buffer,
+    queries: Option<(wgpu::QuerySet, wgpu::Buffer)>,
+    throw_group: wgpu::BindGroup,
+    raster_group: wgpu::BindGroup,
+    cull_group: wgpu::BindGroup,
+    cover_group: wgpu::BindGroup,
+    bytes: u64,
+}
+
+impl Resources {
+    /// Allocates everything a `plan` with batches of up to `capacity` darts needs.
+    #[expect(clippy::too_many_arguments, reason = "the four stages and the run's shape")]
+    pub fn new(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        throw: &ThrowStage,
+        cull: &CullStage,
+        cover: &CoverStage,
+        compact: &CompactStage,
+        plan: &Plan,
+        capacity: u32,
+        timestamps: bool,
+    ) -> Result<Self> {
+        use wgpu::BufferUsages as B;
+        let (width, height) = (plan.width, plan.height);
+        let words = plan.pixels().div_ceil(32);
+        let max_binding = u64::from(device.limits().max_storage_buffer_binding_size);
+        let dart_bytes = u64::from(capacity) * DART_BYTES;
+        if dart_bytes > max_binding || 4 * u64::from(words) > max_binding {
+            return Err(Error::Gpu(format!(
+                "the batch of {capacity} darts exceeds the adapter's storage binding size"
+            )));
+        }
+        let config = util::buffer_of(device, "config", 64, B::UNIFORM | B::COPY_DST);
+        let darts = util::buffer_of(device, "darts", dart_bytes, B::STORAGE);
+        let survivors = util::buffer_of(device, "survivors", dart_bytes, B::STORAGE | B::COPY_SRC);
+        let coverage = util::buffer_of(device, "coverage", 4 * u64::from(words), B::STORAGE | B::COPY_DST);
+        let word_scan = ScanChain::new(device, compact, "word scan", words, Some(&coverage));
+        word_scan.set_len(queue, words, plan.pixels());
+        let dart_scan = ScanChain::new(device, compact, "dart scan", capacity, None);
+        let texture = |label, size: (u32, u32), format, usage| {
+            device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size: wgpu::Extent3d {
+                    width: size.0,
+                    height: size.1,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage,
+                view_formats: &[],
+            })
+        };
+        use wgpu::TextureUsages as T;
+        let depth = texture(
+            "depth",
+            (width, height),
+            wgpu::TextureFormat::Depth32Float,
+            T::RENDER_ATTACHMENT | T::TEXTURE_BINDING,
+        );
+        let has_map = plan.map.is_some();
+        let map_size = if has_map { (width, height) } else { (1, 1) };
+        let radius = texture("radius map", map_size, wgpu::TextureFormat::R32Uint, T::TEXTURE_BINDING | T::COPY_DST);
+        let depth = depth.create_view(&Default::default());
+        let radius_view = radius.create_view(&Default::default());
+        let staging = util::buffer_of(device, "read-back", HEADER + dart_bytes, B::MAP_READ | B::COPY_DST);
+        let queries = timestamps.then(|| {
+            let set = device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("stage timestamps"),
+                ty: wgpu::QueryType::Timestamp,
+                count: 6,
+            });
+            let resolve = util::buffer_of(device, "timestamps", 48, B::QUERY_RESOLVE | B::COPY_SRC);
+            (set, resolve)
+        });
+        let tex = wgpu::BindingResource::TextureView;
+        let throw_group = util::bind_group(
+            device,
+            &throw.layout,
+            &[
+                config.as_entire_binding(),
+                darts.as_entire_binding(),
+                coverage.as_entire_binding(),
+                word_scan.levels[0].as_entire_binding(),
+                tex(&radius_view),
+            ],
+        );
+        let raster_group = util::bind_group(
+            device,
+            &throw.raster_layout,
+            &[config.as_entire_binding(), darts.as_entire_binding()],
+        );
+        let cull_group = util::bind_group(
+            device,
+            &cull.layout,
+            &[
+                config.as_entire_binding(),
+                darts.as_entire_binding(),
+                tex(&depth),
+                dart_scan.levels[0].as_entire_binding(),
+                survivors.as_entire_binding(),
+            ],
+        );
+        let cover_group = util::bind_group(
+            device,
+            &cover.layout,
+            &[
+                config.as_entire_binding(),
+                survivors.as_entire_binding(),
+                dart_scan.total().as_entire_binding(),
+                coverage.as_entire_binding(),
+                tex(&radius_view),
+            ],
+        );
+        let bytes = 4 * u64::from(width) * u64::from(height) * (1 + u64::from(has_map))
+            + 3 * dart_bytes
+            + coverage.size()
+            + word_scan.bytes()
+            + dart_scan.bytes();
+        Ok(Self {
+            width,
+            height,
+            has_map,
+            capacity,
+            config,
+            survivors,
+            coverage,
+            words,
+            word_scan,
+            dart_scan,
+            depth,
+            radius,
+            staging,
+            queries,
+            throw_group,
+            raster_group,
+            cull_group,
+            cover_group,
+            bytes,
+        })
+    }
+
+    /// Whether these resources serve `plan` with batches of `capacity` darts.
+    pub fn fits(&self, plan: &Plan, capacity: u32) -> bool {
+        (self.width, self.height, self.has_map) == (plan.width, plan.height, plan.map.is_some())
+            && capacity <= self.capacity
+    }
+
+    /// Device memory held, in bytes.
+    pub fn bytes(&self) -> u64 {
+        self.bytes
+    }
+
+    /// Uploads the plan's radius map, if any.
+    pub fn upload_map(&self, queue: &wgpu::Queue, plan: &Plan) {
+        let Some(map) = &plan.map else { return };
+        queue.write_texture(
+            wgpu::TexelCopyTextureInfo {
+                texture: &self.radius,
+                mip_level: 0,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::All,
+            },
+            bytemuck::cast_slice(map.radii_fx()),
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(4 * plan.width),
+                rows_per_image: Some(plan.height),
+            },
+            wgpu::Extent3d {
+                width: plan.width,
+                height: plan.height,
+                depth_or_array_layers: 1,
+            },
+        );
+    }
+
+    fn pass_writes(&self, first: u32) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+        self.queries.as_ref().map(|(set, _)| wgpu::ComputePassTimestampWrites {
+            query_set: set,
+            beginning_of_pass_write_index: Some(first),
+            end_of_pass_write_index: Some(first + 1),
+        })
+    }
+
+    /// Encodes, runs and reads back one iteration of `darts` darts. Without
+    /// timestamp queries each stage is submitted and timed on its own.
+    pub fn iterate(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        stages: (&ThrowStage, &CullStage, &CoverStage, &CompactStage),
+        plan: &Plan,
+        darts: u32,
+        timestamps: bool,
+    ) -> Result<Step> {
+        let (throw, cull, cover, compact) = stages;
+        let mut seconds = [0.0; 3];
+        let mut clock = Instant::now();
+        let mut lap = |encoder: &mut wgpu::CommandEncoder, stage: usize| {
+            if !timestamps {
+                let done = std::mem::replace(encoder, device.create_command_encoder(&Default::default()));
+                queue.submit([done.finish()]);
+                let _ = device.poll(wgpu::PollType::wait_indefinitely());
+                let now = Instant::now();
+                seconds[stage] = (now - clock).as_secs_f64();
+                clock = now;
+            }
+        };
+        let mut encoder = device.create_command_encoder(&Default::default());
+        // S1: make the darts, rasterize them into the depth map.
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("S1 throw"),
+                timestamp_writes: self.queries.as_ref().map(|(set, _)| wgpu::ComputePassTimestampWrites {
+                    query_set: set,
+                    beginning_of_pass_write_index: Some(0),
+                    end_of_pass_write_index: None,
+                }),
+            });
+            throw.encode_throw(&mut pass, &self.throw_group, darts);
+        }
+        throw.encode_raster(
+            &mut encoder,
+            &self.raster_group,
+            &self.depth,
+            darts,
+            plan.layout.greater_wins,
+            plan.periodic,
+            self.queries.as_ref().map(|(set, _)| wgpu::RenderPassTimestampWrites {
+                query_set: set,
+                beginning_of_pass_write_index: None,
+                end_of_pass_write_index: Some(1),
+            }),
+        );
+        lap(&mut encoder, 0);
+        // S2: cull by depth, gather the survivors, cover their disks.
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("S2 cull"),
+                timestamp_writes: self.pass_writes(2),
+            });
+            cull.encode_cull(&mut pass, &self.cull_group, darts);
+            self.dart_scan.encode_scan(&mut pass, compact, darts);
+            cull.encode_gather(&mut pass, &self.cull_group, darts);
+            cover.encode(&mut pass, &self.cover_group, darts);
+        }
+        lap(&mut encoder, 1);
+        // PP: count and scan the empty pixels.
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("PP compact"),
+                timestamp_writes: self.pass_writes(4),
+            });
+            self.word_scan.encode_count(&mut pass, compact, self.words);
+            self.word_scan.encode_scan(&mut pass, compact, self.words);
+        }
+        lap(&mut encoder, 2);
+        encoder.copy_buffer_to_buffer(self.word_scan.total(), 0, &self.staging, 0, 4);
+        encoder.copy_buffer_to_buffer(self.dart_scan.total(), 0, &self.staging, 4, 4);
+        if let Some((set, resolve)) = &self.queries {
+            encoder.resolve_query_set(set, 0..6, resolve, 0);
+            encoder.copy_buffer_to_buffer(resolve, 0, &self.staging, 16, 48);
+        }
+        let dart_bytes = u64::from(darts) * DART_BYTES;
+        encoder.copy_buffer_to_buffer(&self.survivors, 0, &self.staging, HEADER, dart_bytes);
+        queue.submit([encoder.finish()]);
+
+        let len = HEADER + dart_bytes;
+        let (tx, rx) = std::sync::mpsc::channel();
+        self.staging.map_async(wgpu::MapMode::Read, 0..len, move |r| {
+            let _ = tx.send(r);
+        });
+        device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| Error::Gpu(format!("device lost: {e}")))?;
+        rx.recv()
+            .map_err(|e| Error::Gpu(e.to_string()))?
+            .map_err(|e| Error::Gpu(format!("cannot read back: {e}")))?;
+        let step = {
+            let view = self
+                .staging
+                .get_mapped_range(0..len)
+                .map_err(|e| Error::Gpu(format!("cannot read back: {e:?}")))?;
+            let header: &[u32] = bytemuck::cast_slice(&view[..HEADER as usize]);
+            let (empty, count) = (header[0], header[1].min(darts));
+            if timestamps {
+                let ts: &[u64] = bytemuck::cast_slice(&view[16..64]);
+                let period = f64::from(queue.get_timestamp_period()) * 1e-9;
+                for (s, pair) in seconds.iter_mut().zip(ts.chunks(2)) {
+                    *s = pair[1].saturating_sub(pair[0]) as f64 * period;
+                }
+            }
+            let survivors: &[Dart] =
+                bytemuck::cast_slice(&view[HEADER as usize..(HEADER + u64::from(count) * DART_BYTES) as usize]);
+            Step {
+                empty,
+                survivors: survivors.to_vec(),
+                seconds,
+            }
+        };
+        self.staging.unmap();
+        Ok(step)
+    }
+}

@@ -1,0 +1,119 @@
+//! Dart throwing (paper §3.1, step S1) on wgpu. A compute pass makes the darts
+//! from the counter-based hash; an instanced, depth-only draw then rasterizes
+//! them: the vertex shader pulls dart i from a storage buffer and scales its
+//! quad by the dart's radius (the paper's geometry stage), the fragment shader
+//! trims it to the disk and writes the dart's key as depth, compared Less or
+//! Greater by policy. Shaders: `shaders/throw.wgsl`, `shaders/raster.wgsl`;
+//! CPU mirror: `sampler::cpu::throw`.
+
+use super::util;
+
+/// The dart kernel and the two raster pipelines (Less, Greater).
+pub struct ThrowStage {
+    /// The kernel's layout: config, darts, coverage, prefix, radius map.
+    pub layout: wgpu::BindGroupLayout,
+    /// The raster layout: config, darts.
+    pub raster_layout: wgpu::BindGroupLayout,
+    throw: wgpu::ComputePipeline,
+    less: wgpu::RenderPipeline,
+    greater: wgpu::RenderPipeline,
+}
+
+impl ThrowStage {
+    /// Compiles the kernel and the raster pipelines.
+    pub fn new(device: &wgpu::Device) -> Self {
+        let c = wgpu::ShaderStages::COMPUTE;
+        let layout = util::layout(
+            device,
+            "throw",
+            &[
+                util::uniform(0, c),
+                util::storage(1, c, false),
+                util::storage(2, c, true),
+                util::storage(3, c, true),
+                util::texture(4, wgpu::TextureSampleType::Uint),
+            ],
+        );
+        let module = util::module(device, "throw.wgsl", util::SHADERS[0].1);
+        let throw = util::compute(device, &util::pipeline_layout(device, &layout), &module, "throw_darts");
+        let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
+        let raster_layout = util::layout(device, "raster", &[util::uniform(0, vf), util::storage(1, vf, true)]);
+        let raster_pl = util::pipeline_layout(device, &raster_layout);
+        let raster = util::module(device, "raster.wgsl", util::SHADERS[1].1);
+        let pipeline = |compare| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("raster"),
+                layout: Some(&raster_pl),
+                vertex: wgpu::VertexState {
+                    module: &raster,
+                    entry_point: Some("vs_disk"),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                primitive: wgpu::PrimitiveState::default(),
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: wgpu::TextureFormat::Depth32Float,
+                    depth_write_enabled: Some(true),
+                    depth_compare: Some(compare),
+                    stencil: wgpu::StencilState::default(),
+                    bias: wgpu::DepthBiasState::default(),
+                }),
+                multisample: wgpu::MultisampleState::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &raster,
+                    entry_point: Some("fs_disk"),
+                    compilation_options: Default::default(),
+                    targets: &[],
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        Self {
+            less: pipeline(wgpu::CompareFunction::Less),
+            greater: pipeline(wgpu::CompareFunction::Greater),
+            throw,
+            layout,
+            raster_layout,
+        }
+    }
+
+    /// Makes `darts` darts.
+    pub fn encode_throw(&self, pass: &mut wgpu::ComputePass<'_>, group: &wgpu::BindGroup, darts: u32) {
+        pass.set_pipeline(&self.throw);
+        pass.set_bind_group(0, group, &[]);
+        util::dispatch(pass, darts.div_ceil(256));
+    }
+
+    /// Rasterizes `darts` darts into `depth`, cleared to the losing end.
+    pub fn encode_raster(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        group: &wgpu::BindGroup,
+        depth: &wgpu::TextureView,
+        darts: u32,
+        greater_wins: bool,
+        periodic: bool,
+        timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
+    ) {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("S1 raster"),
+            color_attachments: &[],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: depth,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(if greater_wins { 0.0 } else { 1.0 }),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: timestamps,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(if greater_wins { &self.greater } else { &self.less });
+        pass.set_bind_group(0, group, &[]);
+        let copies = if periodic { 9 } else { 1 };
+        pass.draw(0..6, 0..darts * copies);
+    }
+}

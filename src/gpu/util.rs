@@ -1,0 +1,136 @@
+//! Small wgpu helpers: shader assembly, bind-group-layout entries, dispatch
+//! sizes and error scopes.
+
+use std::borrow::Cow;
+
+/// The WGSL shared by every stage (prepended to each).
+pub const COMMON: &str = include_str!("../../shaders/common.wgsl");
+
+/// Every shader of the pipeline, by file name, without the common prelude.
+pub const SHADERS: [(&str, &str); 5] = [
+    ("throw.wgsl", include_str!("../../shaders/throw.wgsl")),
+    ("raster.wgsl", include_str!("../../shaders/raster.wgsl")),
+    ("cull.wgsl", include_str!("../../shaders/cull.wgsl")),
+    ("cover.wgsl", include_str!("../../shaders/cover.wgsl")),
+    ("compact.wgsl", include_str!("../../shaders/compact.wgsl")),
+];
+
+/// The full source of a stage's shader: the common prelude and the stage.
+#[must_use]
+pub fn shader_source(stage: &str) -> String {
+    format!("{COMMON}\n{stage}")
+}
+
+/// Compiles a stage's shader.
+pub fn module(device: &wgpu::Device, label: &str, stage: &str) -> wgpu::ShaderModule {
+    device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some(label),
+        source: wgpu::ShaderSource::Wgsl(Cow::Owned(shader_source(stage))),
+    })
+}
+
+/// A uniform-buffer layout entry.
+pub fn uniform(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
+    buffer(binding, visibility, wgpu::BufferBindingType::Uniform)
+}
+
+/// A storage-buffer layout entry.
+pub fn storage(binding: u32, visibility: wgpu::ShaderStages, read_only: bool) -> wgpu::BindGroupLayoutEntry {
+    buffer(binding, visibility, wgpu::BufferBindingType::Storage { read_only })
+}
+
+fn buffer(binding: u32, visibility: wgpu::ShaderStages, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::Buffer {
+            ty,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+/// A 2D texture layout entry read with `textureLoad`. Depth is bound as an
+/// unfilterable float texture, the form that works on Vulkan and GL alike.
+pub fn texture(binding: u32, sample_type: wgpu::TextureSampleType) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Texture {
+            sample_type,
+            view_dimension: wgpu::TextureViewDimension::D2,
+            multisampled: false,
+        },
+        count: None,
+    }
+}
+
+/// A bind group layout.
+pub fn layout(device: &wgpu::Device, label: &str, entries: &[wgpu::BindGroupLayoutEntry]) -> wgpu::BindGroupLayout {
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some(label),
+        entries,
+    })
+}
+
+/// A pipeline layout of one bind group.
+pub fn pipeline_layout(device: &wgpu::Device, bgl: &wgpu::BindGroupLayout) -> wgpu::PipelineLayout {
+    device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: None,
+        bind_group_layouts: &[Some(bgl)],
+        immediate_size: 0,
+    })
+}
+
+/// A compute pipeline for one entry point.
+pub fn compute(device: &wgpu::Device, layout: &wgpu::PipelineLayout, module: &wgpu::ShaderModule, entry: &str) -> wgpu::ComputePipeline {
+    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(entry),
+        layout: Some(layout),
+        module,
+        entry_point: Some(entry),
+        compilation_options: Default::default(),
+        cache: None,
+    })
+}
+
+/// A bind group of whole resources, in binding order.
+pub fn bind_group(device: &wgpu::Device, layout: &wgpu::BindGroupLayout, resources: &[wgpu::BindingResource<'_>]) -> wgpu::BindGroup {
+    let entries: Vec<_> = resources
+        .iter()
+        .enumerate()
+        .map(|(i, r)| wgpu::BindGroupEntry {
+            binding: i as u32,
+            resource: r.clone(),
+        })
+        .collect();
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout,
+        entries: &entries,
+    })
+}
+
+/// The largest number of workgroups per dispatch dimension.
+const MAX_GROUPS: u32 = 65535;
+
+/// Dispatches `groups` workgroups as a 2D grid (the shaders flatten it).
+pub fn dispatch(pass: &mut wgpu::ComputePass<'_>, groups: u32) {
+    if groups == 0 {
+        return;
+    }
+    let x = groups.min(MAX_GROUPS);
+    pass.dispatch_workgroups(x, groups.div_ceil(x), 1);
+}
+
+/// Creates a buffer.
+pub fn buffer_of(device: &wgpu::Device, label: &str, size: u64, usage: wgpu::BufferUsages) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: size.max(16).next_multiple_of(16),
+        usage,
+        mapped_at_creation: false,
+    })
+}

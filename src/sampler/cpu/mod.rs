@@ -1,0 +1,88 @@
+//! The CPU reference backend: the paper's loop (Figure 3) with one module per
+//! stage, [`throw`] (S1), [`cull`] and [`cover`] (S2), [`compact`] (PP), each
+//! the mirror of the WGSL shader of the same name. Parallel with rayon and
+//! deterministic for any number of threads.
+
+pub mod compact;
+pub mod cover;
+pub mod cull;
+pub mod throw;
+
+use std::sync::atomic::AtomicU8;
+use std::time::Instant;
+
+use compact::EmptyList;
+
+use super::fixed::{fx_to_pos, fx_to_radius};
+use super::{Control, Params, Point, Progress, Result, SampleSet, Stats};
+
+/// Runs the sampler on the CPU.
+///
+/// ```
+/// use pixelpie::sampler::{Params, Control, cpu};
+/// let set = cpu::sample(&Params::new(64, 64).with_radius(4.0).with_seed(1), Control::default()).unwrap();
+/// assert!(set.maximal && !set.points.is_empty());
+/// ```
+pub fn sample(params: &Params, ctl: Control<'_>) -> Result<SampleSet> {
+    let start = Instant::now();
+    let plan = params.plan()?;
+    let pixels = plan.pixels();
+    let coverage: Vec<AtomicU8> = std::iter::repeat_with(|| AtomicU8::new(0))
+        .take(pixels as usize)
+        .collect();
+    let mut empty = EmptyList::All(pixels);
+    let mut points = Vec::new();
+    let mut stats = Stats {
+        backend: "cpu".into(),
+        device: format!("{} threads", rayon::current_num_threads()),
+        ..Stats::default()
+    };
+    let map_bytes = plan.map.as_ref().map_or(0, |m| 4 * m.radii_fx().len());
+    let mut peak_bytes = 0usize;
+    let mut iteration = 0;
+    while !empty.is_empty() && iteration < plan.max_iterations {
+        let t0 = Instant::now();
+        let darts = throw::throw(&plan, iteration, plan.darts_for(empty.len()), &empty);
+        let grid = throw::DartGrid::new(&plan, &darts);
+        let t1 = Instant::now();
+        let survivors = cull::survivors(&plan, &darts, &grid);
+        cover::cover(&plan, &survivors, &coverage);
+        let t2 = Instant::now();
+        let next = compact::compact(&empty, &coverage);
+        let t3 = Instant::now();
+        peak_bytes = peak_bytes.max(
+            empty.bytes() + next.bytes() + grid.bytes() + 16 * (darts.len() + survivors.len()),
+        );
+        empty = next;
+        stats.throw_seconds += (t1 - t0).as_secs_f64();
+        stats.cull_seconds += (t2 - t1).as_secs_f64();
+        stats.compact_seconds += (t3 - t2).as_secs_f64();
+        points.extend(survivors.iter().map(|d| Point {
+            x: fx_to_pos(d.x),
+            y: fx_to_pos(d.y),
+            radius: fx_to_radius(d.radius),
+        }));
+        iteration += 1;
+        ctl.step(Progress {
+            iteration,
+            points: points.len(),
+            empty_pixels: u64::from(empty.len()),
+            pixels: u64::from(pixels),
+        })?;
+    }
+    let maximal = empty.is_empty();
+    stats.points = points.len();
+    stats.iterations = iteration;
+    stats.maximal = maximal;
+    stats.seconds = start.elapsed().as_secs_f64();
+    stats.bytes_per_pixel =
+        (coverage.len() + map_bytes + peak_bytes) as f64 / f64::from(pixels.max(1));
+    Ok(SampleSet {
+        width: plan.width,
+        height: plan.height,
+        points,
+        maximal,
+        iterations: iteration,
+        stats,
+    })
+}

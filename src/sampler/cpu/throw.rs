@@ -1,0 +1,110 @@
+//! Dart throwing (paper §3.1, step S1) on the CPU: each dart picks an empty
+//! pixel by the counter-based hash, and the batch is binned into a grid, the
+//! CPU's stand-in for the depth map that the GPU rasterizes.
+//!
+//! WGSL mirror: `shaders/throw.wgsl`.
+
+use rayon::prelude::*;
+
+use super::compact::EmptyList;
+use crate::sampler::Plan;
+use crate::sampler::fixed::{self, RADIUS_ONE};
+
+/// One dart. Mirrors `struct Dart` in `shaders/common.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct Dart {
+    /// x in 1/256 px.
+    pub x: u32,
+    /// y in 1/256 px.
+    pub y: u32,
+    /// The index of the dart's pixel, `y * width + x`.
+    pub pixel: u32,
+    /// The radius at the dart's pixel, in 1/64 px.
+    pub radius: u32,
+}
+
+/// Dart `k` of the iteration with key `iteration_key`.
+#[inline]
+#[must_use]
+pub fn dart(plan: &Plan, iteration_key: u32, k: u32, empty: &EmptyList) -> Dart {
+    let h = fixed::dart_hash(iteration_key, k);
+    let pixel = empty.get(fixed::pick(h, empty.len()));
+    let o = fixed::offset_hash(h);
+    let mask = (1u32 << plan.subpixel_bits) - 1;
+    let bits = plan.subpixel_bits;
+    Dart {
+        x: fixed::dart_coord(pixel % plan.width, o & mask, bits),
+        y: fixed::dart_coord(pixel / plan.width, (o >> 16) & mask, bits),
+        pixel,
+        radius: plan.radius_at(pixel),
+    }
+}
+
+/// The `count` darts of iteration `iteration`, in dart order.
+#[must_use]
+pub fn throw(plan: &Plan, iteration: u32, count: u32, empty: &EmptyList) -> Vec<Dart> {
+    let ik = fixed::iteration_key(plan.seed_key, iteration);
+    (0..count)
+        .into_par_iter()
+        .map(|k| dart(plan, ik, k, empty))
+        .collect()
+}
+
+/// The batch binned by pixel into square cells at least as wide as the largest
+/// radius, so that every dart whose disk reaches a pixel centre lies in that
+/// pixel's cell or one of its eight neighbours.
+pub struct DartGrid {
+    /// Cell side in pixels.
+    pub cell: u32,
+    /// Cells per row.
+    pub cols: u32,
+    /// Cells per column.
+    pub rows: u32,
+    /// `start[c]..start[c + 1]` indexes `order` for cell `c`.
+    pub start: Vec<u32>,
+    /// Dart indices, grouped by cell, ascending within a cell.
+    pub order: Vec<u32>,
+}
+
+impl DartGrid {
+    /// Bins `darts` (counting sort, deterministic).
+    #[must_use]
+    pub fn new(plan: &Plan, darts: &[Dart]) -> Self {
+        let r_max = darts.iter().map(|d| d.radius).max().unwrap_or(RADIUS_ONE);
+        let cell = r_max.div_ceil(RADIUS_ONE).max(1);
+        let cols = plan.width.div_ceil(cell);
+        let rows = plan.height.div_ceil(cell);
+        let cell_of = |d: &Dart| {
+            let (px, py) = (d.pixel % plan.width, d.pixel / plan.width);
+            (py / cell) * cols + px / cell
+        };
+        let mut start = vec![0u32; (cols * rows) as usize + 1];
+        for d in darts {
+            start[cell_of(d) as usize + 1] += 1;
+        }
+        for c in 1..start.len() {
+            start[c] += start[c - 1];
+        }
+        let mut fill = start.clone();
+        let mut order = vec![0u32; darts.len()];
+        for (k, d) in darts.iter().enumerate() {
+            let c = cell_of(d) as usize;
+            order[fill[c] as usize] = k as u32;
+            fill[c] += 1;
+        }
+        Self {
+            cell,
+            cols,
+            rows,
+            start,
+            order,
+        }
+    }
+
+    /// Bytes held.
+    #[must_use]
+    pub fn bytes(&self) -> usize {
+        4 * (self.start.len() + self.order.len())
+    }
+}

@@ -1,0 +1,118 @@
+//! The PixelPie sampler: maximal Poisson-disk sampling by rasterization and
+//! occlusion culling (Ip, Yalçın, Luebke & Varshney 2013), headless.
+//!
+//! This module is the contract. Every backend (the CPU reference in [`cpu`],
+//! the wgpu backend in `crate::gpu`) produces exactly the points defined here,
+//! bit for bit, for the same [`Params`].
+//!
+//! # Semantics
+//!
+//! * **Domain.** W×H pixels, origin top left; pixel (i, j) has its centre at
+//!   (i + ½, j + ½). Positions are integers in 1/256 px, radii in 1/64 px
+//!   ([`fixed`]); every distance test is `dx² + dy² < r²` on 64-bit integers.
+//! * **Radius map.** r(p) for every pixel, at least 1 px, quantized to 1/64 px.
+//! * **Darts.** Iteration `t` throws `b = min(batch, empty, max_batch)` darts.
+//!   Dart `k` takes hash `h = dart_hash(iteration_key(seed_key(seed), t), k)`,
+//!   lands on empty pixel `empty[pick(h, empty.len())]` and is offset inside it
+//!   by `offset_hash(h)`: `subpixel_bits` bits per axis, at sub-cell centres,
+//!   so 0 bits give the paper's pixel-centred darts. Its radius is r at its pixel.
+//! * **Depth keys.** Dart `k` has key `k` (Prior: Less wins; Current: Greater
+//!   wins) or `(r - r_min) << index_bits | k` (Bigger: Greater wins; Smaller:
+//!   Less wins). Keys have [`fixed::KEY_BITS`] = 29 bits, so a batch holds at
+//!   most min(2^(29 - radius_bits), 2^22) darts ([`KeyLayout::max_batch`]); a
+//!   larger batch is split over successive iterations.
+//! * **Conflicts within a batch** (paper §3.1–3.2). Dart j survives iff no dart
+//!   i of the batch whose key beats j's has `|c_i - p_j| < r_i`, with p_j the
+//!   centre of j's pixel: the depth test at j's pixel.
+//! * **Coverage across iterations.** Pixel p is covered when an accepted sample
+//!   i has `|p - c_i| < f(r_i, r_p)`, f = r_i (Prior), r_p (Current), max
+//!   (Bigger) or min (Smaller). Darts land only on uncovered pixels.
+//! * **Compaction and stopping.** The empty-pixel list (all pixels in index
+//!   order at first) keeps its order when covered pixels leave it. The run
+//!   stops when it is empty (maximal) or after `max_iterations` (not maximal).
+//! * **Periodic domain.** Distances take the short way round; disks wrap. The
+//!   largest radius may then be at most half the domain's smaller side.
+//! * **Output.** Points in acceptance order (iteration, then dart index), each
+//!   with x, y and radius in pixels, all exact in `f32`.
+//! * **Batch size.** By default half the expected count, the sum over pixels of
+//!   0.547 / (π r²/4), RSA's saturation density (paper §5.1).
+
+pub mod cpu;
+pub mod fixed;
+mod output;
+mod params;
+
+use std::sync::atomic::{AtomicBool, Ordering};
+
+pub use output::{Point, SampleSet, Stats};
+pub use params::{
+    DEFAULT_MAX_ITERATIONS, DEFAULT_SUBPIXEL_BITS, KeyLayout, MAX_PIXELS, Params, Plan, Policy,
+    RSA_DENSITY, Radius, RadiusMap,
+};
+
+/// What can go wrong in the sampler.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// A width or height that is zero or too large.
+    #[error("invalid domain size {0}")]
+    InvalidSize(String),
+    /// A radius that is not a number, too small or too large.
+    #[error("invalid radius: {0}")]
+    InvalidRadius(String),
+    /// A radius map whose size is not the domain's.
+    #[error("radius map has {len} values, the {}x{} domain needs {}", expected.0, expected.1, u64::from(expected.0) * u64::from(expected.1))]
+    RadiusMapSize {
+        /// The domain size.
+        expected: (u32, u32),
+        /// The number of values given.
+        len: usize,
+    },
+    /// Another parameter out of range.
+    #[error("invalid parameter: {0}")]
+    InvalidParameter(String),
+    /// The caller cancelled the run.
+    #[error("cancelled")]
+    Cancelled,
+    /// The GPU backend failed.
+    #[error("GPU: {0}")]
+    Gpu(String),
+}
+
+/// The sampler's result type.
+pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+/// Progress after an iteration.
+#[derive(Clone, Copy, Debug)]
+pub struct Progress {
+    /// Iterations done.
+    pub iteration: u32,
+    /// Points accepted so far.
+    pub points: usize,
+    /// Pixels still empty.
+    pub empty_pixels: u64,
+    /// Pixels in the domain.
+    pub pixels: u64,
+}
+
+/// Progress reporting and cancellation, shared by every backend.
+#[derive(Default, Clone, Copy)]
+pub struct Control<'a> {
+    /// Called after every iteration.
+    pub progress: Option<&'a (dyn Fn(Progress) + Sync)>,
+    /// Checked before every iteration; when set the run ends with [`Error::Cancelled`].
+    pub cancel: Option<&'a AtomicBool>,
+}
+
+impl Control<'_> {
+    /// Reports progress and checks for cancellation.
+    pub fn step(&self, p: Progress) -> Result<()> {
+        if let Some(f) = self.progress {
+            f(p);
+        }
+        if self.cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
+            return Err(Error::Cancelled);
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,58 @@
+//! A run's result: the points in acceptance order and the run's statistics.
+
+use serde::Serialize;
+
+/// One accepted sample.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Point {
+    /// x in pixels (0 = left edge).
+    pub x: f32,
+    /// y in pixels (0 = top edge).
+    pub y: f32,
+    /// The radius at the sample, in pixels.
+    pub radius: f32,
+}
+
+/// Timings and sizes of a run.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct Stats {
+    /// Points accepted.
+    pub points: usize,
+    /// Iterations run.
+    pub iterations: u32,
+    /// Whether every pixel ended covered.
+    pub maximal: bool,
+    /// `"cpu"` or `"gpu"`.
+    pub backend: String,
+    /// The GPU adapter's name, or the CPU's thread count.
+    pub device: String,
+    /// Wall-clock seconds of the whole run.
+    pub seconds: f64,
+    /// Seconds in dart throwing (the paper's S1).
+    pub throw_seconds: f64,
+    /// Seconds in conflict removal and coverage (S2).
+    pub cull_seconds: f64,
+    /// Seconds in post-processing: compaction of the empty-pixel list (PP).
+    pub compact_seconds: f64,
+    /// Peak working memory divided by the number of pixels.
+    pub bytes_per_pixel: f64,
+    /// Whether stage timings come from GPU timestamp queries.
+    pub gpu_timestamps: bool,
+}
+
+/// The output of a run.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SampleSet {
+    /// Domain width in pixels.
+    pub width: u32,
+    /// Domain height in pixels.
+    pub height: u32,
+    /// Points in acceptance order.
+    pub points: Vec<Point>,
+    /// Whether the set is maximal (no pixel left uncovered).
+    pub maximal: bool,
+    /// Iterations run.
+    pub iterations: u32,
+    /// The run's statistics.
+    pub stats: Stats,
+}

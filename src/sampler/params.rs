@@ -1,0 +1,556 @@
+//! Sampling parameters (a builder in the style of `fast_poisson`), the radius
+//! map, the disk policies of paper §3.4 and the per-run [`Plan`] derived from
+//! them: key layout, batch size and expected count.
+
+use std::sync::Arc;
+
+use super::fixed::{
+    self, KEY_BITS, MAX_SIDE, MAX_SUBPIXEL_BITS, MIN_RADIUS_FX, RADIUS_ONE, radius_to_fx,
+};
+use super::{Error, Result};
+
+/// The random-sequential-addition saturation density (Zhang & Torquato 2013).
+pub const RSA_DENSITY: f64 = 0.547;
+/// The most pixels a domain may have.
+pub const MAX_PIXELS: u64 = 1 << 30;
+/// The fewest index bits a key keeps: a radius range needing more bits is refused.
+pub const MIN_INDEX_BITS: u32 = 8;
+
+/// How two samples of different radii are kept apart (paper §3.4, after
+/// Mitchell et al. 2012). `i` is the earlier sample, `j` the later one.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Policy {
+    /// f(i, j) = r(i): the earlier sample's disk. Key = dart index, Less wins.
+    #[default]
+    Prior,
+    /// f(i, j) = r(j): the later sample's disk. Key = dart index, Greater wins.
+    Current,
+    /// f(i, j) = max(r(i), r(j)). Radius in the key's high bits, Greater wins.
+    Bigger,
+    /// f(i, j) = min(r(i), r(j)). Radius in the key's high bits, Less wins.
+    Smaller,
+}
+
+impl Policy {
+    /// All four policies.
+    pub const ALL: [Self; 4] = [Self::Prior, Self::Current, Self::Bigger, Self::Smaller];
+
+    /// The lower-case name used on the command line.
+    #[must_use]
+    pub const fn name(self) -> &'static str {
+        match self {
+            Self::Prior => "prior",
+            Self::Current => "current",
+            Self::Bigger => "bigger",
+            Self::Smaller => "smaller",
+        }
+    }
+
+    /// Whether the greater depth key wins a conflict (depth compare Greater).
+    #[must_use]
+    pub const fn greater_wins(self) -> bool {
+        matches!(self, Self::Current | Self::Bigger)
+    }
+
+    /// Whether the radius sits in the key's most significant bits.
+    #[must_use]
+    pub const fn keys_radius(self) -> bool {
+        matches!(self, Self::Bigger | Self::Smaller)
+    }
+
+    /// Whether the coverage radius depends on the covered pixel's own radius.
+    #[must_use]
+    pub const fn reads_pixel_radius(self) -> bool {
+        !matches!(self, Self::Prior)
+    }
+
+    /// The separation f(r_sample, r_pixel) that the coverage rule uses.
+    #[must_use]
+    pub fn coverage_radius(self, r_sample: u32, r_pixel: u32) -> u32 {
+        match self {
+            Self::Prior => r_sample,
+            Self::Current => r_pixel,
+            Self::Bigger => r_sample.max(r_pixel),
+            Self::Smaller => r_sample.min(r_pixel),
+        }
+    }
+
+    /// The policy's index in `shaders/common.wgsl` (`POLICY_*`).
+    #[must_use]
+    pub const fn index(self) -> u32 {
+        self as u32
+    }
+}
+
+/// A radius for every pixel, quantized to 1/64 px (row-major, top row first).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct RadiusMap {
+    width: u32,
+    height: u32,
+    radii: Vec<u32>,
+    min: u32,
+    max: u32,
+}
+
+impl RadiusMap {
+    /// Builds a map from radii in pixels. Refuses a wrong length, NaN, infinite
+    /// values and radii below 1 px.
+    ///
+    /// ```
+    /// let map = pixelpie::sampler::RadiusMap::from_pixels(2, 1, &[2.0, 3.5]).unwrap();
+    /// assert_eq!(map.radius_px(1, 0), 3.5);
+    /// ```
+    pub fn from_pixels(width: u32, height: u32, radii: &[f32]) -> Result<Self> {
+        check_size(width, height)?;
+        if radii.len() as u64 != u64::from(width) * u64::from(height) {
+            return Err(Error::RadiusMapSize {
+                expected: (width, height),
+                len: radii.len(),
+            });
+        }
+        if let Some((i, &r)) = radii.iter().enumerate().find(|(_, r)| !r.is_finite()) {
+            return Err(Error::InvalidRadius(format!(
+                "radius map holds {r} at pixel ({}, {})",
+                i as u32 % width,
+                i as u32 / width
+            )));
+        }
+        let radii: Vec<u32> = radii.iter().map(|&r| radius_to_fx(r.max(0.0))).collect();
+        if let Some(i) = radii.iter().position(|&r| r < MIN_RADIUS_FX) {
+            return Err(Error::InvalidRadius(format!(
+                "radius map holds {} px at pixel ({}, {}); radii must be at least 1 px",
+                fixed::fx_to_radius(radii[i]),
+                i as u32 % width,
+                i as u32 / width
+            )));
+        }
+        let min = radii.iter().copied().min().unwrap_or(MIN_RADIUS_FX);
+        let max = radii.iter().copied().max().unwrap_or(MIN_RADIUS_FX);
+        Ok(Self {
+            width,
+            height,
+            radii,
+            min,
+            max,
+        })
+    }
+
+    /// Width in pixels.
+    #[must_use]
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+
+    /// Height in pixels.
+    #[must_use]
+    pub fn height(&self) -> u32 {
+        self.height
+    }
+
+    /// The quantized radii (1/64 px), row-major.
+    #[must_use]
+    pub fn radii_fx(&self) -> &[u32] {
+        &self.radii
+    }
+
+    /// The radius of pixel (x, y) in pixels.
+    #[must_use]
+    pub fn radius_px(&self, x: u32, y: u32) -> f32 {
+        fixed::fx_to_radius(self.radii[(y * self.width + x) as usize])
+    }
+
+    /// The smallest and largest radius (1/64 px).
+    #[must_use]
+    pub fn range_fx(&self) -> (u32, u32) {
+        (self.min, self.max)
+    }
+}
+
+/// The radius field of a run: one radius everywhere, or a map.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Radius {
+    /// The same radius, in pixels, at every pixel.
+    Uniform(f32),
+    /// A radius per pixel; its size must equal the domain's.
+    Map(Arc<RadiusMap>),
+}
+
+/// Everything that determines a run's output.
+///
+/// ```
+/// use pixelpie::sampler::{Params, Policy};
+/// let params = Params::new(256, 256).with_radius(8.5).with_policy(Policy::Prior).with_seed(7);
+/// assert_eq!(params.seed, 7);
+/// ```
+#[derive(Clone, Debug, PartialEq)]
+pub struct Params {
+    /// Domain width in pixels.
+    pub width: u32,
+    /// Domain height in pixels.
+    pub height: u32,
+    /// The radius field.
+    pub radius: Radius,
+    /// The disk policy.
+    pub policy: Policy,
+    /// The seed of the dart hash.
+    pub seed: u64,
+    /// Sub-pixel bits per axis of a dart's position (0 = pixel centres).
+    pub subpixel_bits: u32,
+    /// Darts per iteration; `None` picks half the expected count (paper §5.1).
+    pub batch: Option<u32>,
+    /// Whether distances and disks wrap around the domain (tileable output).
+    pub periodic: bool,
+    /// The most iterations before the run stops without being maximal.
+    pub max_iterations: u32,
+}
+
+/// The default number of sub-pixel bits (8×8 dart positions per pixel).
+pub const DEFAULT_SUBPIXEL_BITS: u32 = 3;
+/// The default cap on iterations.
+pub const DEFAULT_MAX_ITERATIONS: u32 = 1000;
+
+impl Params {
+    /// A `width`×`height` domain with radius 8.5 px, the Prior policy, seed 0.
+    #[must_use]
+    pub fn new(width: u32, height: u32) -> Self {
+        Self {
+            width,
+            height,
+            radius: Radius::Uniform(8.5),
+            policy: Policy::Prior,
+            seed: 0,
+            subpixel_bits: DEFAULT_SUBPIXEL_BITS,
+            batch: None,
+            periodic: false,
+            max_iterations: DEFAULT_MAX_ITERATIONS,
+        }
+    }
+
+    /// Sets a uniform radius in pixels.
+    #[must_use]
+    pub fn with_radius(mut self, r: f32) -> Self {
+        self.radius = Radius::Uniform(r);
+        self
+    }
+
+    /// Sets a radius map (its size must equal the domain's).
+    #[must_use]
+    pub fn with_radius_map(mut self, map: Arc<RadiusMap>) -> Self {
+        self.radius = Radius::Map(map);
+        self
+    }
+
+    /// Sets the disk policy.
+    #[must_use]
+    pub fn with_policy(mut self, policy: Policy) -> Self {
+        self.policy = policy;
+        self
+    }
+
+    /// Sets the seed.
+    #[must_use]
+    pub fn with_seed(mut self, seed: u64) -> Self {
+        self.seed = seed;
+        self
+    }
+
+    /// Sets the sub-pixel bits per axis (0 to 7).
+    #[must_use]
+    pub fn with_subpixel_bits(mut self, bits: u32) -> Self {
+        self.subpixel_bits = bits;
+        self
+    }
+
+    /// Sets the darts per iteration.
+    #[must_use]
+    pub fn with_batch(mut self, batch: u32) -> Self {
+        self.batch = Some(batch);
+        self
+    }
+
+    /// Turns the periodic (wrap-around) domain on or off.
+    #[must_use]
+    pub fn with_periodic(mut self, periodic: bool) -> Self {
+        self.periodic = periodic;
+        self
+    }
+
+    /// Sets the cap on iterations.
+    #[must_use]
+    pub fn with_max_iterations(mut self, n: u32) -> Self {
+        self.max_iterations = n;
+        self
+    }
+
+    /// Checks the parameters and derives the run's constants.
+    pub fn plan(&self) -> Result<Plan> {
+        Plan::new(self)
+    }
+}
+
+fn check_size(width: u32, height: u32) -> Result<()> {
+    if width == 0 || height == 0 {
+        return Err(Error::InvalidSize(format!(
+            "{width}x{height}: width and height must be positive"
+        )));
+    }
+    if width > MAX_SIDE || height > MAX_SIDE {
+        return Err(Error::InvalidSize(format!(
+            "{width}x{height}: width and height must be at most {MAX_SIDE}"
+        )));
+    }
+    if u64::from(width) * u64::from(height) > MAX_PIXELS {
+        return Err(Error::InvalidSize(format!(
+            "{width}x{height}: at most {MAX_PIXELS} pixels"
+        )));
+    }
+    Ok(())
+}
+
+/// How a dart's depth key is laid out, and which key wins.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct KeyLayout {
+    /// Bits of `radius - min_radius` in the key's most significant bits.
+    pub radius_bits: u32,
+    /// Bits of the dart index in the low bits: a batch has at most 2^index_bits darts.
+    pub index_bits: u32,
+    /// The radius (1/64 px) that the radius bits count from.
+    pub min_radius: u32,
+    /// Whether the greater key wins.
+    pub greater_wins: bool,
+}
+
+impl KeyLayout {
+    /// The key of dart `index` with radius `r_fx`.
+    #[inline]
+    #[must_use]
+    pub fn key(&self, index: u32, r_fx: u32) -> u32 {
+        if self.radius_bits == 0 {
+            index
+        } else {
+            ((r_fx - self.min_radius) << self.index_bits) | index
+        }
+    }
+
+    /// Whether key `a` beats key `b`.
+    #[inline]
+    #[must_use]
+    pub fn beats(&self, a: u32, b: u32) -> bool {
+        if self.greater_wins { a > b } else { a < b }
+    }
+
+    /// The largest batch the layout allows: 2^index_bits darts, and at most
+    /// [`fixed::MAX_BATCH`].
+    #[must_use]
+    pub fn max_batch(&self) -> u32 {
+        (1u32 << self.index_bits).min(fixed::MAX_BATCH)
+    }
+}
+
+/// The checked, derived constants of one run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Plan {
+    /// Domain width in pixels.
+    pub width: u32,
+    /// Domain height in pixels.
+    pub height: u32,
+    /// The disk policy.
+    pub policy: Policy,
+    /// Sub-pixel bits per axis.
+    pub subpixel_bits: u32,
+    /// Whether the domain wraps.
+    pub periodic: bool,
+    /// The 32-bit key of the seed.
+    pub seed_key: u32,
+    /// The depth-key layout.
+    pub layout: KeyLayout,
+    /// Darts per iteration (before the cap by empty pixels and key layout).
+    pub batch: u32,
+    /// The cap on iterations.
+    pub max_iterations: u32,
+    /// Smallest and largest radius (1/64 px).
+    pub radius_range: (u32, u32),
+    /// The radius map, or `None` for a uniform radius.
+    pub map: Option<Arc<RadiusMap>>,
+    /// The expected number of points at RSA saturation density.
+    pub expected_points: f64,
+}
+
+impl Plan {
+    fn new(p: &Params) -> Result<Self> {
+        check_size(p.width, p.height)?;
+        if p.subpixel_bits > MAX_SUBPIXEL_BITS {
+            return Err(Error::InvalidParameter(format!(
+                "sub-pixel bits {} out of range 0..={MAX_SUBPIXEL_BITS}",
+                p.subpixel_bits
+            )));
+        }
+        if p.batch == Some(0) {
+            return Err(Error::InvalidParameter("the batch must hold at least one dart".into()));
+        }
+        if p.max_iterations == 0 {
+            return Err(Error::InvalidParameter("at least one iteration is needed".into()));
+        }
+        let (map, radius_range, expected_points) = match &p.radius {
+            Radius::Uniform(r) => {
+                let r = *r;
+                if !r.is_finite() || r < 1.0 {
+                    return Err(Error::InvalidRadius(format!(
+                        "radius {r} px: it must be a number of at least 1 px"
+                    )));
+                }
+                let fx = radius_to_fx(r);
+                let area = f64::from(p.width) * f64::from(p.height);
+                (None, (fx, fx), area * rsa_per_pixel(fx))
+            }
+            Radius::Map(m) => {
+                if (m.width, m.height) != (p.width, p.height) {
+                    return Err(Error::RadiusMapSize {
+                        expected: (p.width, p.height),
+                        len: m.radii.len(),
+                    });
+                }
+                let expected = m.radii.iter().map(|&r| rsa_per_pixel(r)).sum::<f64>();
+                (Some(m.clone()), (m.min, m.max), expected)
+            }
+        };
+        let r_max_px = radius_range.1 as f64 / f64::from(RADIUS_ONE);
+        let (w, h) = (f64::from(p.width), f64::from(p.height));
+        if p.periodic && 2.0 * r_max_px > w.min(h) {
+            return Err(Error::InvalidRadius(format!(
+                "radius {r_max_px} px: a periodic {}x{} domain allows at most {} px",
+                p.width,
+                p.height,
+                w.min(h) / 2.0
+            )));
+        }
+        if r_max_px > w.max(h) {
+            return Err(Error::InvalidRadius(format!(
+                "radius {r_max_px} px is larger than the {}x{} domain",
+                p.width, p.height
+            )));
+        }
+        let radius_bits = if p.policy.keys_radius() {
+            32 - (radius_range.1 - radius_range.0).leading_zeros()
+        } else {
+            0
+        };
+        if radius_bits + MIN_INDEX_BITS > KEY_BITS {
+            return Err(Error::InvalidRadius(format!(
+                "radius range {}..{} px is too wide for the {} policy's depth keys",
+                fixed::fx_to_radius(radius_range.0),
+                fixed::fx_to_radius(radius_range.1),
+                p.policy.name()
+            )));
+        }
+        let layout = KeyLayout {
+            radius_bits,
+            index_bits: KEY_BITS - radius_bits,
+            min_radius: radius_range.0,
+            greater_wins: p.policy.greater_wins(),
+        };
+        let batch = p
+            .batch
+            .unwrap_or_else(|| (expected_points / 2.0).round().clamp(1.0, f64::from(u32::MAX)) as u32);
+        Ok(Self {
+            width: p.width,
+            height: p.height,
+            policy: p.policy,
+            subpixel_bits: p.subpixel_bits,
+            periodic: p.periodic,
+            seed_key: fixed::seed_key(p.seed),
+            layout,
+            batch,
+            max_iterations: p.max_iterations,
+            radius_range,
+            map,
+            expected_points,
+        })
+    }
+
+    /// The number of pixels.
+    #[must_use]
+    pub fn pixels(&self) -> u32 {
+        self.width * self.height
+    }
+
+    /// The radius (1/64 px) of pixel index `p`.
+    #[inline]
+    #[must_use]
+    pub fn radius_at(&self, p: u32) -> u32 {
+        match &self.map {
+            Some(m) => m.radii[p as usize],
+            None => self.radius_range.0,
+        }
+    }
+
+    /// The darts of iteration with `empty` empty pixels: the batch, capped by
+    /// the empty pixels (paper §3.3) and by the key layout.
+    #[must_use]
+    pub fn darts_for(&self, empty: u32) -> u32 {
+        self.batch.min(empty).min(self.layout.max_batch())
+    }
+
+    /// The wrap periods in 1/256 px (0 when not periodic).
+    #[must_use]
+    pub fn periods(&self) -> (u32, u32) {
+        if self.periodic {
+            (
+                self.width << fixed::POS_FRAC_BITS,
+                self.height << fixed::POS_FRAC_BITS,
+            )
+        } else {
+            (0, 0)
+        }
+    }
+}
+
+/// The RSA point density that one pixel of radius `r_fx` contributes.
+fn rsa_per_pixel(r_fx: u32) -> f64 {
+    let r = f64::from(r_fx) / f64::from(RADIUS_ONE);
+    RSA_DENSITY / (std::f64::consts::PI * r * r / 4.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn default_batch_is_half_the_rsa_count() {
+        let plan = Params::new(1024, 1024).with_radius(8.5).plan().unwrap();
+        let expected = 0.547 * 1024.0 * 1024.0 / (std::f64::consts::PI * 4.25 * 4.25);
+        assert!((plan.expected_points - expected).abs() < 1e-6);
+        assert_eq!(plan.batch, (expected / 2.0).round() as u32);
+    }
+
+    #[test]
+    fn bigger_policy_puts_radius_bits_above_the_index() {
+        let radii: Vec<f32> = (0..256).map(|i| 2.0 + i as f32 / 64.0).collect();
+        let map = Arc::new(RadiusMap::from_pixels(16, 16, &radii).unwrap());
+        let plan = Params::new(16, 16)
+            .with_radius_map(map)
+            .with_policy(Policy::Bigger)
+            .plan()
+            .unwrap();
+        let l = plan.layout;
+        assert_eq!(l.radius_bits + l.index_bits, KEY_BITS);
+        // A bigger radius beats any index; among equals the index decides.
+        assert!(l.beats(l.key(0, 300), l.key(l.max_batch() - 1, 200)));
+        assert!(l.beats(l.key(5, 200), l.key(4, 200)));
+    }
+
+    #[test]
+    fn impossible_parameters_are_refused() {
+        assert!(Params::new(0, 10).plan().is_err());
+        assert!(Params::new(10, MAX_SIDE + 1).plan().is_err());
+        assert!(Params::new(64, 64).with_radius(f32::NAN).plan().is_err());
+        assert!(Params::new(64, 64).with_radius(0.5).plan().is_err());
+        assert!(Params::new(64, 64).with_radius(65.0).plan().is_err());
+        assert!(Params::new(64, 64).with_radius(40.0).with_periodic(true).plan().is_err());
+        assert!(Params::new(64, 64).with_subpixel_bits(8).plan().is_err());
+        assert!(RadiusMap::from_pixels(2, 2, &[1.0, 2.0, f32::NAN, 3.0]).is_err());
+        assert!(RadiusMap::from_pixels(2, 2, &[1.0, 2.0, -1.0, 3.0]).is_err());
+        assert!(RadiusMap::from_pixels(2, 2, &[1.0, 2.0]).is_err());
+    }
+}
