@@ -94,9 +94,10 @@ fn density(r: f32, side: u32, seeds: std::ops::Range<u64>) -> f64 {
 
 #[test]
 fn saturation_density_at_8_5_px_matches_the_paper() {
-    // Paper Table 1: 9.81K points at 1024², r = 8.5 px, i.e. 0.531.
+    // Paper Table 1: 9.81K points at 1024², r = 8.5 px, i.e. 0.531 without wrap;
+    // measured here with 3 sub-pixel bits on a periodic domain: 0.520 ± 0.001.
     let d = density(8.5, 1024, 0..3);
-    assert!((0.515..0.540).contains(&d), "density {d}");
+    assert!((0.510..0.535).contains(&d), "density {d}");
 }
 
 #[test]

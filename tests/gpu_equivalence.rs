@@ -1,0 +1,111 @@
+//! The wgpu backend against the CPU reference: identical points, bit for bit.
+//!
+//! With `PIXELPIE_EXPECT_GPU=1` (set by `.ci/run`), a missing adapter fails
+//! these tests instead of skipping them.
+
+mod common;
+
+use std::sync::{Arc, Mutex, OnceLock};
+
+use common::{smooth_radii, step_radii};
+use pixelpie::gpu::{GpuContext, GpuSampler};
+use pixelpie::sampler::{Control, Params, Policy, RadiusMap, SampleSet, cpu};
+
+struct Gpu {
+    ctx: GpuContext,
+    sampler: Mutex<GpuSampler>,
+}
+
+fn gpu() -> Option<&'static Gpu> {
+    static GPU: OnceLock<Option<Gpu>> = OnceLock::new();
+    GPU.get_or_init(|| match GpuContext::new() {
+        Ok(ctx) => {
+            let sampler = GpuSampler::new(&ctx.device, ctx.info.name.clone()).expect("pipelines");
+            Some(Gpu {
+                sampler: Mutex::new(sampler),
+                ctx,
+            })
+        }
+        Err(e) => {
+            assert!(
+                std::env::var("PIXELPIE_EXPECT_GPU").as_deref() != Ok("1"),
+                "a GPU adapter is expected but none was found: {e}"
+            );
+            eprintln!("skipping GPU test: {e}");
+            None
+        }
+    })
+    .as_ref()
+}
+
+fn both(params: &Params) -> Option<(SampleSet, SampleSet)> {
+    let g = gpu()?;
+    let on_gpu = g
+        .sampler
+        .lock()
+        .unwrap()
+        .sample(&g.ctx.device, &g.ctx.queue, params, Control::default())
+        .expect("GPU sampling");
+    let on_cpu = cpu::sample(params, Control::default()).expect("CPU sampling");
+    Some((on_gpu, on_cpu))
+}
+
+fn assert_identical(params: &Params, what: &str) {
+    let Some((g, c)) = both(params) else { return };
+    assert!(c.points.len() > 50, "{what}: too few points to compare");
+    assert_eq!(g.iterations, c.iterations, "{what}: iterations");
+    assert_eq!(g.maximal, c.maximal, "{what}: maximality");
+    assert_eq!(g.points.len(), c.points.len(), "{what}: point count");
+    for (i, (a, b)) in g.points.iter().zip(&c.points).enumerate() {
+        assert!(
+            a.x.to_bits() == b.x.to_bits() && a.y.to_bits() == b.y.to_bits() && a.radius.to_bits() == b.radius.to_bits(),
+            "{what}: point {i} differs: gpu {a:?} cpu {b:?}"
+        );
+    }
+}
+
+#[test]
+fn uniform_sampling_matches_reference_implementation() {
+    for bits in [0, 3] {
+        for periodic in [false, true] {
+            for policy in Policy::ALL {
+                let params = Params::new(300, 200)
+                    .with_radius(6.5)
+                    .with_subpixel_bits(bits)
+                    .with_periodic(periodic)
+                    .with_policy(policy)
+                    .with_seed(42);
+                assert_identical(&params, &format!("uniform {policy:?} bits {bits} periodic {periodic}"));
+            }
+        }
+    }
+}
+
+#[test]
+fn radius_map_sampling_matches_reference_implementation() {
+    let (w, h) = (240, 180);
+    for (name, radii) in [("step", step_radii(w, h)), ("smooth", smooth_radii(w, h))] {
+        let map = Arc::new(RadiusMap::from_pixels(w, h, &radii).unwrap());
+        for policy in Policy::ALL {
+            for (bits, periodic) in [(0, false), (3, false), (3, true), (0, true)] {
+                let params = Params::new(w, h)
+                    .with_radius_map(map.clone())
+                    .with_policy(policy)
+                    .with_subpixel_bits(bits)
+                    .with_periodic(periodic)
+                    .with_seed(7);
+                assert_identical(&params, &format!("{name} map {policy:?} bits {bits} periodic {periodic}"));
+            }
+        }
+    }
+}
+
+#[test]
+fn a_larger_domain_and_capped_runs_match_reference_implementation() {
+    assert_identical(&Params::new(1024, 768).with_radius(8.5).with_seed(3), "1024x768");
+    assert_identical(
+        &Params::new(512, 512).with_radius(3.0).with_max_iterations(2).with_seed(1),
+        "capped",
+    );
+    assert_identical(&Params::new(257, 131).with_radius(4.0).with_batch(37).with_seed(5), "odd sizes, small batch");
+}
