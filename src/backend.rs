@@ -1,10 +1,15 @@
 //! Backend selection: the GPU backend when an adapter exists (or is asked
 //! for), the CPU reference otherwise. Both give the same points.
 
-use crate::sampler::{self, Control, Params, SampleSet};
+use std::sync::{Mutex, OnceLock};
+
+use crate::gpu::{GpuContext, GpuSampler};
+use crate::sampler::{self, Control, Error, Params, SampleSet};
 
 /// Which backend to run.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum, serde::Serialize, serde::Deserialize,
+)]
 #[serde(rename_all = "lowercase")]
 pub enum BackendChoice {
     /// The GPU when an adapter exists, else the CPU.
@@ -16,20 +21,85 @@ pub enum BackendChoice {
     Gpu,
 }
 
-/// Runs `params` on the chosen backend. `notice` receives one-line messages
-/// such as the fallback to the CPU.
+/// A process-wide headless GPU: opened on first use, kept for later runs so
+/// that pipelines and buffers are reused.
+pub struct SharedGpu {
+    ctx: GpuContext,
+    sampler: Mutex<GpuSampler>,
+}
+
+impl SharedGpu {
+    /// The process's GPU, or why there is none.
+    pub fn get() -> Result<&'static Self, String> {
+        static GPU: OnceLock<Result<SharedGpu, String>> = OnceLock::new();
+        GPU.get_or_init(|| {
+            let ctx = GpuContext::new().map_err(|e| e.to_string())?;
+            let sampler = GpuSampler::new(&ctx.device, ctx.info.name.clone()).map_err(|e| e.to_string())?;
+            Ok(Self {
+                ctx,
+                sampler: Mutex::new(sampler),
+            })
+        })
+        .as_ref()
+        .map_err(Clone::clone)
+    }
+
+    /// The adapter's name.
+    pub fn adapter(&self) -> &str {
+        &self.ctx.info.name
+    }
+
+    /// Runs the sampler on this GPU.
+    pub fn sample(&self, params: &Params, ctl: Control<'_>) -> sampler::Result<SampleSet> {
+        let mut s = self
+            .sampler
+            .lock()
+            .map_err(|_| Error::Gpu("the GPU sampler was poisoned by an earlier failure".into()))?;
+        s.sample(&self.ctx.device, &self.ctx.queue, params, ctl)
+    }
+}
+
+/// A one-line message about the backend a run uses.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Notice {
+    /// The GPU adapter that runs the sampler (for `--verbose`).
+    Adapter(String),
+    /// `auto` found no usable GPU and falls back to the CPU (always shown).
+    Fallback(String),
+}
+
+impl std::fmt::Display for Notice {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Adapter(name) => write!(f, "GPU backend on '{name}'"),
+            Self::Fallback(why) => write!(f, "no usable GPU ({why}); using the CPU backend"),
+        }
+    }
+}
+
+/// Runs `params` on the chosen backend; `notice` hears which one.
 pub fn sample(
     params: &Params,
     choice: BackendChoice,
     ctl: Control<'_>,
-    notice: &mut dyn FnMut(&str),
+    notice: &mut dyn FnMut(Notice),
 ) -> sampler::Result<SampleSet> {
     match choice {
         BackendChoice::Cpu => sampler::cpu::sample(params, ctl),
-        BackendChoice::Gpu => Err(sampler::Error::Gpu("the GPU backend is not available in this build".into())),
-        BackendChoice::Auto => {
-            notice("no GPU backend in this build; using the CPU backend");
-            sampler::cpu::sample(params, ctl)
+        BackendChoice::Gpu => {
+            let gpu = SharedGpu::get().map_err(Error::Gpu)?;
+            notice(Notice::Adapter(gpu.adapter().to_owned()));
+            gpu.sample(params, ctl)
         }
+        BackendChoice::Auto => match SharedGpu::get() {
+            Ok(gpu) => {
+                notice(Notice::Adapter(gpu.adapter().to_owned()));
+                gpu.sample(params, ctl)
+            }
+            Err(e) => {
+                notice(Notice::Fallback(e));
+                sampler::cpu::sample(params, ctl)
+            }
+        },
     }
 }

@@ -9,7 +9,7 @@ use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
 
-use pixelpie::backend::{self, BackendChoice};
+use pixelpie::backend::{self, BackendChoice, Notice};
 use pixelpie::count;
 use pixelpie::io;
 use pixelpie::sampler::{self, Control, Params, Policy, Progress, RadiusMap, SampleSet};
@@ -118,6 +118,7 @@ pub fn run_with_progress(
     params: &Params,
     choice: BackendChoice,
     bar: &ProgressBar,
+    quiet: bool,
     verbose: bool,
 ) -> Result<SampleSet> {
     let progress = |p: Progress| {
@@ -128,10 +129,13 @@ pub fn run_with_progress(
         progress: Some(&progress),
         cancel: None,
     };
-    let quiet = bar.is_hidden() && !verbose;
-    let set = backend::sample(params, choice, ctl, &mut |msg| {
-        if !quiet || verbose {
-            bar.suspend(|| eprintln!("{msg}"));
+    let set = backend::sample(params, choice, ctl, &mut |n| {
+        let show = match n {
+            Notice::Adapter(_) => verbose,
+            Notice::Fallback(_) => !quiet,
+        };
+        if show {
+            bar.suspend(|| eprintln!("{n}"));
         }
     })?;
     if verbose {
@@ -196,7 +200,7 @@ pub fn run(a: &SampleArgs) -> Result<()> {
     };
     let bar = progress_bar(a.quiet);
     let set = match a.points {
-        None => run_with_progress(&make(f64::from(a.radius.unwrap_or(1.0)))?, a.backend, &bar, a.verbose)?,
+        None => run_with_progress(&make(f64::from(a.radius.unwrap_or(1.0)))?, a.backend, &bar, a.quiet, a.verbose)?,
         Some(n) => {
             // Start from the RSA estimate: radius (or map scale) for n points.
             let expected = make(1.0)?.plan()?.expected_points;
@@ -205,7 +209,7 @@ pub fn run(a: &SampleArgs) -> Result<()> {
                 None => (expected / n.max(1) as f64).sqrt(),
             };
             let (_, set, runs) = count::fit_scale(n, initial, |s| {
-                let set = run_with_progress(&make(s)?, a.backend, &bar, a.verbose)?;
+                let set = run_with_progress(&make(s)?, a.backend, &bar, a.quiet, a.verbose)?;
                 Ok((set.points.len(), set))
             })?;
             if a.verbose {
