@@ -1,5 +1,6 @@
 //! Subcommands of the `pixelpie` binary.
 
+mod bench;
 mod sample;
 
 use anyhow::Result;
@@ -17,11 +18,14 @@ pub struct Cli {
 enum Command {
     /// Samples a maximal Poisson-disk set and writes it as CSV or JSON.
     Sample(sample::SampleArgs),
+    /// Prints the paper's Table 1 for the GPU and CPU backends.
+    Bench(bench::BenchArgs),
 }
 
 /// Runs the parsed command line.
 pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Sample(a) => sample::run(&a),
+        Command::Bench(a) => bench::run(&a),
     }
 }

@@ -3,8 +3,6 @@
 //!
 //! WGSL mirror: `shaders/compact.wgsl` (a prefix-sum scan and scatter).
 
-use std::sync::atomic::{AtomicU8, Ordering};
-
 use rayon::prelude::*;
 
 /// The pixels still empty, in ascending order of first listing.
@@ -55,11 +53,25 @@ impl EmptyList {
 }
 
 /// The list without the pixels the coverage map marks, in the same order.
+/// The list is cut at band boundaries ([`super::cover::BAND_ROWS`] rows) and
+/// the pieces filtered in parallel.
 #[must_use]
-pub fn compact(empty: &EmptyList, coverage: &[AtomicU8]) -> EmptyList {
-    let uncovered = |p: &u32| coverage[*p as usize].load(Ordering::Relaxed) == 0;
+pub fn compact(empty: &EmptyList, coverage: &[u8], width: u32) -> EmptyList {
+    let band = super::cover::BAND_ROWS * width;
+    let n_bands = (coverage.len() as u32).div_ceil(band);
+    let uncovered = |p: &u32| coverage[*p as usize] == 0;
     EmptyList::List(match empty {
-        EmptyList::All(n) => (0..*n).into_par_iter().filter(uncovered).collect(),
-        EmptyList::List(v) => v.par_iter().copied().filter(uncovered).collect(),
+        EmptyList::All(n) => (0..n_bands)
+            .into_par_iter()
+            .flat_map_iter(|b| (b * band..((b + 1) * band).min(*n)).filter(uncovered))
+            .collect(),
+        EmptyList::List(v) => {
+            let cuts: Vec<usize> = (0..=n_bands)
+                .map(|b| v.partition_point(|&p| p < b.saturating_mul(band)))
+                .collect();
+            cuts.par_windows(2)
+                .flat_map_iter(|c| v[c[0]..c[1]].iter().copied().filter(uncovered))
+                .collect()
+        }
     })
 }

@@ -8,7 +8,6 @@ pub mod cover;
 pub mod cull;
 pub mod throw;
 
-use std::sync::atomic::AtomicU8;
 use std::time::Instant;
 
 use compact::EmptyList;
@@ -27,9 +26,7 @@ pub fn sample(params: &Params, ctl: Control<'_>) -> Result<SampleSet> {
     let start = Instant::now();
     let plan = params.plan()?;
     let pixels = plan.pixels();
-    let coverage: Vec<AtomicU8> = std::iter::repeat_with(|| AtomicU8::new(0))
-        .take(pixels as usize)
-        .collect();
+    let mut coverage = vec![0u8; pixels as usize];
     let mut empty = EmptyList::All(pixels);
     let mut points = Vec::new();
     let mut stats = Stats {
@@ -46,9 +43,9 @@ pub fn sample(params: &Params, ctl: Control<'_>) -> Result<SampleSet> {
         let grid = throw::DartGrid::new(&plan, &darts);
         let t1 = Instant::now();
         let survivors = cull::survivors(&plan, &darts, &grid);
-        cover::cover(&plan, &survivors, &coverage);
+        cover::cover(&plan, &survivors, &mut coverage);
         let t2 = Instant::now();
-        let next = compact::compact(&empty, &coverage);
+        let next = compact::compact(&empty, &coverage, plan.width);
         let t3 = Instant::now();
         peak_bytes = peak_bytes.max(
             empty.bytes() + next.bytes() + grid.bytes() + 16 * (darts.len() + survivors.len()),

@@ -1,0 +1,103 @@
+//! `pixelpie bench`: the paper's Table 1 (r = 8.5 px, batch N/2) with the GPU
+//! and CPU backends side by side, as a Markdown table on stdout.
+
+use anyhow::Result;
+use clap::Args;
+
+use pixelpie::backend::SharedGpu;
+use pixelpie::sampler::{self, Control, Params, SampleSet};
+
+/// Arguments of `pixelpie bench`.
+#[derive(Args, Debug)]
+pub struct BenchArgs {
+    /// Domain sides (default: 1024 to 10240 in steps of 1024, as in the paper).
+    #[arg(long, value_delimiter = ',')]
+    sizes: Vec<u32>,
+    /// Disk radius in pixels.
+    #[arg(long, default_value_t = 8.5)]
+    radius: f32,
+    /// Runs per row; the fastest is reported.
+    #[arg(long, default_value_t = 3)]
+    reps: u32,
+    /// Skip the CPU backend.
+    #[arg(long)]
+    no_cpu: bool,
+    /// Skip the GPU backend.
+    #[arg(long)]
+    no_gpu: bool,
+    /// Seed.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+}
+
+fn best(reps: u32, mut run: impl FnMut() -> sampler::Result<SampleSet>) -> Result<SampleSet> {
+    let mut best: Option<SampleSet> = None;
+    for _ in 0..reps.max(1) {
+        let s = run()?;
+        if best.as_ref().is_none_or(|b| s.stats.seconds < b.stats.seconds) {
+            best = Some(s);
+        }
+    }
+    best.ok_or_else(|| anyhow::anyhow!("no run"))
+}
+
+fn row(label: &str, side: u32, batch: u32, s: &SampleSet) {
+    let st = &s.stats;
+    let px = f64::from(side) * f64::from(side);
+    println!(
+        "| {label} | {side}² | {:.2}K | {:.2}K | {} | {:.1} | {:.1} | {:.1} | {:.1} | {:.2}M | {:.1} | {} |",
+        f64::from(batch) / 1e3,
+        st.points as f64 / 1e3,
+        st.iterations,
+        st.throw_seconds * 1e3,
+        st.cull_seconds * 1e3,
+        st.compact_seconds * 1e3,
+        st.seconds * 1e3,
+        st.points as f64 / st.seconds / 1e6,
+        st.bytes_per_pixel * px / (1 << 20) as f64,
+        if st.maximal { "yes" } else { "no" },
+    );
+}
+
+pub fn run(a: &BenchArgs) -> Result<()> {
+    let gpu = if a.no_gpu {
+        None
+    } else {
+        match SharedGpu::get() {
+            Ok(g) => Some(g),
+            Err(e) => {
+                eprintln!("no usable GPU ({e}); CPU rows only");
+                None
+            }
+        }
+    };
+    let sizes = if a.sizes.is_empty() {
+        (1..=10).map(|i| i * 1024).collect()
+    } else {
+        a.sizes.clone()
+    };
+    println!(
+        "r = {} px, batch N/2, best of {}; GPU: {}; CPU: {} threads\n",
+        a.radius,
+        a.reps,
+        gpu.map_or("none", |g| g.adapter()),
+        rayon::current_num_threads()
+    );
+    println!("| backend | domain | batch | points | iter | S1 ms | S2 ms | PP ms | total ms | rate (samples/s) | MB | maximal |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
+    for side in sizes {
+        let params = Params::new(side, side).with_radius(a.radius).with_seed(a.seed);
+        let batch = params.plan()?.batch;
+        if let Some(g) = gpu {
+            match best(a.reps, || g.sample(&params, Control::default())) {
+                Ok(s) => row("GPU", side, batch, &s),
+                Err(e) => eprintln!("GPU {side}²: {e:#}"),
+            }
+        }
+        if !a.no_cpu {
+            let s = best(a.reps, || sampler::cpu::sample(&params, Control::default()))?;
+            row("CPU", side, batch, &s);
+        }
+    }
+    Ok(())
+}
