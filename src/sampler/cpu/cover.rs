@@ -93,6 +93,9 @@ fn cover_band(plan: &Plan, s: &Dart, band: std::ops::Range<u32>, cov: &mut [u8])
 /// Sets `row[x0..=x1]`, wrapping or clipping at the row's ends.
 fn fill_span(row: &mut [u8], x0: i64, x1: i64, periodic: bool) {
     let n = row.len() as i64;
+    if x0 > x1 {
+        return;
+    }
     if !periodic {
         let (a, b) = (x0.max(0), x1.min(n - 1));
         if a <= b {
@@ -144,4 +147,58 @@ pub fn cover(plan: &Plan, survivors: &[Dart], coverage: &mut [u8]) {
                 cover_band(plan, &survivors[i as usize], rows.clone(), cov);
             }
         });
+}
+
+#[cfg(test)]
+mod tests {
+    use std::sync::Arc;
+
+    use super::*;
+    use crate::sampler::fixed::{axis_delta, mix, pixel_centre};
+    use crate::sampler::{Params, RadiusMap};
+
+    /// Covers random samples and compares every pixel with the rule itself.
+    fn check(policy: Policy, periodic: bool) {
+        let (w, h) = (150u32, 140u32);
+        let radii: Vec<f32> = (0..w * h).map(|i| 2.0 + ((i % w) / 30) as f32).collect();
+        let map = Arc::new(RadiusMap::from_pixels(w, h, &radii).unwrap());
+        let plan = Params::new(w, h)
+            .with_radius_map(map)
+            .with_policy(policy)
+            .with_periodic(periodic)
+            .plan()
+            .unwrap();
+        let samples: Vec<Dart> = (0..200u32)
+            .map(|k| {
+                let r = mix(k);
+                let pixel = r % (w * h);
+                Dart {
+                    x: (pixel % w) * 256 + (r >> 24),
+                    y: (pixel / w) * 256 + ((r >> 16) & 255),
+                    pixel,
+                    radius: plan.radius_at(pixel),
+                }
+            })
+            .collect();
+        let mut cov = vec![0u8; (w * h) as usize];
+        cover(&plan, &samples, &mut cov);
+        let (px, py) = plan.periods();
+        for p in 0..w * h {
+            let want = samples.iter().any(|s| {
+                let dx = axis_delta(s.x, pixel_centre(p % w), px);
+                let dy = axis_delta(s.y, pixel_centre(p / w), py);
+                inside(dx, dy, policy.coverage_radius(s.radius, plan.radius_at(p)))
+            });
+            assert_eq!(want, cov[p as usize] == 1, "{policy:?} periodic {periodic} pixel {p}");
+        }
+    }
+
+    #[test]
+    fn cover_marks_exactly_the_pixels_within_the_policy_distance() {
+        for policy in Policy::ALL {
+            for periodic in [false, true] {
+                check(policy, periodic);
+            }
+        }
+    }
 }
