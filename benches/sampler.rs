@@ -25,7 +25,9 @@ fn main() {
         "CPU, {} threads, r = {RADIUS} px, batch N/2, median of {reps}\n",
         rayon::current_num_threads()
     );
-    println!("| domain | points | iter | S1 ms | S2 ms | PP ms | total ms | samples/s | maximal | fast_poisson points | fast_poisson ms | fast_poisson samples/s | speed-up |");
+    println!(
+        "| domain | points | iter | S1 ms | S2 ms | PP ms | total ms | samples/s | maximal | fast_poisson points | fast_poisson ms | fast_poisson samples/s | speed-up |"
+    );
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for side in sizes {
         let params = Params::new(side, side).with_radius(RADIUS).with_seed(1);

@@ -8,7 +8,15 @@ use crate::sampler::{self, Control, Error, Params, SampleSet};
 
 /// Which backend to run.
 #[derive(
-    Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum, serde::Serialize, serde::Deserialize,
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    clap::ValueEnum,
+    serde::Serialize,
+    serde::Deserialize,
 )]
 #[serde(rename_all = "lowercase")]
 pub enum BackendChoice {
@@ -34,7 +42,8 @@ impl SharedGpu {
         static GPU: OnceLock<Result<SharedGpu, String>> = OnceLock::new();
         GPU.get_or_init(|| {
             let ctx = GpuContext::new().map_err(|e| e.to_string())?;
-            let sampler = GpuSampler::new(&ctx.device, ctx.info.name.clone()).map_err(|e| e.to_string())?;
+            let sampler =
+                GpuSampler::new(&ctx.device, ctx.info.name.clone()).map_err(|e| e.to_string())?;
             Ok(Self {
                 ctx,
                 sampler: Mutex::new(sampler),

@@ -7,6 +7,6 @@
 
 pub mod backend;
 pub mod count;
+pub mod gpu;
 pub mod io;
 pub mod sampler;
-pub mod gpu;

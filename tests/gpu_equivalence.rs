@@ -58,7 +58,9 @@ fn assert_identical(params: &Params, what: &str) {
     assert_eq!(g.points.len(), c.points.len(), "{what}: point count");
     for (i, (a, b)) in g.points.iter().zip(&c.points).enumerate() {
         assert!(
-            a.x.to_bits() == b.x.to_bits() && a.y.to_bits() == b.y.to_bits() && a.radius.to_bits() == b.radius.to_bits(),
+            a.x.to_bits() == b.x.to_bits()
+                && a.y.to_bits() == b.y.to_bits()
+                && a.radius.to_bits() == b.radius.to_bits(),
             "{what}: point {i} differs: gpu {a:?} cpu {b:?}"
         );
     }
@@ -75,7 +77,10 @@ fn uniform_sampling_matches_reference_implementation() {
                     .with_periodic(periodic)
                     .with_policy(policy)
                     .with_seed(42);
-                assert_identical(&params, &format!("uniform {policy:?} bits {bits} periodic {periodic}"));
+                assert_identical(
+                    &params,
+                    &format!("uniform {policy:?} bits {bits} periodic {periodic}"),
+                );
             }
         }
     }
@@ -94,7 +99,10 @@ fn radius_map_sampling_matches_reference_implementation() {
                     .with_subpixel_bits(bits)
                     .with_periodic(periodic)
                     .with_seed(7);
-                assert_identical(&params, &format!("{name} map {policy:?} bits {bits} periodic {periodic}"));
+                assert_identical(
+                    &params,
+                    &format!("{name} map {policy:?} bits {bits} periodic {periodic}"),
+                );
             }
         }
     }
@@ -102,10 +110,22 @@ fn radius_map_sampling_matches_reference_implementation() {
 
 #[test]
 fn a_larger_domain_and_capped_runs_match_reference_implementation() {
-    assert_identical(&Params::new(1024, 768).with_radius(8.5).with_seed(3), "1024x768");
     assert_identical(
-        &Params::new(512, 512).with_radius(3.0).with_max_iterations(2).with_seed(1),
+        &Params::new(1024, 768).with_radius(8.5).with_seed(3),
+        "1024x768",
+    );
+    assert_identical(
+        &Params::new(512, 512)
+            .with_radius(3.0)
+            .with_max_iterations(2)
+            .with_seed(1),
         "capped",
     );
-    assert_identical(&Params::new(257, 131).with_radius(4.0).with_batch(37).with_seed(5), "odd sizes, small batch");
+    assert_identical(
+        &Params::new(257, 131)
+            .with_radius(4.0)
+            .with_batch(37)
+            .with_seed(5),
+        "odd sizes, small batch",
+    );
 }

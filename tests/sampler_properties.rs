@@ -25,7 +25,11 @@ fn check_map(radii: Vec<f32>, policy: Policy, subpixel_bits: u32, periodic: bool
         .with_seed(11);
     let set = run(&params);
     assert!(set.maximal, "{policy:?}: not maximal");
-    assert!(set.points.len() > 100, "{policy:?}: only {} points", set.points.len());
+    assert!(
+        set.points.len() > 100,
+        "{policy:?}: only {} points",
+        set.points.len()
+    );
     let wrap = periodic.then_some((f64::from(w), f64::from(h)));
     let worst = worst_violation(&set.points, policy, wrap);
     let bound = if subpixel_bits == 0 { 0.0 } else { SQRT2_2 };
@@ -36,7 +40,11 @@ fn check_map(radii: Vec<f32>, policy: Policy, subpixel_bits: u32, periodic: bool
     let holes = uncovered_pixels(&set.points, w, h, policy, periodic, |x, y| {
         f64::from(map.radius_px(x, y))
     });
-    assert!(holes.is_empty(), "{policy:?}: uncovered pixels {:?}", &holes[..holes.len().min(5)]);
+    assert!(
+        holes.is_empty(),
+        "{policy:?}: uncovered pixels {:?}",
+        &holes[..holes.len().min(5)]
+    );
 }
 
 #[test]
@@ -62,7 +70,10 @@ fn periodic_domains_keep_the_distance_across_the_seam() {
     for policy in [Policy::Prior, Policy::Smaller] {
         check_map(step_radii(160, 120), policy, 3, true);
     }
-    let set = run(&Params::new(96, 64).with_radius(5.0).with_periodic(true).with_seed(3));
+    let set = run(&Params::new(96, 64)
+        .with_radius(5.0)
+        .with_periodic(true)
+        .with_seed(3));
     assert!(set.maximal);
     let worst = worst_violation(&set.points, Policy::Prior, Some((96.0, 64.0)));
     assert!(worst <= SQRT2_2, "{worst}");
@@ -74,17 +85,27 @@ fn periodic_domains_keep_the_distance_across_the_seam() {
 
 #[test]
 fn pixel_centred_uniform_darts_are_exactly_r_apart() {
-    let set = run(&Params::new(200, 150).with_radius(6.25).with_subpixel_bits(0).with_seed(5));
+    let set = run(&Params::new(200, 150)
+        .with_radius(6.25)
+        .with_subpixel_bits(0)
+        .with_seed(5));
     assert!(set.maximal);
     assert!(worst_violation(&set.points, Policy::Prior, None) <= 0.0);
-    assert!(set.points.iter().all(|p| p.x.fract() == 0.5 && p.y.fract() == 0.5));
+    assert!(
+        set.points
+            .iter()
+            .all(|p| p.x.fract() == 0.5 && p.y.fract() == 0.5)
+    );
 }
 
 fn density(r: f32, side: u32, seeds: std::ops::Range<u64>) -> f64 {
     let mut total = 0.0;
     let n = seeds.end - seeds.start;
     for seed in seeds {
-        let set = run(&Params::new(side, side).with_radius(r).with_periodic(true).with_seed(seed));
+        let set = run(&Params::new(side, side)
+            .with_radius(r)
+            .with_periodic(true)
+            .with_seed(seed));
         assert!(set.maximal);
         let disk = std::f64::consts::PI * (f64::from(r) / 2.0).powi(2);
         total += set.points.len() as f64 * disk / f64::from(side * side);
@@ -105,15 +126,26 @@ fn saturation_density_approaches_rsa_at_large_radii() {
     let small = density(8.5, 512, 0..4);
     let large = density(48.0, 2048, 0..2);
     assert!(large > small, "large {large} <= small {small}");
-    assert!((large - 0.547).abs() < 0.012, "density {large} vs RSA 0.547");
+    assert!(
+        (large - 0.547).abs() < 0.012,
+        "density {large} vs RSA 0.547"
+    );
 }
 
 #[test]
 fn same_seed_gives_the_same_points_on_one_and_two_threads() {
     let radii = step_radii(160, 120);
     let map = Arc::new(RadiusMap::from_pixels(160, 120, &radii).unwrap());
-    let params = Params::new(160, 120).with_radius_map(map).with_policy(Policy::Bigger).with_seed(9);
-    let pool = |n| rayon::ThreadPoolBuilder::new().num_threads(n).build().unwrap();
+    let params = Params::new(160, 120)
+        .with_radius_map(map)
+        .with_policy(Policy::Bigger)
+        .with_seed(9);
+    let pool = |n| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .unwrap()
+    };
     let one = pool(1).install(|| run(&params));
     let two = pool(2).install(|| run(&params));
     assert_eq!(one.points, two.points);
@@ -123,7 +155,9 @@ fn same_seed_gives_the_same_points_on_one_and_two_threads() {
 
 #[test]
 fn an_iteration_cap_reports_a_non_maximal_set() {
-    let set = run(&Params::new(256, 256).with_radius(4.0).with_max_iterations(1));
+    let set = run(&Params::new(256, 256)
+        .with_radius(4.0)
+        .with_max_iterations(1));
     assert_eq!(set.iterations, 1);
     assert!(!set.maximal);
     assert!(!set.points.is_empty());
@@ -134,9 +168,14 @@ fn a_larger_batch_is_split_by_the_key_layout() {
     // Bigger with a wide radius range leaves few index bits: a forced huge
     // batch must still produce a valid maximal set.
     let (w, h) = (128, 96);
-    let radii: Vec<f32> = (0..w * h).map(|i| if i % 7 == 0 { 30.0 } else { 1.0 }).collect();
+    let radii: Vec<f32> = (0..w * h)
+        .map(|i| if i % 7 == 0 { 30.0 } else { 1.0 })
+        .collect();
     let map = Arc::new(RadiusMap::from_pixels(w, h, &radii).unwrap());
-    let params = Params::new(w, h).with_radius_map(map).with_policy(Policy::Bigger).with_batch(u32::MAX);
+    let params = Params::new(w, h)
+        .with_radius_map(map)
+        .with_policy(Policy::Bigger)
+        .with_batch(u32::MAX);
     let plan = params.plan().unwrap();
     assert!(plan.layout.max_batch() < plan.batch);
     let set = run(&params);

@@ -34,7 +34,10 @@ fn best(reps: u32, mut run: impl FnMut() -> sampler::Result<SampleSet>) -> Resul
     let mut best: Option<SampleSet> = None;
     for _ in 0..reps.max(1) {
         let s = run()?;
-        if best.as_ref().is_none_or(|b| s.stats.seconds < b.stats.seconds) {
+        if best
+            .as_ref()
+            .is_none_or(|b| s.stats.seconds < b.stats.seconds)
+        {
             best = Some(s);
         }
     }
@@ -83,10 +86,14 @@ pub fn run(a: &BenchArgs) -> Result<()> {
         gpu.map_or("none", |g| g.adapter()),
         rayon::current_num_threads()
     );
-    println!("| backend | domain | batch | points | iter | S1 ms | S2 ms | PP ms | total ms | rate (samples/s) | MB | maximal |");
+    println!(
+        "| backend | domain | batch | points | iter | S1 ms | S2 ms | PP ms | total ms | rate (samples/s) | MB | maximal |"
+    );
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
     for side in sizes {
-        let params = Params::new(side, side).with_radius(a.radius).with_seed(a.seed);
+        let params = Params::new(side, side)
+            .with_radius(a.radius)
+            .with_seed(a.seed);
         let batch = params.plan()?.batch;
         if let Some(g) = gpu {
             match best(a.reps, || g.sample(&params, Control::default())) {

@@ -141,7 +141,11 @@ pub fn run_with_progress(
     if verbose {
         eprintln!(
             "backend: {} ({}), {} points in {} iterations, {:.3} s",
-            set.stats.backend, set.stats.device, set.stats.points, set.stats.iterations, set.stats.seconds
+            set.stats.backend,
+            set.stats.device,
+            set.stats.points,
+            set.stats.iterations,
+            set.stats.seconds
         );
     }
     Ok(set)
@@ -190,7 +194,10 @@ pub fn run(a: &SampleArgs) -> Result<()> {
     let make = |scale: f64| -> Result<Params> {
         Ok(match &map {
             Some((w, h, radii, path)) => {
-                let scaled: Vec<f32> = radii.iter().map(|&r| (f64::from(r) * scale) as f32).collect();
+                let scaled: Vec<f32> = radii
+                    .iter()
+                    .map(|&r| (f64::from(r) * scale) as f32)
+                    .collect();
                 let m = RadiusMap::from_pixels(*w, *h, &scaled)
                     .with_context(|| format!("radius map '{}'", path.display()))?;
                 base.clone().with_radius_map(Arc::new(m))
@@ -200,7 +207,13 @@ pub fn run(a: &SampleArgs) -> Result<()> {
     };
     let bar = progress_bar(a.quiet);
     let set = match a.points {
-        None => run_with_progress(&make(f64::from(a.radius.unwrap_or(1.0)))?, a.backend, &bar, a.quiet, a.verbose)?,
+        None => run_with_progress(
+            &make(f64::from(a.radius.unwrap_or(1.0)))?,
+            a.backend,
+            &bar,
+            a.quiet,
+            a.verbose,
+        )?,
         Some(n) => {
             // Start from the RSA estimate: radius (or map scale) for n points.
             let expected = make(1.0)?.plan()?.expected_points;
@@ -213,7 +226,10 @@ pub fn run(a: &SampleArgs) -> Result<()> {
                 Ok((set.points.len(), set))
             })?;
             if a.verbose {
-                eprintln!("count target {n}: {} points after {runs} runs", set.points.len());
+                eprintln!(
+                    "count target {n}: {} points after {runs} runs",
+                    set.points.len()
+                );
             }
             set
         }

@@ -36,7 +36,11 @@ impl CompactStage {
         let layout = util::layout(
             device,
             "compact",
-            &[util::uniform(0, c), util::storage(1, c, false), util::storage(2, c, false)],
+            &[
+                util::uniform(0, c),
+                util::storage(1, c, false),
+                util::storage(2, c, false),
+            ],
         );
         let pl = util::pipeline_layout(device, &layout);
         let module = util::module(device, "compact.wgsl", util::SHADERS[4].1);

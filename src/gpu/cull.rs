@@ -38,14 +38,24 @@ impl CullStage {
     }
 
     /// Flags the winners of `darts` darts.
-    pub fn encode_cull(&self, pass: &mut wgpu::ComputePass<'_>, group: &wgpu::BindGroup, darts: u32) {
+    pub fn encode_cull(
+        &self,
+        pass: &mut wgpu::ComputePass<'_>,
+        group: &wgpu::BindGroup,
+        darts: u32,
+    ) {
         pass.set_pipeline(&self.cull);
         pass.set_bind_group(0, group, &[]);
         util::dispatch(pass, darts.div_ceil(256));
     }
 
     /// Writes the winners to the survivor buffer, in dart order.
-    pub fn encode_gather(&self, pass: &mut wgpu::ComputePass<'_>, group: &wgpu::BindGroup, darts: u32) {
+    pub fn encode_gather(
+        &self,
+        pass: &mut wgpu::ComputePass<'_>,
+        group: &wgpu::BindGroup,
+        darts: u32,
+    ) {
         pass.set_pipeline(&self.gather);
         pass.set_bind_group(0, group, &[]);
         util::dispatch(pass, darts.div_ceil(256));

@@ -61,7 +61,11 @@ impl Config {
             radius_bits: plan.layout.radius_bits,
             min_radius: plan.radius_range.0,
             max_radius: plan.radius_range.1,
-            uniform_radius: if plan.map.is_some() { 0 } else { plan.radius_range.0 },
+            uniform_radius: if plan.map.is_some() {
+                0
+            } else {
+                plan.radius_range.0
+            },
             iteration_key: 0,
             empty: plan.pixels(),
             darts: 0,
@@ -147,10 +151,11 @@ impl GpuSampler {
             resources: None,
             adapter: adapter.into(),
         };
-        for err in [pollster::block_on(internal.pop()), pollster::block_on(scope.pop())]
-            .into_iter()
-            .flatten()
-        {
+        let errors = [
+            pollster::block_on(internal.pop()),
+            pollster::block_on(scope.pop()),
+        ];
+        if let Some(err) = errors.into_iter().flatten().next() {
             return Err(Error::Gpu(format!("cannot build the pipelines: {err}")));
         }
         Ok(s)
@@ -172,7 +177,10 @@ impl GpuSampler {
         let oom = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let result = self.run(device, queue, params, ctl);
-        let errors = [pollster::block_on(scope.pop()), pollster::block_on(oom.pop())];
+        let errors = [
+            pollster::block_on(scope.pop()),
+            pollster::block_on(oom.pop()),
+        ];
         if let Some(err) = errors.into_iter().flatten().next() {
             self.resources = None;
             return Err(Error::Gpu(err.to_string()));
@@ -199,14 +207,19 @@ impl GpuSampler {
         }
         let cap = plan.batch.min(plan.pixels()).min(plan.layout.max_batch());
         let timestamps = device.features().contains(wgpu::Features::TIMESTAMP_QUERY);
-        let fits = self
-            .resources
-            .as_ref()
-            .is_some_and(|r| r.fits(&plan, cap));
+        let fits = self.resources.as_ref().is_some_and(|r| r.fits(&plan, cap));
         if !fits {
             self.resources = None;
             self.resources = Some(Resources::new(
-                device, queue, &self.throw, &self.cull, &self.cover, &self.compact, &plan, cap, timestamps,
+                device,
+                queue,
+                &self.throw,
+                &self.cull,
+                &self.cover,
+                &self.compact,
+                &plan,
+                cap,
+                timestamps,
             )?);
         }
         let Some(res) = self.resources.as_ref() else {

@@ -55,7 +55,10 @@ pub struct Resources {
 
 impl Resources {
     /// Allocates everything a `plan` with batches of up to `capacity` darts needs.
-    #[expect(clippy::too_many_arguments, reason = "the four stages and the run's shape")]
+    #[expect(
+        clippy::too_many_arguments,
+        reason = "the four stages and the run's shape"
+    )]
     pub fn new(
         device: &wgpu::Device,
         queue: &wgpu::Queue,
@@ -70,7 +73,7 @@ impl Resources {
         use wgpu::BufferUsages as B;
         let (width, height) = (plan.width, plan.height);
         let words = plan.pixels().div_ceil(32);
-        let max_binding = u64::from(device.limits().max_storage_buffer_binding_size);
+        let max_binding = device.limits().max_storage_buffer_binding_size;
         let dart_bytes = u64::from(capacity) * DART_BYTES;
         if dart_bytes > max_binding || 4 * u64::from(words) > max_binding {
             return Err(Error::Gpu(format!(
@@ -80,7 +83,12 @@ impl Resources {
         let config = util::buffer_of(device, "config", 64, B::UNIFORM | B::COPY_DST);
         let darts = util::buffer_of(device, "darts", dart_bytes, B::STORAGE);
         let survivors = util::buffer_of(device, "survivors", dart_bytes, B::STORAGE | B::COPY_SRC);
-        let coverage = util::buffer_of(device, "coverage", 4 * u64::from(words), B::STORAGE | B::COPY_DST);
+        let coverage = util::buffer_of(
+            device,
+            "coverage",
+            4 * u64::from(words),
+            B::STORAGE | B::COPY_DST,
+        );
         let word_scan = ScanChain::new(device, compact, "word scan", words, Some(&coverage));
         word_scan.set_len(queue, words, plan.pixels());
         let dart_scan = ScanChain::new(device, compact, "dart scan", capacity, None);
@@ -109,10 +117,20 @@ impl Resources {
         );
         let has_map = plan.map.is_some();
         let map_size = if has_map { (width, height) } else { (1, 1) };
-        let radius = texture("radius map", map_size, wgpu::TextureFormat::R32Uint, T::TEXTURE_BINDING | T::COPY_DST);
+        let radius = texture(
+            "radius map",
+            map_size,
+            wgpu::TextureFormat::R32Uint,
+            T::TEXTURE_BINDING | T::COPY_DST,
+        );
         let depth = depth.create_view(&Default::default());
         let radius_view = radius.create_view(&Default::default());
-        let staging = util::buffer_of(device, "read-back", HEADER + dart_bytes, B::MAP_READ | B::COPY_DST);
+        let staging = util::buffer_of(
+            device,
+            "read-back",
+            HEADER + dart_bytes,
+            B::MAP_READ | B::COPY_DST,
+        );
         let queries = timestamps.then(|| {
             let set = device.create_query_set(&wgpu::QuerySetDescriptor {
                 label: Some("stage timestamps"),
@@ -225,11 +243,13 @@ impl Resources {
     }
 
     fn pass_writes(&self, first: u32) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
-        self.queries.as_ref().map(|(set, _)| wgpu::ComputePassTimestampWrites {
-            query_set: set,
-            beginning_of_pass_write_index: Some(first),
-            end_of_pass_write_index: Some(first + 1),
-        })
+        self.queries
+            .as_ref()
+            .map(|(set, _)| wgpu::ComputePassTimestampWrites {
+                query_set: set,
+                beginning_of_pass_write_index: Some(first),
+                end_of_pass_write_index: Some(first + 1),
+            })
     }
 
     /// Encodes, runs and reads back one iteration of `darts` darts. Without
@@ -248,7 +268,8 @@ impl Resources {
         let mut clock = Instant::now();
         let mut lap = |encoder: &mut wgpu::CommandEncoder, stage: usize| {
             if !timestamps {
-                let done = std::mem::replace(encoder, device.create_command_encoder(&Default::default()));
+                let done =
+                    std::mem::replace(encoder, device.create_command_encoder(&Default::default()));
                 queue.submit([done.finish()]);
                 let _ = device.poll(wgpu::PollType::wait_indefinitely());
                 let now = Instant::now();
@@ -261,10 +282,12 @@ impl Resources {
         {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("S1 throw"),
-                timestamp_writes: self.queries.as_ref().map(|(set, _)| wgpu::ComputePassTimestampWrites {
-                    query_set: set,
-                    beginning_of_pass_write_index: Some(0),
-                    end_of_pass_write_index: None,
+                timestamp_writes: self.queries.as_ref().map(|(set, _)| {
+                    wgpu::ComputePassTimestampWrites {
+                        query_set: set,
+                        beginning_of_pass_write_index: Some(0),
+                        end_of_pass_write_index: None,
+                    }
                 }),
             });
             throw.encode_throw(&mut pass, &self.throw_group, darts);
@@ -274,13 +297,14 @@ impl Resources {
             &self.raster_group,
             &self.depth,
             darts,
-            plan.layout.greater_wins,
-            plan.periodic,
-            self.queries.as_ref().map(|(set, _)| wgpu::RenderPassTimestampWrites {
-                query_set: set,
-                beginning_of_pass_write_index: None,
-                end_of_pass_write_index: Some(1),
-            }),
+            plan,
+            self.queries
+                .as_ref()
+                .map(|(set, _)| wgpu::RenderPassTimestampWrites {
+                    query_set: set,
+                    beginning_of_pass_write_index: None,
+                    end_of_pass_write_index: Some(1),
+                }),
         );
         lap(&mut encoder, 0);
         // S2: cull by depth, gather the survivors, cover their disks.
@@ -317,9 +341,10 @@ impl Resources {
 
         let len = HEADER + dart_bytes;
         let (tx, rx) = std::sync::mpsc::channel();
-        self.staging.map_async(wgpu::MapMode::Read, 0..len, move |r| {
-            let _ = tx.send(r);
-        });
+        self.staging
+            .map_async(wgpu::MapMode::Read, 0..len, move |r| {
+                let _ = tx.send(r);
+            });
         device
             .poll(wgpu::PollType::wait_indefinitely())
             .map_err(|e| Error::Gpu(format!("device lost: {e}")))?;
@@ -340,8 +365,9 @@ impl Resources {
                     *s = pair[1].saturating_sub(pair[0]) as f64 * period;
                 }
             }
-            let survivors: &[Dart] =
-                bytemuck::cast_slice(&view[HEADER as usize..(HEADER + u64::from(count) * DART_BYTES) as usize]);
+            let survivors: &[Dart] = bytemuck::cast_slice(
+                &view[HEADER as usize..(HEADER + u64::from(count) * DART_BYTES) as usize],
+            );
             Step {
                 empty,
                 survivors: survivors.to_vec(),

@@ -7,6 +7,7 @@
 //! CPU mirror: `sampler::cpu::throw`.
 
 use super::util;
+use crate::sampler::Plan;
 
 /// The dart kernel and the two raster pipelines (Less, Greater).
 pub struct ThrowStage {
@@ -35,9 +36,18 @@ impl ThrowStage {
             ],
         );
         let module = util::module(device, "throw.wgsl", util::SHADERS[0].1);
-        let throw = util::compute(device, &util::pipeline_layout(device, &layout), &module, "throw_darts");
+        let throw = util::compute(
+            device,
+            &util::pipeline_layout(device, &layout),
+            &module,
+            "throw_darts",
+        );
         let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
-        let raster_layout = util::layout(device, "raster", &[util::uniform(0, vf), util::storage(1, vf, true)]);
+        let raster_layout = util::layout(
+            device,
+            "raster",
+            &[util::uniform(0, vf), util::storage(1, vf, true)],
+        );
         let raster_pl = util::pipeline_layout(device, &raster_layout);
         let raster = util::module(device, "raster.wgsl", util::SHADERS[1].1);
         let pipeline = |compare| {
@@ -79,7 +89,12 @@ impl ThrowStage {
     }
 
     /// Makes `darts` darts.
-    pub fn encode_throw(&self, pass: &mut wgpu::ComputePass<'_>, group: &wgpu::BindGroup, darts: u32) {
+    pub fn encode_throw(
+        &self,
+        pass: &mut wgpu::ComputePass<'_>,
+        group: &wgpu::BindGroup,
+        darts: u32,
+    ) {
         pass.set_pipeline(&self.throw);
         pass.set_bind_group(0, group, &[]);
         util::dispatch(pass, darts.div_ceil(256));
@@ -92,10 +107,10 @@ impl ThrowStage {
         group: &wgpu::BindGroup,
         depth: &wgpu::TextureView,
         darts: u32,
-        greater_wins: bool,
-        periodic: bool,
+        plan: &Plan,
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
+        let greater_wins = plan.layout.greater_wins;
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("S1 raster"),
             color_attachments: &[],
@@ -111,9 +126,13 @@ impl ThrowStage {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        pass.set_pipeline(if greater_wins { &self.greater } else { &self.less });
+        pass.set_pipeline(if greater_wins {
+            &self.greater
+        } else {
+            &self.less
+        });
         pass.set_bind_group(0, group, &[]);
-        let copies = if periodic { 9 } else { 1 };
+        let copies = if plan.periodic { 9 } else { 1 };
         pass.draw(0..6, 0..darts * copies);
     }
 }

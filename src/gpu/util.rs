@@ -35,11 +35,23 @@ pub fn uniform(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::BindGroupL
 }
 
 /// A storage-buffer layout entry.
-pub fn storage(binding: u32, visibility: wgpu::ShaderStages, read_only: bool) -> wgpu::BindGroupLayoutEntry {
-    buffer(binding, visibility, wgpu::BufferBindingType::Storage { read_only })
+pub fn storage(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+    read_only: bool,
+) -> wgpu::BindGroupLayoutEntry {
+    buffer(
+        binding,
+        visibility,
+        wgpu::BufferBindingType::Storage { read_only },
+    )
 }
 
-fn buffer(binding: u32, visibility: wgpu::ShaderStages, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntry {
+fn buffer(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+    ty: wgpu::BufferBindingType,
+) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility,
@@ -68,7 +80,11 @@ pub fn texture(binding: u32, sample_type: wgpu::TextureSampleType) -> wgpu::Bind
 }
 
 /// A bind group layout.
-pub fn layout(device: &wgpu::Device, label: &str, entries: &[wgpu::BindGroupLayoutEntry]) -> wgpu::BindGroupLayout {
+pub fn layout(
+    device: &wgpu::Device,
+    label: &str,
+    entries: &[wgpu::BindGroupLayoutEntry],
+) -> wgpu::BindGroupLayout {
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some(label),
         entries,
@@ -85,7 +101,12 @@ pub fn pipeline_layout(device: &wgpu::Device, bgl: &wgpu::BindGroupLayout) -> wg
 }
 
 /// A compute pipeline for one entry point.
-pub fn compute(device: &wgpu::Device, layout: &wgpu::PipelineLayout, module: &wgpu::ShaderModule, entry: &str) -> wgpu::ComputePipeline {
+pub fn compute(
+    device: &wgpu::Device,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    entry: &str,
+) -> wgpu::ComputePipeline {
     device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
         label: Some(entry),
         layout: Some(layout),
@@ -97,7 +118,11 @@ pub fn compute(device: &wgpu::Device, layout: &wgpu::PipelineLayout, module: &wg
 }
 
 /// A bind group of whole resources, in binding order.
-pub fn bind_group(device: &wgpu::Device, layout: &wgpu::BindGroupLayout, resources: &[wgpu::BindingResource<'_>]) -> wgpu::BindGroup {
+pub fn bind_group(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    resources: &[wgpu::BindingResource<'_>],
+) -> wgpu::BindGroup {
     let entries: Vec<_> = resources
         .iter()
         .enumerate()
@@ -126,7 +151,12 @@ pub fn dispatch(pass: &mut wgpu::ComputePass<'_>, groups: u32) {
 }
 
 /// Creates a buffer.
-pub fn buffer_of(device: &wgpu::Device, label: &str, size: u64, usage: wgpu::BufferUsages) -> wgpu::Buffer {
+pub fn buffer_of(
+    device: &wgpu::Device,
+    label: &str,
+    size: u64,
+    usage: wgpu::BufferUsages,
+) -> wgpu::Buffer {
     device.create_buffer(&wgpu::BufferDescriptor {
         label: Some(label),
         size: size.max(16).next_multiple_of(16),

@@ -18,7 +18,9 @@ pub const MIN_INDEX_BITS: u32 = 8;
 
 /// How two samples of different radii are kept apart (paper §3.4, after
 /// Mitchell et al. 2012). `i` is the earlier sample, `j` the later one.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize,
+)]
 #[serde(rename_all = "lowercase")]
 pub enum Policy {
     /// f(i, j) = r(i): the earlier sample's disk. Key = dart index, Less wins.
@@ -387,10 +389,14 @@ impl Plan {
             )));
         }
         if p.batch == Some(0) {
-            return Err(Error::InvalidParameter("the batch must hold at least one dart".into()));
+            return Err(Error::InvalidParameter(
+                "the batch must hold at least one dart".into(),
+            ));
         }
         if p.max_iterations == 0 {
-            return Err(Error::InvalidParameter("at least one iteration is needed".into()));
+            return Err(Error::InvalidParameter(
+                "at least one iteration is needed".into(),
+            ));
         }
         let (map, radius_range, expected_points) = match &p.radius {
             Radius::Uniform(r) => {
@@ -450,9 +456,11 @@ impl Plan {
             min_radius: radius_range.0,
             greater_wins: p.policy.greater_wins(),
         };
-        let batch = p
-            .batch
-            .unwrap_or_else(|| (expected_points / 2.0).round().clamp(1.0, f64::from(u32::MAX)) as u32);
+        let batch = p.batch.unwrap_or_else(|| {
+            (expected_points / 2.0)
+                .round()
+                .clamp(1.0, f64::from(u32::MAX)) as u32
+        });
         Ok(Self {
             width: p.width,
             height: p.height,
@@ -547,7 +555,13 @@ mod tests {
         assert!(Params::new(64, 64).with_radius(f32::NAN).plan().is_err());
         assert!(Params::new(64, 64).with_radius(0.5).plan().is_err());
         assert!(Params::new(64, 64).with_radius(65.0).plan().is_err());
-        assert!(Params::new(64, 64).with_radius(40.0).with_periodic(true).plan().is_err());
+        assert!(
+            Params::new(64, 64)
+                .with_radius(40.0)
+                .with_periodic(true)
+                .plan()
+                .is_err()
+        );
         assert!(Params::new(64, 64).with_subpixel_bits(8).plan().is_err());
         assert!(RadiusMap::from_pixels(2, 2, &[1.0, 2.0, f32::NAN, 3.0]).is_err());
         assert!(RadiusMap::from_pixels(2, 2, &[1.0, 2.0, -1.0, 3.0]).is_err());

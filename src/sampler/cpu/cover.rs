@@ -50,7 +50,10 @@ fn row_range(plan: &Plan, s: &Dart) -> (i64, i64) {
     let r = i64::from(reach(plan, s)) << (POS_FRAC_BITS - RADIUS_FRAC_BITS);
     let cy = i64::from(s.y);
     // Rows whose centre q·256 + 128 lies strictly within r of cy.
-    (-(-(cy - r + 1 - one / 2)).div_euclid(one), (cy + r - 1 - one / 2).div_euclid(one))
+    (
+        -(-(cy - r + 1 - one / 2)).div_euclid(one),
+        (cy + r - 1 - one / 2).div_euclid(one),
+    )
 }
 
 /// Marks the pixels of rows `band.start..band.end` that sample `s` covers;
@@ -130,7 +133,9 @@ pub fn cover(plan: &Plan, survivors: &[Dart], coverage: &mut [u8]) {
             }
         };
         if plan.periodic {
-            (y0..=y1).filter_map(|q| wrap(q, plan.height, true)).for_each(add);
+            (y0..=y1)
+                .filter_map(|q| wrap(q, plan.height, true))
+                .for_each(add);
         } else {
             let (a, b) = (y0.max(0) as u32, y1.min(i64::from(plan.height) - 1) as u32);
             (a / BAND_ROWS..=b / BAND_ROWS).for_each(|band| add(band * BAND_ROWS));
@@ -189,7 +194,11 @@ mod tests {
                 let dy = axis_delta(s.y, pixel_centre(p / w), py);
                 inside(dx, dy, policy.coverage_radius(s.radius, plan.radius_at(p)))
             });
-            assert_eq!(want, cov[p as usize] == 1, "{policy:?} periodic {periodic} pixel {p}");
+            assert_eq!(
+                want,
+                cov[p as usize] == 1,
+                "{policy:?} periodic {periodic} pixel {p}"
+            );
         }
     }
 

@@ -17,7 +17,10 @@ use crate::sampler::fixed::{axis_delta, inside, pixel_centre};
 fn cells_along(p: u32, reach: u32, n: u32, cell: u32, periodic: bool) -> ([u32; 4], usize) {
     let (mut out, mut len) = ([0u32; 4], 0);
     let (lo, hi) = if periodic {
-        (i64::from(p) - i64::from(reach), i64::from(p) + i64::from(reach))
+        (
+            i64::from(p) - i64::from(reach),
+            i64::from(p) + i64::from(reach),
+        )
     } else {
         (
             i64::from(p.saturating_sub(reach)),
