@@ -20,6 +20,10 @@ struct Config {
     darts: u32,         // darts this iteration
     first: u32,         // 1 = every pixel is empty (the first iteration)
     words: u32,         // coverage words, ceil(width * height / 32)
+    splat: u32,         // 1 = S1 rasterized by splat.wgsl into a key buffer
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
 }
 
 // Mirrors `sampler::cpu::throw::Dart`.
@@ -136,4 +140,30 @@ fn sub64(a: vec2<u32>, b: vec2<u32>) -> vec2<u32> {
 // The flat index of a thread in a 2D grid of 256-thread workgroups.
 fn thread_index(wg: vec3<u32>, groups: vec3<u32>, local: u32) -> u32 {
     return (wg.y * groups.x + wg.x) * 256u + local;
+}
+
+// The largest d with d * d <= m.
+fn isqrt64(m: vec2<u32>) -> u32 {
+    var d = u32(sqrt(f32(m.y) * 4294967296.0 + f32(m.x)));
+    while lt64(m, mul_wide(d, d)) {
+        d -= 1u;
+    }
+    while !lt64(m, mul_wide(d + 1u, d + 1u)) {
+        d += 1u;
+    }
+    return d;
+}
+
+fn wrap(q: i32, n: u32) -> i32 {
+    let m = i32(n);
+    return ((q % m) + m) % m;
+}
+
+// A key as stored by splat.wgsl: the winner is always the largest value, and
+// 0 (a cleared buffer) loses to every dart.
+fn encode_key(cfg: Config, key: u32) -> u32 {
+    if cfg.policy == POLICY_CURRENT || cfg.policy == POLICY_BIGGER {
+        return key + 1u;
+    }
+    return (1u << 29u) - key;
 }

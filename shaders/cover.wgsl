@@ -17,23 +17,6 @@ fn radius_at(x: u32, y: u32) -> u32 {
     return textureLoad(radius_map, vec2<i32>(i32(x), i32(y)), 0).x;
 }
 
-// The largest d with d * d <= m.
-fn isqrt64(m: vec2<u32>) -> u32 {
-    var d = u32(sqrt(f32(m.y) * 4294967296.0 + f32(m.x)));
-    while lt64(m, mul_wide(d, d)) {
-        d -= 1u;
-    }
-    while !lt64(m, mul_wide(d + 1u, d + 1u)) {
-        d += 1u;
-    }
-    return d;
-}
-
-fn wrap(q: i32, n: u32) -> i32 {
-    let m = i32(n);
-    return ((q % m) + m) % m;
-}
-
 @compute @workgroup_size(256)
 fn cover(
     @builtin(workgroup_id) wg: vec3<u32>,

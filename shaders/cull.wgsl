@@ -1,7 +1,7 @@
 // Conflict removal (paper §3.2, step S2). CPU mirror: src/sampler/cpu/cull.rs.
 //
 // `cull` flags the darts whose key won the depth test at the centre of their
-// own pixel; after the flags are scanned (compact.wgsl), `gather` writes the
+// own pixel (read from the depth map, or from splat.wgsl's key buffer); after the flags are scanned (compact.wgsl), `gather` writes the
 // survivors in dart order.
 
 @group(0) @binding(0) var<uniform> cfg: Config;
@@ -9,11 +9,16 @@
 @group(0) @binding(2) var depth: texture_2d<f32>;
 @group(0) @binding(3) var<storage, read_write> flags: array<u32>;
 @group(0) @binding(4) var<storage, read_write> survivors: array<Dart>;
+@group(0) @binding(5) var<storage, read> splat_keys: array<u32>;
 
 fn survives(k: u32) -> bool {
     let d = darts[k];
+    let key = dart_key(cfg, k, d.radius);
+    if cfg.splat == 1u {
+        return splat_keys[d.pixel] == encode_key(cfg, key);
+    }
     let xy = vec2<i32>(i32(d.pixel % cfg.width), i32(d.pixel / cfg.width));
-    return depth_to_key(textureLoad(depth, xy, 0).x) == dart_key(cfg, k, d.radius);
+    return depth_to_key(textureLoad(depth, xy, 0).x) == key;
 }
 
 @compute @workgroup_size(256)

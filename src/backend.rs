@@ -3,7 +3,7 @@
 
 use std::sync::{Mutex, OnceLock};
 
-use crate::gpu::{GpuContext, GpuSampler};
+use crate::gpu::{GpuContext, GpuSampler, S1Path};
 use crate::sampler::{self, Control, Error, Params, SampleSet};
 
 /// Which backend to run.
@@ -58,12 +58,23 @@ impl SharedGpu {
         &self.ctx.info.name
     }
 
-    /// Runs the sampler on this GPU.
+    /// Runs the sampler on this GPU, on the faster S1 path for this adapter.
     pub fn sample(&self, params: &Params, ctl: Control<'_>) -> sampler::Result<SampleSet> {
+        self.sample_on(params, None, ctl)
+    }
+
+    /// Runs the sampler on this GPU on the given S1 path (`None`: the faster).
+    pub fn sample_on(
+        &self,
+        params: &Params,
+        path: Option<S1Path>,
+        ctl: Control<'_>,
+    ) -> sampler::Result<SampleSet> {
         let mut s = self
             .sampler
             .lock()
             .map_err(|_| Error::Gpu("the GPU sampler was poisoned by an earlier failure".into()))?;
+        s.set_path(path);
         s.sample(&self.ctx.device, &self.ctx.queue, params, ctl)
     }
 }

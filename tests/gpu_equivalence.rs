@@ -129,3 +129,39 @@ fn a_larger_domain_and_capped_runs_match_reference_implementation() {
         "odd sizes, small batch",
     );
 }
+
+#[test]
+fn both_s1_paths_match_reference_implementation() {
+    use pixelpie::gpu::S1Path;
+    let Some(g) = gpu() else { return };
+    let (w, h) = (200, 150);
+    let map = Arc::new(RadiusMap::from_pixels(w, h, &step_radii(w, h)).unwrap());
+    for path in [S1Path::Raster, S1Path::Compute] {
+        for policy in Policy::ALL {
+            for periodic in [false, true] {
+                let params = Params::new(w, h)
+                    .with_radius_map(map.clone())
+                    .with_policy(policy)
+                    .with_periodic(periodic)
+                    .with_seed(13);
+                let mut s = g.sampler.lock().unwrap();
+                s.set_path(Some(path));
+                let on_gpu = s
+                    .sample(&g.ctx.device, &g.ctx.queue, &params, Control::default())
+                    .expect("GPU");
+                s.set_path(None);
+                drop(s);
+                let on_cpu = cpu::sample(&params, Control::default()).unwrap();
+                assert_eq!(
+                    on_gpu.points, on_cpu.points,
+                    "{path:?} {policy:?} periodic {periodic}"
+                );
+                assert!(on_gpu.stats.backend.ends_with(if path == S1Path::Raster {
+                    "raster"
+                } else {
+                    "compute"
+                }));
+            }
+        }
+    }
+}

@@ -5,6 +5,7 @@ use anyhow::Result;
 use clap::Args;
 
 use pixelpie::backend::SharedGpu;
+use pixelpie::gpu::S1Path;
 use pixelpie::sampler::{self, Control, Params, SampleSet};
 
 /// Arguments of `pixelpie bench`.
@@ -96,9 +97,16 @@ pub fn run(a: &BenchArgs) -> Result<()> {
             .with_seed(a.seed);
         let batch = params.plan()?.batch;
         if let Some(g) = gpu {
-            match best(a.reps, || g.sample(&params, Control::default())) {
-                Ok(s) => row("GPU", side, batch, &s),
-                Err(e) => eprintln!("GPU {side}²: {e:#}"),
+            for (label, path) in [
+                ("GPU raster", S1Path::Raster),
+                ("GPU compute", S1Path::Compute),
+            ] {
+                match best(a.reps, || {
+                    g.sample_on(&params, Some(path), Control::default())
+                }) {
+                    Ok(s) => row(label, side, batch, &s),
+                    Err(e) => eprintln!("{label} {side}²: {e:#}"),
+                }
             }
         }
         if !a.no_cpu {

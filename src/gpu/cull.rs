@@ -7,7 +7,7 @@ use super::util;
 
 /// The cull and gather kernels.
 pub struct CullStage {
-    /// The layout: config, darts, depth, flags, survivors.
+    /// The layout: config, darts, depth, flags, survivors, splat keys.
     pub layout: wgpu::BindGroupLayout,
     cull: wgpu::ComputePipeline,
     gather: wgpu::ComputePipeline,
@@ -26,6 +26,7 @@ impl CullStage {
                 util::texture(2, wgpu::TextureSampleType::Float { filterable: false }),
                 util::storage(3, c, false),
                 util::storage(4, c, false),
+                util::storage(5, c, true),
             ],
         );
         let pl = util::pipeline_layout(device, &layout);

@@ -20,7 +20,7 @@ pub mod util;
 
 use std::time::Instant;
 
-pub use resources::Resources;
+pub use resources::{Resources, S1Path};
 
 use crate::sampler::fixed::{fx_to_pos, fx_to_radius, iteration_key};
 use crate::sampler::{Control, Error, Params, Plan, Point, Progress, Result, SampleSet, Stats};
@@ -45,6 +45,8 @@ pub struct Config {
     darts: u32,
     first: u32,
     words: u32,
+    splat: u32,
+    pad: [u32; 3],
 }
 
 impl Config {
@@ -71,6 +73,8 @@ impl Config {
             darts: 0,
             first: 1,
             words: plan.pixels().div_ceil(32),
+            splat: 0,
+            pad: [0; 3],
         }
     }
 }
@@ -136,6 +140,10 @@ pub struct GpuSampler {
     compact: compact::CompactStage,
     resources: Option<Resources>,
     adapter: String,
+    /// The S1 path chosen by the caller, or `None` to pick by measurement.
+    path: Option<S1Path>,
+    /// The path that measured faster on this device.
+    measured: Option<S1Path>,
 }
 
 impl GpuSampler {
@@ -150,6 +158,8 @@ impl GpuSampler {
             compact: compact::CompactStage::new(device),
             resources: None,
             adapter: adapter.into(),
+            path: None,
+            measured: None,
         };
         let errors = [
             pollster::block_on(internal.pop()),
@@ -164,6 +174,52 @@ impl GpuSampler {
     /// The adapter's name.
     pub fn adapter(&self) -> &str {
         &self.adapter
+    }
+
+    /// Forces an S1 path, or with `None` lets the sampler measure both on
+    /// this device and keep the faster.
+    pub fn set_path(&mut self, path: Option<S1Path>) {
+        self.path = path;
+    }
+
+    /// The S1 path a run of `plan` takes on `device`: the caller's choice, or
+    /// the faster one measured (once) on a 1024² calibration run; the raster
+    /// path when the key buffer would exceed the adapter's binding size.
+    fn path_for(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        plan: &Plan,
+    ) -> Result<S1Path> {
+        let fits = 4 * u64::from(plan.pixels()) <= device.limits().max_storage_buffer_binding_size;
+        if let Some(p) = self.path {
+            return Ok(p);
+        }
+        if !fits {
+            return Ok(S1Path::Raster);
+        }
+        if let Some(p) = self.measured {
+            return Ok(p);
+        }
+        let side = 1024.min(device.limits().max_texture_dimension_2d);
+        let probe = Params::new(side, side).with_radius(8.5).with_seed(1);
+        let mut best = (f64::INFINITY, S1Path::Raster);
+        for path in [S1Path::Raster, S1Path::Compute] {
+            self.path = Some(path);
+            // The first run compiles and allocates; time the second.
+            let _ = self.run(device, queue, &probe, Control::default())?;
+            let t = self
+                .run(device, queue, &probe, Control::default())?
+                .stats
+                .seconds;
+            if t < best.0 {
+                best = (t, path);
+            }
+        }
+        self.path = None;
+        self.resources = None;
+        self.measured = Some(best.1);
+        Ok(best.1)
     }
 
     /// Runs the sampler on `device`.
@@ -205,9 +261,13 @@ impl GpuSampler {
                 plan.width, plan.height
             )));
         }
+        let path = self.path_for(device, queue, &plan)?;
         let cap = plan.batch.min(plan.pixels()).min(plan.layout.max_batch());
         let timestamps = device.features().contains(wgpu::Features::TIMESTAMP_QUERY);
-        let fits = self.resources.as_ref().is_some_and(|r| r.fits(&plan, cap));
+        let fits = self
+            .resources
+            .as_ref()
+            .is_some_and(|r| r.fits(&plan, cap, path));
         if !fits {
             self.resources = None;
             self.resources = Some(Resources::new(
@@ -220,6 +280,7 @@ impl GpuSampler {
                 &plan,
                 cap,
                 timestamps,
+                path,
             )?);
         }
         let Some(res) = self.resources.as_ref() else {
@@ -227,12 +288,19 @@ impl GpuSampler {
         };
         res.upload_map(queue, &plan);
         let mut config = Config::new(&plan);
+        config.splat = u32::from(path == S1Path::Compute);
         let mut encoder = device.create_command_encoder(&Default::default());
         encoder.clear_buffer(&res.coverage, 0, None);
         queue.submit([encoder.finish()]);
 
         let mut stats = Stats {
-            backend: "gpu".into(),
+            backend: format!(
+                "gpu-{}",
+                match path {
+                    S1Path::Raster => "raster",
+                    S1Path::Compute => "compute",
+                }
+            ),
             device: self.adapter.clone(),
             gpu_timestamps: timestamps,
             ..Stats::default()
@@ -285,5 +353,15 @@ impl GpuSampler {
             iterations: iteration,
             stats,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn structs_shared_with_wgsl_have_their_wgsl_size() {
+        // `struct Config` in common.wgsl: 20 u32; `struct Dart`: 4 u32.
+        assert_eq!(std::mem::size_of::<super::Config>(), 80);
+        assert_eq!(std::mem::size_of::<crate::sampler::cpu::throw::Dart>(), 16);
     }
 }

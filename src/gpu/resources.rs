@@ -27,12 +27,27 @@ pub struct Step {
     pub seconds: [f64; 3],
 }
 
+/// How dart throwing (S1) rasterizes the disks.
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, Hash, clap::ValueEnum, serde::Serialize, serde::Deserialize,
+)]
+#[serde(rename_all = "lowercase")]
+pub enum S1Path {
+    /// An instanced depth-only draw into a Depth32Float target (the paper's way).
+    Raster,
+    /// A compute pass with atomicMax into a key buffer (`splat.wgsl`).
+    Compute,
+}
+
 /// Buffers, textures and bind groups of one domain size.
 pub struct Resources {
     width: u32,
     height: u32,
     has_map: bool,
     capacity: u32,
+    path: S1Path,
+    keys: wgpu::Buffer,
+    splat_group: wgpu::BindGroup,
     /// The run's configuration (uniform).
     pub config: wgpu::Buffer,
     survivors: wgpu::Buffer,
@@ -69,18 +84,30 @@ impl Resources {
         plan: &Plan,
         capacity: u32,
         timestamps: bool,
+        path: S1Path,
     ) -> Result<Self> {
         use wgpu::BufferUsages as B;
         let (width, height) = (plan.width, plan.height);
         let words = plan.pixels().div_ceil(32);
         let max_binding = device.limits().max_storage_buffer_binding_size;
         let dart_bytes = u64::from(capacity) * DART_BYTES;
+        let key_bytes = 4 * u64::from(plan.pixels());
+        if path == S1Path::Compute && key_bytes > max_binding {
+            return Err(Error::Gpu(format!(
+                "the {width}x{height} key buffer exceeds the adapter's storage binding size"
+            )));
+        }
         if dart_bytes > max_binding || 4 * u64::from(words) > max_binding {
             return Err(Error::Gpu(format!(
                 "the batch of {capacity} darts exceeds the adapter's storage binding size"
             )));
         }
-        let config = util::buffer_of(device, "config", 64, B::UNIFORM | B::COPY_DST);
+        let config = util::buffer_of(
+            device,
+            "config",
+            std::mem::size_of::<super::Config>() as u64,
+            B::UNIFORM | B::COPY_DST,
+        );
         let darts = util::buffer_of(device, "darts", dart_bytes, B::STORAGE);
         let survivors = util::buffer_of(device, "survivors", dart_bytes, B::STORAGE | B::COPY_SRC);
         let coverage = util::buffer_of(
@@ -109,9 +136,16 @@ impl Resources {
             })
         };
         use wgpu::TextureUsages as T;
+        let splat = path == S1Path::Compute;
+        let keys = util::buffer_of(
+            device,
+            "splat keys",
+            if splat { key_bytes } else { 16 },
+            B::STORAGE | B::COPY_DST,
+        );
         let depth = texture(
             "depth",
-            (width, height),
+            if splat { (1, 1) } else { (width, height) },
             wgpu::TextureFormat::Depth32Float,
             T::RENDER_ATTACHMENT | T::TEXTURE_BINDING,
         );
@@ -166,6 +200,16 @@ impl Resources {
                 tex(&depth),
                 dart_scan.levels[0].as_entire_binding(),
                 survivors.as_entire_binding(),
+                keys.as_entire_binding(),
+            ],
+        );
+        let splat_group = util::bind_group(
+            device,
+            &throw.splat_layout,
+            &[
+                config.as_entire_binding(),
+                darts.as_entire_binding(),
+                keys.as_entire_binding(),
             ],
         );
         let cover_group = util::bind_group(
@@ -189,6 +233,9 @@ impl Resources {
             height,
             has_map,
             capacity,
+            path,
+            keys,
+            splat_group,
             config,
             survivors,
             coverage,
@@ -208,8 +255,9 @@ impl Resources {
     }
 
     /// Whether these resources serve `plan` with batches of `capacity` darts.
-    pub fn fits(&self, plan: &Plan, capacity: u32) -> bool {
-        (self.width, self.height, self.has_map) == (plan.width, plan.height, plan.map.is_some())
+    pub fn fits(&self, plan: &Plan, capacity: u32, path: S1Path) -> bool {
+        (self.width, self.height, self.has_map, self.path)
+            == (plan.width, plan.height, plan.map.is_some(), path)
             && capacity <= self.capacity
     }
 
@@ -292,20 +340,36 @@ impl Resources {
             });
             throw.encode_throw(&mut pass, &self.throw_group, darts);
         }
-        throw.encode_raster(
-            &mut encoder,
-            &self.raster_group,
-            &self.depth,
-            darts,
-            plan,
-            self.queries
-                .as_ref()
-                .map(|(set, _)| wgpu::RenderPassTimestampWrites {
-                    query_set: set,
-                    beginning_of_pass_write_index: None,
-                    end_of_pass_write_index: Some(1),
-                }),
-        );
+        match self.path {
+            S1Path::Raster => throw.encode_raster(
+                &mut encoder,
+                &self.raster_group,
+                &self.depth,
+                darts,
+                plan,
+                self.queries
+                    .as_ref()
+                    .map(|(set, _)| wgpu::RenderPassTimestampWrites {
+                        query_set: set,
+                        beginning_of_pass_write_index: None,
+                        end_of_pass_write_index: Some(1),
+                    }),
+            ),
+            S1Path::Compute => {
+                encoder.clear_buffer(&self.keys, 0, None);
+                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("S1 splat"),
+                    timestamp_writes: self.queries.as_ref().map(|(set, _)| {
+                        wgpu::ComputePassTimestampWrites {
+                            query_set: set,
+                            beginning_of_pass_write_index: None,
+                            end_of_pass_write_index: Some(1),
+                        }
+                    }),
+                });
+                throw.encode_splat(&mut pass, &self.splat_group, darts);
+            }
+        }
         lap(&mut encoder, 0);
         // S2: cull by depth, gather the survivors, cover their disks.
         {

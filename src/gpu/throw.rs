@@ -3,7 +3,10 @@
 //! them: the vertex shader pulls dart i from a storage buffer and scales its
 //! quad by the dart's radius (the paper's geometry stage), the fragment shader
 //! trims it to the disk and writes the dart's key as depth, compared Less or
-//! Greater by policy. Shaders: `shaders/throw.wgsl`, `shaders/raster.wgsl`;
+//! Greater by policy. GPUs that shade fragments slowly take the other path:
+//! `shaders/splat.wgsl` rasterizes the disks in a compute pass with atomicMax
+//! into a key buffer, with the same winners.
+//! Shaders: `shaders/throw.wgsl`, `shaders/raster.wgsl`, `shaders/splat.wgsl`;
 //! CPU mirror: `sampler::cpu::throw`.
 
 use super::util;
@@ -15,7 +18,10 @@ pub struct ThrowStage {
     pub layout: wgpu::BindGroupLayout,
     /// The raster layout: config, darts.
     pub raster_layout: wgpu::BindGroupLayout,
+    /// The splat layout: config, darts, key buffer.
+    pub splat_layout: wgpu::BindGroupLayout,
     throw: wgpu::ComputePipeline,
+    splat: wgpu::ComputePipeline,
     less: wgpu::RenderPipeline,
     greater: wgpu::RenderPipeline,
 }
@@ -79,7 +85,25 @@ impl ThrowStage {
                 cache: None,
             })
         };
+        let splat_layout = util::layout(
+            device,
+            "splat",
+            &[
+                util::uniform(0, c),
+                util::storage(1, c, true),
+                util::storage(2, c, false),
+            ],
+        );
+        let splat_module = util::module(device, "splat.wgsl", util::SHADERS[5].1);
+        let splat = util::compute(
+            device,
+            &util::pipeline_layout(device, &splat_layout),
+            &splat_module,
+            "splat",
+        );
         Self {
+            splat_layout,
+            splat,
             less: pipeline(wgpu::CompareFunction::Less),
             greater: pipeline(wgpu::CompareFunction::Greater),
             throw,
@@ -96,6 +120,19 @@ impl ThrowStage {
         darts: u32,
     ) {
         pass.set_pipeline(&self.throw);
+        pass.set_bind_group(0, group, &[]);
+        util::dispatch(pass, darts.div_ceil(256));
+    }
+
+    /// Rasterizes `darts` darts into the key buffer with a compute pass (the
+    /// buffer must be cleared to 0 first).
+    pub fn encode_splat(
+        &self,
+        pass: &mut wgpu::ComputePass<'_>,
+        group: &wgpu::BindGroup,
+        darts: u32,
+    ) {
+        pass.set_pipeline(&self.splat);
         pass.set_bind_group(0, group, &[]);
         util::dispatch(pass, darts.div_ceil(256));
     }

@@ -7,12 +7,13 @@ use std::borrow::Cow;
 pub const COMMON: &str = include_str!("../../shaders/common.wgsl");
 
 /// Every shader of the pipeline, by file name, without the common prelude.
-pub const SHADERS: [(&str, &str); 5] = [
+pub const SHADERS: [(&str, &str); 6] = [
     ("throw.wgsl", include_str!("../../shaders/throw.wgsl")),
     ("raster.wgsl", include_str!("../../shaders/raster.wgsl")),
     ("cull.wgsl", include_str!("../../shaders/cull.wgsl")),
     ("cover.wgsl", include_str!("../../shaders/cover.wgsl")),
     ("compact.wgsl", include_str!("../../shaders/compact.wgsl")),
+    ("splat.wgsl", include_str!("../../shaders/splat.wgsl")),
 ];
 
 /// The full source of a stage's shader: the common prelude and the stage.
