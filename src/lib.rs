@@ -5,8 +5,11 @@
 //! * [`backend`]: backend selection;
 //! * [`io`]: file formats; [`count`]: point-count targeting.
 
+pub mod analyze;
 pub mod backend;
 pub mod count;
 pub mod gpu;
+pub mod importance;
 pub mod io;
 pub mod sampler;
+pub mod stipple;

@@ -11,27 +11,36 @@ use serde::Serialize;
 
 use pixelpie::backend::{self, BackendChoice, Notice};
 use pixelpie::count;
+use pixelpie::importance::{Mapping, fit_size};
 use pixelpie::io;
 use pixelpie::sampler::{self, Control, Params, Policy, Progress, RadiusMap, SampleSet};
+
+use super::importance::{ImportanceOpts, RunOpts};
 
 /// Arguments of `pixelpie sample`.
 #[derive(Args, Debug, Serialize)]
 pub struct SampleArgs {
-    /// Domain width in pixels (default: the radius map's).
+    /// Domain width in pixels (default: the radius or importance map's).
     #[arg(long)]
     width: Option<u32>,
-    /// Domain height in pixels (default: the radius map's).
+    /// Domain height in pixels (default: the radius or importance map's).
     #[arg(long)]
     height: Option<u32>,
     /// Disk radius in pixels.
-    #[arg(long, conflicts_with_all = ["points", "radius_map"])]
+    #[arg(long, conflicts_with_all = ["points", "radius_map", "importance"])]
     radius: Option<f32>,
     /// Target point count (±3%): picks the radius, or scales the radius map.
     #[arg(long)]
     points: Option<usize>,
     /// Single-channel float OpenEXR of radii in pixels.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "importance")]
     radius_map: Option<PathBuf>,
+    /// Importance map (PNG, JPEG, TIFF, BMP, WebP, OpenEXR): dark pixels get
+    /// small radii. Resized to --width/--height when given.
+    #[arg(long)]
+    importance: Option<PathBuf>,
+    #[command(flatten)]
+    importance_opts: ImportanceOpts,
     /// Disk policy for varying radii (paper §3.4).
     #[arg(long, value_enum, default_value_t = PolicyArg::Prior)]
     policy: PolicyArg,
@@ -151,10 +160,50 @@ pub fn run_with_progress(
     Ok(set)
 }
 
+/// The parameters common to every run of `a`, on a `width`×`height` domain.
+fn base_params(a: &SampleArgs, width: u32, height: u32) -> Params {
+    let base = Params::new(width, height)
+        .with_policy(a.policy.into())
+        .with_seed(a.seed)
+        .with_subpixel_bits(a.subpixel_bits)
+        .with_periodic(a.periodic)
+        .with_max_iterations(a.max_iterations);
+    match a.batch {
+        Some(b) => base.with_batch(b),
+        None => base,
+    }
+}
+
+/// `sample --importance`: the map's size is the domain unless
+/// --width/--height resize it.
+fn run_importance(a: &SampleArgs, path: &Path) -> Result<()> {
+    let prepared = a.importance_opts.prepare(
+        path,
+        |w, h| fit_size((w, h), a.width, a.height),
+        Mapping::Linear,
+        a.points.is_some(),
+    )?;
+    let bar = progress_bar(a.quiet);
+    let opts = RunOpts {
+        base: base_params(a, prepared.map.width(), prepared.map.height()),
+        points: a.points,
+        backend: a.backend,
+        bar: &bar,
+        quiet: a.quiet,
+        verbose: a.verbose,
+    };
+    let (set, _) = prepared.sample(&opts)?;
+    bar.finish_and_clear();
+    write_outputs(a, &set)
+}
+
 pub fn run(a: &SampleArgs) -> Result<()> {
     io::PointFormat::from_path(&a.output)?;
     if let Some(s) = &a.stats {
         check_json_path(s)?;
+    }
+    if let Some(path) = &a.importance {
+        return run_importance(a, path);
     }
     let map = match &a.radius_map {
         Some(path) => {
@@ -175,22 +224,13 @@ pub fn run(a: &SampleArgs) -> Result<()> {
         Some((w, h, ..)) => (*w, *h),
         None => match (a.width, a.height) {
             (Some(w), Some(h)) => (w, h),
-            _ => bail!("--width and --height are needed without a radius map"),
+            _ => bail!("--width and --height are needed without a radius or importance map"),
         },
     };
     if map.is_none() && a.radius.is_none() && a.points.is_none() {
-        bail!("give --radius, --points or --radius-map");
+        bail!("give --radius, --points, --radius-map or --importance");
     }
-    let base = Params::new(width, height)
-        .with_policy(a.policy.into())
-        .with_seed(a.seed)
-        .with_subpixel_bits(a.subpixel_bits)
-        .with_periodic(a.periodic)
-        .with_max_iterations(a.max_iterations);
-    let base = match a.batch {
-        Some(b) => base.with_batch(b),
-        None => base,
-    };
+    let base = base_params(a, width, height);
     let make = |scale: f64| -> Result<Params> {
         Ok(match &map {
             Some((w, h, radii, path)) => {
@@ -235,7 +275,12 @@ pub fn run(a: &SampleArgs) -> Result<()> {
         }
     };
     bar.finish_and_clear();
-    io::write_points(&a.output, &set, a)?;
+    write_outputs(a, &set)
+}
+
+/// Writes the points, the statistics and the warning of a capped run.
+fn write_outputs(a: &SampleArgs, set: &SampleSet) -> Result<()> {
+    io::write_points(&a.output, set, a)?;
     if let Some(path) = &a.stats {
         io::write_atomic(path, |w| {
             serde_json::to_writer_pretty(&mut *w, &set.stats)?;

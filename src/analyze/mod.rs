@@ -1,0 +1,152 @@
+//! Quality measures of 2-D point sets (paper §4): minimum distance and the
+//! relative radius ρ, coverage (maximality), the Delaunay-neighbour angle
+//! histogram of §4.3, and the power spectrum after Schlömer & Deussen's PSA.
+//!
+//! Everything takes points in pixel units on a `width`×`height` domain, so
+//! sets from any sampler can be compared ([`csv`] reads any file with x and y
+//! columns). [`plots`] draws the figures.
+
+pub mod angles;
+pub mod csv;
+pub mod metrics;
+pub mod plots;
+pub mod spectrum;
+
+use serde::Serialize;
+
+/// What can go wrong in an analysis.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// A CSV line that cannot be read.
+    #[error("line {line}: {message}")]
+    Parse {
+        /// 1-based line number.
+        line: usize,
+        /// What is wrong.
+        message: String,
+    },
+    /// A parameter out of range.
+    #[error("invalid parameter: {0}")]
+    InvalidParameter(String),
+    /// Drawing a plot failed.
+    #[error("cannot draw plot: {0}")]
+    Plot(String),
+}
+
+/// The result type of this module.
+pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+/// The radius that coverage and density use.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CoverRadius<'a> {
+    /// The same radius for every point.
+    Uniform(f64),
+    /// One radius per point (the CSV's radius column).
+    PerPoint(&'a [f64]),
+}
+
+impl CoverRadius<'_> {
+    /// The radius of point `i`.
+    #[must_use]
+    pub fn of(&self, i: usize) -> f64 {
+        match self {
+            Self::Uniform(r) => *r,
+            Self::PerPoint(r) => r[i],
+        }
+    }
+}
+
+/// A point set on its domain.
+#[derive(Clone, Copy, Debug)]
+pub struct Domain {
+    /// Width in pixels.
+    pub width: f64,
+    /// Height in pixels.
+    pub height: f64,
+    /// Whether distances wrap around (a periodic set).
+    pub periodic: bool,
+}
+
+impl Domain {
+    /// Checks that the sides are positive numbers.
+    pub fn validate(&self) -> Result<()> {
+        if self.width.is_finite()
+            && self.height.is_finite()
+            && self.width > 0.0
+            && self.height > 0.0
+        {
+            Ok(())
+        } else {
+            Err(Error::InvalidParameter(format!(
+                "domain {}x{} must have positive sides",
+                self.width, self.height
+            )))
+        }
+    }
+
+    /// The area in square pixels.
+    #[must_use]
+    pub fn area(&self) -> f64 {
+        self.width * self.height
+    }
+}
+
+/// The measures that `pixelpie analyze` prints.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Report {
+    /// Number of points.
+    pub count: usize,
+    /// The smallest distance between two points (`None` below two points).
+    pub min_distance: Option<f64>,
+    /// d_min / d_hex with d_hex = sqrt(2 A / (√3 N)), the PSA relative radius.
+    pub rho: Option<f64>,
+    /// Pixel centres farther than their covering radius from every point
+    /// (0 = maximal); `None` without a radius.
+    pub uncovered_pixels: Option<u64>,
+    /// Σ π (r_i/2)² / A; `None` without a radius.
+    pub density: Option<f64>,
+    /// Standard deviation of the 360-bin Delaunay-neighbour angle histogram.
+    pub angle_std: Option<f64>,
+    /// Delaunay edges the histogram counts (each in both directions).
+    pub angle_edges: usize,
+}
+
+/// Computes the report for `points` on `domain`, covering with `radius`.
+pub fn report(
+    points: &[[f64; 2]],
+    domain: Domain,
+    radius: Option<CoverRadius<'_>>,
+) -> Result<Report> {
+    domain.validate()?;
+    if let Some(CoverRadius::PerPoint(r)) = radius
+        && r.len() != points.len()
+    {
+        return Err(Error::InvalidParameter(format!(
+            "{} radii for {} points",
+            r.len(),
+            points.len()
+        )));
+    }
+    let min_distance = metrics::min_distance(points, domain);
+    let rho = min_distance.map(|d| metrics::rho(d, points.len(), domain.area()));
+    let (uncovered_pixels, density) = match radius {
+        Some(r) => (
+            Some(metrics::uncovered_pixels(points, r, domain)?),
+            Some(metrics::density(points.len(), r, domain.area())),
+        ),
+        None => (None, None),
+    };
+    let angles = angles::delaunay_angles(points);
+    let angle_std =
+        (!angles.is_empty()).then(|| angles::histogram_std(&angles::histogram(&angles, 360)));
+    Ok(Report {
+        count: points.len(),
+        min_distance,
+        rho,
+        uncovered_pixels,
+        density,
+        angle_std,
+        angle_edges: angles.len() / 2,
+    })
+}

@@ -1,0 +1,196 @@
+//! Importance-map options shared by `sample --importance` and `stipple`,
+//! and the sampling run with point-count targeting over a radius range.
+
+use std::path::Path;
+use std::sync::Arc;
+
+use anyhow::{Context, Result, bail};
+use clap::Args;
+use indicatif::ProgressBar;
+use serde::Serialize;
+
+use pixelpie::backend::BackendChoice;
+use pixelpie::count;
+use pixelpie::importance::{Adjust, ImportanceMap, Mapping, RadiusRange};
+use pixelpie::sampler::{Params, RadiusMap, SampleSet};
+
+use super::sample::run_with_progress;
+
+/// r_max / r_min when only one end (or neither) is given.
+pub const DEFAULT_RADIUS_RATIO: f32 = 8.0;
+
+/// How importance becomes radius, on the command line.
+#[derive(Clone, Copy, Debug, clap::ValueEnum, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum MappingArg {
+    /// r = r_min + (r_max − r_min)·v (paper §3.4).
+    Linear,
+    /// Dot density proportional to darkness (reproduces tones).
+    Tone,
+}
+
+impl From<MappingArg> for Mapping {
+    fn from(m: MappingArg) -> Self {
+        match m {
+            MappingArg::Linear => Self::Linear,
+            MappingArg::Tone => Self::Tone,
+        }
+    }
+}
+
+/// Options that turn an image into a radius map.
+#[derive(Args, Debug, Clone, Serialize)]
+pub struct ImportanceOpts {
+    /// Importance-to-radius mapping [default: tone for stipple, linear for sample].
+    #[arg(long, value_enum, requires = "importance")]
+    pub mapping: Option<MappingArg>,
+    /// Radius in px of black (most important) pixels; scaled with --points.
+    #[arg(long, requires = "importance")]
+    pub min_radius: Option<f32>,
+    /// Radius in px of white pixels [default: 8 × the minimum].
+    #[arg(long, requires = "importance")]
+    pub max_radius: Option<f32>,
+    /// Gamma applied after the levels: above 1 darkens mid-tones.
+    #[arg(long, default_value_t = 1.0, requires = "importance")]
+    pub gamma: f32,
+    /// Black level: values at or below it count as black (0..1).
+    #[arg(long, default_value_t = 0.0, requires = "importance")]
+    pub black_level: f32,
+    /// White level: values at or above it count as white (0..1).
+    #[arg(long, default_value_t = 1.0, requires = "importance")]
+    pub white_level: f32,
+    /// Invert the image: light parts become the important ones.
+    #[arg(long, requires = "importance")]
+    pub invert: bool,
+    /// Drop dots whose (adjusted) importance is above this level (0..1).
+    #[arg(long, requires = "importance")]
+    pub white_cutoff: Option<f32>,
+    /// White point of float images (EXR, float TIFF) [default: their 99.5th percentile].
+    #[arg(long, requires = "importance")]
+    pub hdr_white: Option<f32>,
+}
+
+/// An importance map ready to sample.
+pub struct Prepared {
+    /// The adjusted map, at the domain's size.
+    pub map: ImportanceMap,
+    /// The mapping.
+    pub mapping: Mapping,
+    /// The radius range at scale 1.
+    pub range: RadiusRange,
+    /// The white cutoff.
+    pub cutoff: Option<f32>,
+}
+
+impl ImportanceOpts {
+    /// Loads `path`, resizes it to `size` (the image's own size if `None`)
+    /// and applies the adjustments.
+    pub fn prepare(
+        &self,
+        path: &Path,
+        size: impl FnOnce(u32, u32) -> (u32, u32),
+        default_mapping: Mapping,
+        count_target: bool,
+    ) -> Result<Prepared> {
+        let adjust = Adjust {
+            black: self.black_level,
+            white: self.white_level,
+            gamma: self.gamma,
+            invert: self.invert,
+        };
+        adjust.validate()?;
+        if let Some(c) = self.white_cutoff
+            && !(0.0..=1.0).contains(&c)
+        {
+            bail!("--white-cutoff {c} must be between 0 and 1");
+        }
+        let map = ImportanceMap::open(path, self.hdr_white)
+            .with_context(|| format!("cannot load importance map '{}'", path.display()))?;
+        let (w, h) = size(map.width(), map.height());
+        let map = map.resized(w, h)?.adjusted(&adjust)?;
+        let range = match (self.min_radius, self.max_radius) {
+            (Some(lo), Some(hi)) => RadiusRange::new(lo, hi)?,
+            (Some(lo), None) => RadiusRange::new(lo, lo * DEFAULT_RADIUS_RATIO)?,
+            (None, Some(hi)) if count_target => RadiusRange::new(hi / DEFAULT_RADIUS_RATIO, hi)?,
+            (None, _) if count_target => RadiusRange::new(1.0, DEFAULT_RADIUS_RATIO)?,
+            (None, _) => bail!("give --points or --min-radius with an importance map"),
+        };
+        Ok(Prepared {
+            map,
+            mapping: self.mapping.map_or(default_mapping, Into::into),
+            range,
+            cutoff: self.white_cutoff,
+        })
+    }
+}
+
+/// A sampling run's options, beyond the radius field.
+pub struct RunOpts<'a> {
+    /// Parameters without a radius (domain, policy, seed…).
+    pub base: Params,
+    /// `--points`.
+    pub points: Option<usize>,
+    /// The backend.
+    pub backend: BackendChoice,
+    /// The progress bar.
+    pub bar: &'a ProgressBar,
+    /// `--quiet`.
+    pub quiet: bool,
+    /// `--verbose`.
+    pub verbose: bool,
+}
+
+impl Prepared {
+    fn params(&self, base: &Params, scale: f64) -> Result<Params> {
+        let radii = self.map.radii(self.mapping, self.range.scaled(scale));
+        let m = RadiusMap::from_pixels(self.map.width(), self.map.height(), &radii)
+            .context("importance radius map")?;
+        Ok(base.clone().with_radius_map(Arc::new(m)))
+    }
+
+    /// Samples the map, fitting the radius scale to `--points` when given;
+    /// returns the points that survive the white cutoff and the radius range
+    /// used.
+    pub fn sample(&self, o: &RunOpts<'_>) -> Result<(SampleSet, RadiusRange)> {
+        let run = |scale: f64| -> Result<SampleSet> {
+            let mut set = run_with_progress(
+                &self.params(&o.base, scale)?,
+                o.backend,
+                o.bar,
+                o.quiet,
+                o.verbose,
+            )?;
+            set.points = self.map.cut(&set.points, self.cutoff);
+            Ok(set)
+        };
+        let Some(n) = o.points else {
+            return Ok((run(1.0)?, self.range));
+        };
+        // The sampler needs radii of at least 1 px.
+        let floor = 1.0 / f64::from(self.range.min);
+        let radii = self.map.radii(self.mapping, self.range);
+        let expected = self.map.expected_points(&radii, self.cutoff);
+        if expected <= 0.0 {
+            bail!("the white cutoff leaves no pixel to place dots on");
+        }
+        let initial = (expected / n as f64).sqrt().max(floor);
+        let (scale, set, runs) = count::fit_scale(n, initial, |s| {
+            let set = run(s.max(floor))?;
+            Ok((set.points.len(), set))
+        })?;
+        let got = set.points.len();
+        if o.verbose {
+            o.bar
+                .suspend(|| eprintln!("count target {n}: {got} points after {runs} runs"));
+        }
+        if (got as f64 - n as f64).abs() > count::COUNT_TOLERANCE * n as f64 && !o.quiet {
+            o.bar.suspend(|| {
+                eprintln!(
+                    "warning: asked for {n} points, got {got}: the smallest radius is at the sampler's \
+                     1 px floor; enlarge the domain with --width/--height"
+                );
+            });
+        }
+        Ok((set, self.range.scaled(scale.max(floor))))
+    }
+}

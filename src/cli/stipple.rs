@@ -1,0 +1,267 @@
+//! `pixelpie stipple`: an image in, a stipple drawing (SVG or PNG) out.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{Result, bail};
+use clap::Args;
+use serde::Serialize;
+
+use pixelpie::backend::BackendChoice;
+use pixelpie::importance::{Mapping, fit_size};
+use pixelpie::io;
+use pixelpie::sampler::{self, Params, Point, SampleSet};
+use pixelpie::stipple::{DotSize, raster, svg, tsp};
+
+use super::importance::{ImportanceOpts, RunOpts};
+use super::sample::{PolicyArg, progress_bar};
+
+/// The default number of dots.
+pub const DEFAULT_POINTS: usize = 10_000;
+/// Fixed dots of 0.7 × r_min cover about 87% of a black area's paper (a
+/// maximal set of radius r_min covers 53% with dots of r_min/2).
+pub const FIXED_DOT_FACTOR: f32 = 0.7;
+/// The default domain's longer side is at least this many pixels.
+pub const MIN_DOMAIN_SIDE: u32 = 1024;
+
+/// Arguments of `pixelpie stipple`.
+#[derive(Args, Debug, Serialize)]
+pub struct StippleArgs {
+    /// The picture: PNG, JPEG, TIFF, BMP, WebP or OpenEXR.
+    #[arg(id = "importance", value_name = "IMAGE")]
+    image: PathBuf,
+    /// Output drawing: .svg or .png.
+    #[arg(long, short)]
+    output: PathBuf,
+    /// Number of dots (±3%) [default: 10000 unless --min-radius is given].
+    #[arg(long)]
+    points: Option<usize>,
+    /// Domain width in px [default: the image scaled so that its longer side
+    /// is max(1024, 10·√points)].
+    #[arg(long)]
+    width: Option<u32>,
+    /// Domain height in px [default: from the width and the image's aspect].
+    #[arg(long)]
+    height: Option<u32>,
+    #[command(flatten)]
+    importance_opts: ImportanceOpts,
+    /// Dot size: fixed (the same for all dots; reproduces tones with the tone
+    /// mapping) or proportional to the sample's radius.
+    #[arg(long, value_enum, default_value_t = DotArg::Fixed)]
+    dot: DotArg,
+    /// Dot radius factor: × the smallest sample radius (fixed) or × each
+    /// sample's radius (proportional); 0.5 makes the closest dots touch
+    /// [default: 0.7 fixed, so that black reaches about 87% ink; 0.5 proportional].
+    #[arg(long)]
+    dot_factor: Option<f32>,
+    /// Fixed dot radius in domain px (overrides --dot and --dot-factor).
+    #[arg(long)]
+    dot_radius: Option<f32>,
+    /// Drawing order: as sampled, or a short pen-plotter path (2-opt).
+    #[arg(long, value_enum, default_value_t = OrderArg::None)]
+    order: OrderArg,
+    /// PNG pixels per domain pixel.
+    #[arg(long, default_value_t = 1.0)]
+    scale: f32,
+    /// SVG page width in millimetres (height follows the aspect) [default: px].
+    #[arg(long)]
+    width_mm: Option<f64>,
+    /// Also write the dots' centres and radii (.csv or .json), in drawing order.
+    #[arg(long)]
+    save_points: Option<PathBuf>,
+    /// Disk policy for varying radii (paper §3.4); the paper stipples with
+    /// the smaller disk, which keeps large light-area disks out of dark areas.
+    #[arg(long, value_enum, default_value_t = PolicyArg::Smaller)]
+    policy: PolicyArg,
+    /// Seed of the dart hash.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Sub-pixel bits per axis of dart positions (0 = pixel centres, at most 7).
+    #[arg(long, default_value_t = sampler::DEFAULT_SUBPIXEL_BITS)]
+    subpixel_bits: u32,
+    /// Backend.
+    #[arg(long, value_enum, default_value_t = BackendChoice::Auto)]
+    backend: BackendChoice,
+    /// No progress bar and no report on stderr.
+    #[arg(long, short)]
+    quiet: bool,
+    /// Print the backend, radii and timings on stderr.
+    #[arg(long, short)]
+    verbose: bool,
+}
+
+/// Dot sizing on the command line.
+#[derive(Clone, Copy, Debug, clap::ValueEnum, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum DotArg {
+    /// All dots the same size.
+    Fixed,
+    /// Dot radius proportional to the sample's radius.
+    Proportional,
+}
+
+/// Drawing order on the command line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum OrderArg {
+    /// The sampler's acceptance order.
+    None,
+    /// Nearest-neighbour tour improved by 2-opt.
+    Tsp,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Drawing {
+    Svg,
+    Png,
+}
+
+fn drawing_format(path: &Path) -> Result<Drawing> {
+    match path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .as_deref()
+    {
+        Some("svg") => Ok(Drawing::Svg),
+        Some("png") => Ok(Drawing::Png),
+        _ => bail!(
+            "unknown output extension of '{}': use .svg or .png",
+            path.display()
+        ),
+    }
+}
+
+/// The default domain: the image scaled so its longer side is
+/// max(1024, 10 √N) px, about ten pixels between dots or more.
+fn default_domain(w: u32, h: u32, points: usize) -> (u32, u32) {
+    let side = f64::from(MIN_DOMAIN_SIDE)
+        .max(10.0 * (points as f64).sqrt())
+        .ceil();
+    let s = side / f64::from(w.max(h));
+    (
+        ((f64::from(w) * s).round() as u32).max(1),
+        ((f64::from(h) * s).round() as u32).max(1),
+    )
+}
+
+pub fn run(a: &StippleArgs) -> Result<()> {
+    let format = drawing_format(&a.output)?;
+    if let Some(p) = &a.save_points {
+        io::PointFormat::from_path(p)?;
+    }
+    if format == Drawing::Svg && a.scale != 1.0 {
+        bail!("--scale applies to PNG output; use --width-mm to size an SVG");
+    }
+    if format == Drawing::Png && a.width_mm.is_some() {
+        bail!("--width-mm applies to SVG output; use --scale to size a PNG");
+    }
+    let points = match (a.points, a.importance_opts.min_radius) {
+        (Some(n), _) => Some(n),
+        (None, Some(_)) => None,
+        (None, None) => Some(DEFAULT_POINTS),
+    };
+    let t0 = Instant::now();
+    let prepared = a.importance_opts.prepare(
+        &a.image,
+        |w, h| match (a.width, a.height) {
+            (None, None) => default_domain(w, h, points.unwrap_or(DEFAULT_POINTS)),
+            (wd, hd) => fit_size((w, h), wd, hd),
+        },
+        Mapping::Tone,
+        points.is_some(),
+    )?;
+    let (width, height) = (prepared.map.width(), prepared.map.height());
+    let t_load = t0.elapsed().as_secs_f64();
+    let bar = progress_bar(a.quiet);
+    let opts = RunOpts {
+        base: Params::new(width, height)
+            .with_policy(a.policy.into())
+            .with_seed(a.seed)
+            .with_subpixel_bits(a.subpixel_bits),
+        points,
+        backend: a.backend,
+        bar: &bar,
+        quiet: a.quiet,
+        verbose: a.verbose,
+    };
+    let (set, range) = prepared.sample(&opts)?;
+    bar.finish_and_clear();
+    let t_sample = t0.elapsed().as_secs_f64() - t_load;
+    let size = match (a.dot_radius, a.dot) {
+        (Some(r), _) => DotSize::Fixed(r),
+        (None, DotArg::Fixed) => {
+            DotSize::Fixed(a.dot_factor.unwrap_or(FIXED_DOT_FACTOR) * range.min)
+        }
+        (None, DotArg::Proportional) => DotSize::Proportional(a.dot_factor.unwrap_or(0.5)),
+    };
+    size.validate()?;
+    let points = match a.order {
+        OrderArg::None => set.points.clone(),
+        OrderArg::Tsp => order_tsp(&set.points, a.quiet),
+    };
+    let dots = size.dots(&points);
+    match format {
+        Drawing::Svg => {
+            let opts = match a.width_mm {
+                Some(mm) => svg::SvgOptions::with_width_mm((width, height), mm)?,
+                None => svg::SvgOptions {
+                    domain: (width, height),
+                    size_mm: None,
+                },
+            };
+            io::write_atomic(&a.output, |w| Ok(svg::write(w, &dots, &opts)?))?;
+        }
+        Drawing::Png => {
+            let img = raster::render(&dots, (width, height), a.scale)?;
+            io::write_atomic(&a.output, |w| Ok(raster::write_png(w, &img)?))?;
+        }
+    }
+    if let Some(path) = &a.save_points {
+        let out = SampleSet {
+            points,
+            ..set.clone()
+        };
+        io::write_points(path, &out, a)?;
+    }
+    if a.verbose {
+        eprintln!(
+            "{} dots on a {width}x{height} domain, radii {:.2}..{:.2} px, {}; \
+             load {t_load:.3} s, sampling {t_sample:.3} s, total {:.3} s",
+            dots.len(),
+            range.min,
+            range.max,
+            match size {
+                DotSize::Fixed(r) => format!("dot radius {r:.2} px"),
+                DotSize::Proportional(f) => format!("dot radius {f} x sample radius"),
+            },
+            t0.elapsed().as_secs_f64()
+        );
+    }
+    Ok(())
+}
+
+/// Orders `points` for a pen plotter and reports the pen travel on stderr.
+fn order_tsp(points: &[Point], quiet: bool) -> Vec<Point> {
+    let t = Instant::now();
+    let xy: Vec<[f64; 2]> = points
+        .iter()
+        .map(|p| [f64::from(p.x), f64::from(p.y)])
+        .collect();
+    let tour = tsp::plan(&xy, tsp::TspOptions::default());
+    if !quiet {
+        let saved = if tour.nearest_neighbour_length > 0.0 {
+            100.0 * (1.0 - tour.length / tour.nearest_neighbour_length)
+        } else {
+            0.0
+        };
+        eprintln!(
+            "tsp: pen travel {:.0} px (nearest neighbour) -> {:.0} px (2-opt, {} moves, -{saved:.1}%) in {:.2} s",
+            tour.nearest_neighbour_length,
+            tour.length,
+            tour.moves,
+            t.elapsed().as_secs_f64()
+        );
+    }
+    tour.order.iter().map(|&i| points[i]).collect()
+}

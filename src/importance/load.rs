@@ -1,0 +1,288 @@
+//! Decoding images into linear luminance, and normalizing it to [0, 1].
+
+use std::io::Read;
+use std::path::Path;
+
+use super::{Error, HDR_PERCENTILE, ImportanceMap, Result};
+
+/// Rec. 709 luminance weights of linear R, G and B.
+const LUMA: [f32; 3] = [0.2126, 0.7152, 0.0722];
+/// The first four bytes of every OpenEXR file.
+const EXR_MAGIC: [u8; 4] = [0x76, 0x2f, 0x31, 0x01];
+
+/// The range of a decoded image's samples.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Range {
+    /// Integer samples, sRGB-decoded: linear values in [0, 1], white = 1.
+    Unit,
+    /// Float samples (EXR, float TIFF): linear, unbounded; white is a percentile.
+    Float,
+}
+
+/// Linear luminance of a decoded image, before normalization.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Luminance {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// Linear luminance per pixel, row-major, at least 0.
+    pub values: Vec<f32>,
+    /// Alpha per pixel in [0, 1], when the image has it.
+    pub alpha: Option<Vec<f32>>,
+    /// Whether alpha is premultiplied into `values` (OpenEXR's convention).
+    pub premultiplied: bool,
+    /// The samples' range.
+    pub range: Range,
+}
+
+/// Decodes `path` (any supported format, recognized by content, or by an
+/// `.exr` extension) into linear luminance.
+///
+/// ```no_run
+/// let lum = pixelpie::importance::load(std::path::Path::new("assets/default.png")).unwrap();
+/// assert!(lum.values.iter().all(|&y| (0.0..=1.0).contains(&y)));
+/// ```
+pub fn load(path: &Path) -> Result<Luminance> {
+    let io = |source| Error::Io {
+        path: path.to_owned(),
+        source,
+    };
+    let mut magic = Vec::with_capacity(4);
+    std::fs::File::open(path)
+        .map_err(io)?
+        .take(4)
+        .read_to_end(&mut magic)
+        .map_err(io)?;
+    if magic.is_empty() {
+        return Err(Error::Decode {
+            path: path.to_owned(),
+            message: "the file is empty".into(),
+        });
+    }
+    let exr_extension = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
+    let lum = if magic == EXR_MAGIC || exr_extension {
+        load_exr(path)?
+    } else {
+        load_image(path)?
+    };
+    if lum.width == 0 || lum.height == 0 {
+        return Err(Error::Empty {
+            path: path.to_owned(),
+        });
+    }
+    Ok(lum)
+}
+
+fn non_finite(path: &Path, channel: &str, i: usize, width: u32, value: f32) -> Error {
+    Error::NonFinite {
+        path: path.to_owned(),
+        channel: channel.to_owned(),
+        x: (i as u64 % u64::from(width.max(1))) as u32,
+        y: (i as u64 / u64::from(width.max(1))) as u32,
+        value,
+    }
+}
+
+/// Checks a float channel for NaN and infinities.
+fn check_finite(path: &Path, channel: &str, width: u32, samples: &[f32]) -> Result<()> {
+    match samples.iter().position(|v| !v.is_finite()) {
+        Some(i) => Err(non_finite(path, channel, i, width, samples[i])),
+        None => Ok(()),
+    }
+}
+
+/// The sRGB transfer function, decoded: encoded value in [0, 1] to linear.
+#[must_use]
+pub fn srgb_to_linear(c: f32) -> f32 {
+    if c <= 0.040_45 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+fn load_image(path: &Path) -> Result<Luminance> {
+    let decode = |e: &dyn std::fmt::Display| Error::Decode {
+        path: path.to_owned(),
+        message: e.to_string(),
+    };
+    let img = image::ImageReader::open(path)
+        .map_err(|source| Error::Io {
+            path: path.to_owned(),
+            source,
+        })?
+        .with_guessed_format()
+        .map_err(|e| decode(&e))?
+        .decode()
+        .map_err(|e| decode(&e))?;
+    let (width, height) = (img.width(), img.height());
+    let color = img.color();
+    let has_alpha = color.has_alpha();
+    let gray = !color.has_color();
+    let float = matches!(
+        img,
+        image::DynamicImage::ImageRgb32F(_) | image::DynamicImage::ImageRgba32F(_)
+    );
+    let n = width as usize * height as usize;
+    let mut values = Vec::with_capacity(n);
+    let mut alpha = has_alpha.then(|| Vec::with_capacity(n));
+    if float {
+        let buf = img.to_rgba32f();
+        for (i, px) in buf.pixels().enumerate() {
+            for (c, name) in ["R", "G", "B", "A"].iter().enumerate() {
+                if !px.0[c].is_finite() {
+                    return Err(non_finite(path, name, i, width, px.0[c]));
+                }
+            }
+            let [r, g, b, a] = px.0.map(|v| v.max(0.0));
+            values.push(if gray {
+                r
+            } else {
+                LUMA[0] * r + LUMA[1] * g + LUMA[2] * b
+            });
+            if let Some(al) = alpha.as_mut() {
+                al.push(a.min(1.0));
+            }
+        }
+    } else {
+        let lut: Vec<f32> = (0..=u16::MAX)
+            .map(|v| srgb_to_linear(f32::from(v) / 65535.0))
+            .collect();
+        let buf = img.to_rgba16();
+        for px in buf.pixels() {
+            let [r, g, b, a] = px.0;
+            let y = if gray {
+                lut[usize::from(r)]
+            } else {
+                LUMA[0] * lut[usize::from(r)]
+                    + LUMA[1] * lut[usize::from(g)]
+                    + LUMA[2] * lut[usize::from(b)]
+            };
+            values.push(y.clamp(0.0, 1.0));
+            if let Some(al) = alpha.as_mut() {
+                al.push(f32::from(a) / 65535.0);
+            }
+        }
+    }
+    Ok(Luminance {
+        width,
+        height,
+        values,
+        alpha,
+        premultiplied: false,
+        range: if float { Range::Float } else { Range::Unit },
+    })
+}
+
+fn load_exr(path: &Path) -> Result<Luminance> {
+    let img = crate::io::read_exr(path).map_err(|e| Error::Decode {
+        path: path.to_owned(),
+        message: e.root_cause().to_string(),
+    })?;
+    // Layered files name channels "layer.R"; match on the last component.
+    let find = |name: &str| {
+        img.channels
+            .iter()
+            .find(|(n, _)| n.rsplit('.').next() == Some(name))
+    };
+    let channels: Vec<&(String, Vec<f32>)> = if let Some(y) = find("Y") {
+        vec![y]
+    } else if let (Some(r), Some(g), Some(b)) = (find("R"), find("G"), find("B")) {
+        vec![r, g, b]
+    } else if img.channels.len() == 1 {
+        vec![&img.channels[0]]
+    } else {
+        return Err(Error::Channels {
+            path: path.to_owned(),
+            channels: img
+                .channels
+                .iter()
+                .map(|(n, _)| n.as_str())
+                .collect::<Vec<_>>()
+                .join(", "),
+        });
+    };
+    for (name, samples) in &channels {
+        check_finite(path, name, img.width, samples)?;
+    }
+    let n = img.width as usize * img.height as usize;
+    let values: Vec<f32> = match channels.as_slice() {
+        [(_, y)] => y.iter().map(|v| v.max(0.0)).collect(),
+        [(_, r), (_, g), (_, b)] => (0..n)
+            .map(|i| (LUMA[0] * r[i] + LUMA[1] * g[i] + LUMA[2] * b[i]).max(0.0))
+            .collect(),
+        _ => unreachable!("one or three channels were picked"),
+    };
+    let alpha = match find("A") {
+        Some((name, a)) => {
+            check_finite(path, name, img.width, a)?;
+            Some(a.iter().map(|v| v.clamp(0.0, 1.0)).collect())
+        }
+        None => None,
+    };
+    Ok(Luminance {
+        width: img.width,
+        height: img.height,
+        values,
+        alpha,
+        premultiplied: true,
+        range: Range::Float,
+    })
+}
+
+impl Luminance {
+    /// The luminance that becomes white: 1 for integer images, the
+    /// [`HDR_PERCENTILE`]th percentile for float images (1 if that is 0).
+    #[must_use]
+    pub fn white_point(&self) -> f32 {
+        match self.range {
+            Range::Unit => 1.0,
+            Range::Float => {
+                let mut v = self.values.clone();
+                if v.is_empty() {
+                    return 1.0;
+                }
+                let k = ((HDR_PERCENTILE / 100.0 * v.len() as f64).ceil() as usize)
+                    .clamp(1, v.len())
+                    - 1;
+                let (_, &mut p, _) = v.select_nth_unstable_by(k, f32::total_cmp);
+                if p > 0.0 { p } else { 1.0 }
+            }
+        }
+    }
+
+    /// Normalizes to [0, 1] by the white point (`hdr_white` overrides it for
+    /// float images) and composites alpha over white.
+    pub fn normalized(self, hdr_white: Option<f32>) -> Result<ImportanceMap> {
+        if let Some(w) = hdr_white
+            && !(w.is_finite() && w > 0.0)
+        {
+            return Err(Error::InvalidParameter(format!(
+                "HDR white point {w} must be a positive number"
+            )));
+        }
+        let white = match (self.range, hdr_white) {
+            (Range::Float, Some(w)) => w,
+            _ => self.white_point(),
+        };
+        let mut values: Vec<f32> = self
+            .values
+            .iter()
+            .map(|&y| (y / white).clamp(0.0, 1.0))
+            .collect();
+        if let Some(alpha) = &self.alpha {
+            for (v, &a) in values.iter_mut().zip(alpha) {
+                *v = if self.premultiplied {
+                    (*v + (1.0 - a)).min(1.0)
+                } else {
+                    a * *v + (1.0 - a)
+                };
+            }
+        }
+        ImportanceMap::from_values(self.width, self.height, values)
+    }
+}

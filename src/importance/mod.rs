@@ -1,0 +1,347 @@
+//! Importance maps: images turned into a radius field for the sampler (paper
+//! §3.4, "the constant r in Equation 2 is replaced by a radius function").
+//!
+//! The pipeline, each stage a function a caller may stop at:
+//!
+//! 1. [`load`] decodes PNG, JPEG, TIFF, BMP and WebP through `image`, and
+//!    OpenEXR through [`crate::io::read_exr`], into **linear** luminance
+//!    Y = 0.2126 R + 0.7152 G + 0.0722 B (Rec. 709). 8- and 16-bit samples
+//!    are sRGB-decoded first; float samples (EXR, float TIFF) are already
+//!    linear. NaN and infinite samples are refused with the file, channel
+//!    and pixel named; negative float samples count as 0.
+//! 2. **Normalization** to [0, 1]: integer images are already there; float
+//!    images are divided by their *white point*, by default the 99.5th
+//!    percentile of their luminance ([`HDR_PERCENTILE`]), and clipped, so that
+//!    a few specular highlights do not leave the rest of the picture black.
+//!    Alpha composites over white paper: transparent pixels need no dots.
+//! 3. [`ImportanceMap::resized`] resamples the linear values (triangle filter).
+//! 4. [`Adjust`]: black and white levels, then gamma, then invert.
+//! 5. [`Mapping`] turns the value v (0 = black = most important) into a radius
+//!    between r_min and r_max; [`ImportanceMap::keeps`] applies the white
+//!    cutoff (no dots where v is above it).
+
+mod load;
+mod mapping;
+
+use std::path::{Path, PathBuf};
+
+pub use load::{Luminance, Range, load, srgb_to_linear};
+pub use mapping::{Mapping, RadiusRange};
+
+use crate::sampler::{Point, RSA_DENSITY};
+
+/// The percentile of a float image's luminance that becomes white.
+pub const HDR_PERCENTILE: f64 = 99.5;
+
+/// What can go wrong while making an importance map.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// The file could not be opened or read.
+    #[error("cannot read '{}': {source}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// The file is not an image we can decode, or is damaged.
+    #[error("cannot decode image '{}': {message}", path.display())]
+    Decode {
+        /// The file.
+        path: PathBuf,
+        /// The decoder's message.
+        message: String,
+    },
+    /// The image has no pixels.
+    #[error("image '{}' has no pixels", path.display())]
+    Empty {
+        /// The file.
+        path: PathBuf,
+    },
+    /// A sample is NaN or infinite.
+    #[error("image '{}' holds {value} in channel '{channel}' at pixel ({x}, {y}); importance maps need finite values", path.display())]
+    NonFinite {
+        /// The file.
+        path: PathBuf,
+        /// The channel's name.
+        channel: String,
+        /// The pixel's column.
+        x: u32,
+        /// The pixel's row.
+        y: u32,
+        /// The offending value.
+        value: f32,
+    },
+    /// An EXR file without a luminance or RGB channel set.
+    #[error("EXR '{}' has no Y channel, no R, G and B channels and not exactly one channel (it has: {channels})", path.display())]
+    Channels {
+        /// The file.
+        path: PathBuf,
+        /// The channel names found.
+        channels: String,
+    },
+    /// A parameter out of range.
+    #[error("invalid parameter: {0}")]
+    InvalidParameter(String),
+}
+
+/// The result type of this module.
+pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+/// Tone adjustments, applied in this order: levels, gamma, invert.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct Adjust {
+    /// Values at or below this level become 0 (black).
+    pub black: f32,
+    /// Values at or above this level become 1 (white).
+    pub white: f32,
+    /// v ↦ v^gamma after the levels: above 1 darkens the mid-tones (more dots).
+    pub gamma: f32,
+    /// v ↦ 1 − v at the end: light parts become the important ones.
+    pub invert: bool,
+}
+
+impl Default for Adjust {
+    fn default() -> Self {
+        Self {
+            black: 0.0,
+            white: 1.0,
+            gamma: 1.0,
+            invert: false,
+        }
+    }
+}
+
+impl Adjust {
+    /// Checks that 0 ≤ black < white ≤ 1 and that gamma is a positive number.
+    ///
+    /// ```
+    /// use pixelpie::importance::Adjust;
+    /// assert!(Adjust { black: 0.5, white: 0.4, ..Adjust::default() }.validate().is_err());
+    /// ```
+    pub fn validate(&self) -> Result<()> {
+        let ok = self.black.is_finite()
+            && self.white.is_finite()
+            && 0.0 <= self.black
+            && self.black < self.white
+            && self.white <= 1.0;
+        if !ok {
+            return Err(Error::InvalidParameter(format!(
+                "levels black {} and white {} must satisfy 0 <= black < white <= 1",
+                self.black, self.white
+            )));
+        }
+        if !(self.gamma.is_finite() && self.gamma > 0.0) {
+            return Err(Error::InvalidParameter(format!(
+                "gamma {} must be a positive number",
+                self.gamma
+            )));
+        }
+        Ok(())
+    }
+
+    /// Applies the adjustments to one value in [0, 1].
+    ///
+    /// ```
+    /// use pixelpie::importance::Adjust;
+    /// let a = Adjust { black: 0.2, white: 0.6, gamma: 2.0, invert: true };
+    /// assert!((a.apply(0.4) - 0.75).abs() < 1e-6);
+    /// ```
+    #[must_use]
+    pub fn apply(&self, v: f32) -> f32 {
+        let v = ((v - self.black) / (self.white - self.black)).clamp(0.0, 1.0);
+        let v = if self.gamma == 1.0 {
+            v
+        } else {
+            v.powf(self.gamma)
+        };
+        if self.invert { 1.0 - v } else { v }
+    }
+}
+
+/// Importance values v ∈ [0, 1] per pixel, row-major, top row first;
+/// 0 (black) is the most important.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ImportanceMap {
+    width: u32,
+    height: u32,
+    values: Vec<f32>,
+}
+
+impl ImportanceMap {
+    /// A map from values in [0, 1]; refuses a wrong length or values outside.
+    ///
+    /// ```
+    /// let m = pixelpie::importance::ImportanceMap::from_values(2, 1, vec![0.0, 1.0]).unwrap();
+    /// assert_eq!(m.value(1, 0), 1.0);
+    /// ```
+    pub fn from_values(width: u32, height: u32, values: Vec<f32>) -> Result<Self> {
+        if width == 0 || height == 0 {
+            return Err(Error::InvalidParameter(format!(
+                "importance map size {width}x{height} has no pixels"
+            )));
+        }
+        if values.len() as u64 != u64::from(width) * u64::from(height) {
+            return Err(Error::InvalidParameter(format!(
+                "{} values for a {width}x{height} importance map",
+                values.len()
+            )));
+        }
+        if let Some(i) = values.iter().position(|v| !(0.0..=1.0).contains(v)) {
+            return Err(Error::InvalidParameter(format!(
+                "importance {} at pixel ({}, {}) is outside [0, 1]",
+                values[i],
+                i as u64 % u64::from(width),
+                i as u64 / u64::from(width)
+            )));
+        }
+        Ok(Self {
+            width,
+            height,
+            values,
+        })
+    }
+
+    /// Loads `path` and normalizes it (steps 1 and 2 of the module's
+    /// pipeline). `hdr_white` overrides the white point of float images.
+    pub fn open(path: &Path, hdr_white: Option<f32>) -> Result<Self> {
+        load(path)?.normalized(hdr_white)
+    }
+
+    /// Width in pixels.
+    #[must_use]
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+
+    /// Height in pixels.
+    #[must_use]
+    pub fn height(&self) -> u32 {
+        self.height
+    }
+
+    /// The values, row-major.
+    #[must_use]
+    pub fn values(&self) -> &[f32] {
+        &self.values
+    }
+
+    /// The value of pixel (x, y).
+    #[must_use]
+    pub fn value(&self, x: u32, y: u32) -> f32 {
+        self.values[(u64::from(y) * u64::from(self.width) + u64::from(x)) as usize]
+    }
+
+    /// The value of the pixel that holds the point (x, y) in pixel units
+    /// (clamped to the map).
+    #[must_use]
+    pub fn value_at(&self, x: f32, y: f32) -> f32 {
+        let px = (x.max(0.0) as u32).min(self.width - 1);
+        let py = (y.max(0.0) as u32).min(self.height - 1);
+        self.value(px, py)
+    }
+
+    /// The map resampled to `width`×`height` with a triangle filter (area
+    /// averaging when shrinking), on linear values.
+    pub fn resized(&self, width: u32, height: u32) -> Result<Self> {
+        if (width, height) == (self.width, self.height) {
+            return Ok(self.clone());
+        }
+        if width == 0 || height == 0 {
+            return Err(Error::InvalidParameter(format!(
+                "cannot resize the importance map to {width}x{height}"
+            )));
+        }
+        let buf = image::ImageBuffer::<image::Luma<f32>, Vec<f32>>::from_raw(
+            self.width,
+            self.height,
+            self.values.clone(),
+        )
+        .ok_or_else(|| {
+            Error::InvalidParameter("importance map buffer has the wrong size".into())
+        })?;
+        let out =
+            image::imageops::resize(&buf, width, height, image::imageops::FilterType::Triangle);
+        let values = out
+            .into_raw()
+            .into_iter()
+            .map(|v| v.clamp(0.0, 1.0))
+            .collect();
+        Ok(Self {
+            width,
+            height,
+            values,
+        })
+    }
+
+    /// The map with `adjust` applied to every value.
+    pub fn adjusted(&self, adjust: &Adjust) -> Result<Self> {
+        adjust.validate()?;
+        Ok(Self {
+            width: self.width,
+            height: self.height,
+            values: self.values.iter().map(|&v| adjust.apply(v)).collect(),
+        })
+    }
+
+    /// The radius of every pixel under `mapping`, row-major.
+    #[must_use]
+    pub fn radii(&self, mapping: Mapping, range: RadiusRange) -> Vec<f32> {
+        self.values
+            .iter()
+            .map(|&v| mapping.radius(v, range))
+            .collect()
+    }
+
+    /// Whether a dot at (x, y) survives the white cutoff: its pixel's value is
+    /// at most `cutoff` (`None` keeps every dot).
+    #[must_use]
+    pub fn keeps(&self, x: f32, y: f32, cutoff: Option<f32>) -> bool {
+        cutoff.is_none_or(|c| self.value_at(x, y) <= c)
+    }
+
+    /// The points that survive the white cutoff, in their order.
+    #[must_use]
+    pub fn cut(&self, points: &[Point], cutoff: Option<f32>) -> Vec<Point> {
+        points
+            .iter()
+            .filter(|p| self.keeps(p.x, p.y, cutoff))
+            .copied()
+            .collect()
+    }
+
+    /// The expected number of dots for `radii` at RSA saturation density,
+    /// counting only pixels that survive the white cutoff. It starts the
+    /// search of `--points` ([`crate::count::fit_scale`]).
+    #[must_use]
+    pub fn expected_points(&self, radii: &[f32], cutoff: Option<f32>) -> f64 {
+        self.values
+            .iter()
+            .zip(radii)
+            .filter(|(v, _)| cutoff.is_none_or(|c| **v <= c))
+            .map(|(_, &r)| {
+                let r = f64::from(r);
+                RSA_DENSITY / (std::f64::consts::PI * r * r / 4.0)
+            })
+            .sum()
+    }
+}
+
+/// The size that keeps `width`×`height`'s aspect when only one side is given.
+///
+/// ```
+/// use pixelpie::importance::fit_size;
+/// assert_eq!(fit_size((400, 200), Some(100), None), (100, 50));
+/// assert_eq!(fit_size((400, 200), None, None), (400, 200));
+/// ```
+#[must_use]
+pub fn fit_size(source: (u32, u32), width: Option<u32>, height: Option<u32>) -> (u32, u32) {
+    let (w, h) = (f64::from(source.0), f64::from(source.1));
+    match (width, height) {
+        (Some(a), Some(b)) => (a, b),
+        (Some(a), None) => (a, ((f64::from(a) * h / w).round() as u32).max(1)),
+        (None, Some(b)) => (((f64::from(b) * w / h).round() as u32).max(1), b),
+        (None, None) => source,
+    }
+}

@@ -1,0 +1,112 @@
+//! PNG output: black anti-aliased dots on white, 8-bit grey.
+//!
+//! A pixel's coverage by a dot is approximated by clamp(R + ½ − d, 0, 1),
+//! d the distance from the pixel centre to the dot's centre (and at most the
+//! dot's area for dots thinner than a pixel). Overlapping dots combine as
+//! independent inks, paper = Π (1 − coverage). The paper's reflectance is
+//! linear light, so it is sRGB-encoded on output: a pixel half covered
+//! reads 188, not 128, and the picture's tones match the ink coverage.
+
+use std::io::Write;
+
+use image::{GrayImage, ImageEncoder, Luma};
+
+use super::{Dot, Error, Result};
+
+/// The largest PNG, in pixels, that [`render`] agrees to draw.
+pub const MAX_PIXELS: u64 = 1 << 28;
+
+/// Draws `dots` on a `domain` scaled by `scale` (output pixels per domain pixel).
+///
+/// ```
+/// use pixelpie::stipple::{Dot, raster};
+/// let img = raster::render(&[Dot { x: 4.0, y: 4.0, radius: 2.0 }], (8, 8), 1.0).unwrap();
+/// assert_eq!(img.get_pixel(4, 4).0[0], 0); // ink in the middle
+/// assert_eq!(img.get_pixel(0, 0).0[0], 255); // paper in the corner
+/// ```
+pub fn render(dots: &[Dot], domain: (u32, u32), scale: f32) -> Result<GrayImage> {
+    if !(scale.is_finite() && scale > 0.0) {
+        return Err(Error::InvalidParameter(format!(
+            "scale {scale} must be a positive number"
+        )));
+    }
+    let w = (f64::from(domain.0) * f64::from(scale)).round().max(1.0);
+    let h = (f64::from(domain.1) * f64::from(scale)).round().max(1.0);
+    if w * h > MAX_PIXELS as f64 {
+        return Err(Error::InvalidParameter(format!(
+            "a {w}x{h} PNG is too large (at most {MAX_PIXELS} pixels); lower --scale"
+        )));
+    }
+    let (w, h) = (w as u32, h as u32);
+    let mut paper = vec![1.0f32; w as usize * h as usize];
+    for d in dots {
+        let (cx, cy, r) = (d.x * scale, d.y * scale, d.radius * scale);
+        if !(cx.is_finite() && cy.is_finite() && r.is_finite()) || r <= 0.0 {
+            continue;
+        }
+        let area = std::f32::consts::PI * r * r;
+        let x0 = (cx - r - 1.0).floor().max(0.0) as u32;
+        let y0 = (cy - r - 1.0).floor().max(0.0) as u32;
+        let x1 = ((cx + r + 1.0).ceil().max(0.0) as u32).min(w);
+        let y1 = ((cy + r + 1.0).ceil().max(0.0) as u32).min(h);
+        for py in y0..y1 {
+            let dy = py as f32 + 0.5 - cy;
+            let row = py as usize * w as usize;
+            for px in x0..x1 {
+                let dx = px as f32 + 0.5 - cx;
+                let dist = (dx * dx + dy * dy).sqrt();
+                let a = (r + 0.5 - dist).clamp(0.0, 1.0).min(area);
+                if a > 0.0 {
+                    paper[row + px as usize] *= 1.0 - a;
+                }
+            }
+        }
+    }
+    let lut: Vec<u8> = (0..=4096)
+        .map(|i| (255.0 * linear_to_srgb(i as f32 / 4096.0)).round() as u8)
+        .collect();
+    let pixels = paper
+        .iter()
+        .map(|&p| lut[(p.clamp(0.0, 1.0) * 4096.0).round() as usize])
+        .collect();
+    GrayImage::from_raw(w, h, pixels)
+        .ok_or_else(|| Error::Encode("pixel buffer of the wrong size".into()))
+}
+
+/// The sRGB transfer function: linear value in [0, 1] to encoded.
+#[must_use]
+pub fn linear_to_srgb(v: f32) -> f32 {
+    if v <= 0.003_130_8 {
+        12.92 * v
+    } else {
+        1.055 * v.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// Encodes `img` as PNG into `w`.
+pub fn write_png(w: &mut dyn Write, img: &GrayImage) -> Result<()> {
+    image::codecs::png::PngEncoder::new(w)
+        .write_image(
+            img.as_raw(),
+            img.width(),
+            img.height(),
+            image::ExtendedColorType::L8,
+        )
+        .map_err(|e| Error::Encode(e.to_string()))
+}
+
+/// The mean ink coverage (0 = white, 1 = black) of a region of `img`, in
+/// linear light: a check that a drawing reproduces a tone.
+#[must_use]
+pub fn mean_ink(img: &GrayImage, x0: u32, y0: u32, x1: u32, y1: u32) -> f64 {
+    let mut sum = 0.0;
+    let mut n = 0u64;
+    for y in y0..y1.min(img.height()) {
+        for x in x0..x1.min(img.width()) {
+            let Luma([g]) = *img.get_pixel(x, y);
+            sum += 1.0 - f64::from(crate::importance::srgb_to_linear(f32::from(g) / 255.0));
+            n += 1;
+        }
+    }
+    if n == 0 { 0.0 } else { sum / n as f64 }
+}
