@@ -6,6 +6,7 @@
 //! * [`io`]: file formats; [`count`]: point-count targeting.
 
 pub mod analyze;
+pub mod app;
 pub mod backend;
 pub mod count;
 pub mod gpu;

@@ -2,10 +2,20 @@
 
 use pixelpie::gpu::util::{SHADERS, shader_source};
 
+/// Every shader as compiled: the sampler's stages with the common prelude,
+/// and the app's dot shader on its own.
+fn sources() -> Vec<(&'static str, String)> {
+    let mut v: Vec<_> = SHADERS
+        .iter()
+        .map(|(n, s)| (*n, shader_source(s)))
+        .collect();
+    v.push(("dots.wgsl", pixelpie::app::DOTS_SHADER.to_owned()));
+    v
+}
+
 #[test]
 fn every_wgsl_file_validates_with_naga() {
-    for (name, stage) in SHADERS {
-        let source = shader_source(stage);
+    for (name, source) in sources() {
         let module = naga::front::wgsl::parse_str(&source)
             .unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(&source)));
         naga::valid::Validator::new(
@@ -26,7 +36,7 @@ fn every_file_in_shaders_is_compiled() {
             .filter(|n| n.ends_with(".wgsl") && n != "common.wgsl")
             .collect();
     on_disk.sort();
-    let mut listed: Vec<String> = SHADERS.iter().map(|(n, _)| (*n).to_owned()).collect();
+    let mut listed: Vec<String> = sources().into_iter().map(|(n, _)| n.to_owned()).collect();
     listed.sort();
     assert_eq!(on_disk, listed);
 }

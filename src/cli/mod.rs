@@ -14,7 +14,7 @@ use clap::{Parser, Subcommand};
 #[command(name = "pixelpie", version, about)]
 pub struct Cli {
     #[command(subcommand)]
-    command: Command,
+    command: Option<Command>,
 }
 
 #[derive(Subcommand, Debug)]
@@ -27,11 +27,17 @@ enum Command {
     Analyze(analyze::AnalyzeArgs),
     /// Prints the paper's Table 1 for the GPU and CPU backends.
     Bench(bench::BenchArgs),
+    /// Opens the interactive stippling app (the default without a command).
+    Gui {
+        /// An image or EXR to open (default: the last one, or the bundled one).
+        image: Option<std::path::PathBuf>,
+    },
 }
 
 /// Runs the parsed command line.
 pub fn run(cli: Cli) -> Result<()> {
-    match cli.command {
+    match cli.command.unwrap_or(Command::Gui { image: None }) {
+        Command::Gui { image } => pixelpie::app::run(image),
         Command::Sample(a) => sample::run(&a),
         Command::Stipple(a) => stipple::run(&a),
         Command::Analyze(a) => analyze::run(&a),

@@ -183,7 +183,7 @@ impl GpuSampler {
     }
 
     /// The S1 path a run of `plan` takes on `device`: the caller's choice, or
-    /// the faster one measured (once) on a 1024² calibration run; the raster
+    /// the faster one measured (once) on a 512² calibration run; the raster
     /// path when the key buffer would exceed the adapter's binding size.
     fn path_for(
         &mut self,
@@ -201,7 +201,7 @@ impl GpuSampler {
         if let Some(p) = self.measured {
             return Ok(p);
         }
-        let side = 1024.min(device.limits().max_texture_dimension_2d);
+        let side = 512.min(device.limits().max_texture_dimension_2d);
         let probe = Params::new(side, side).with_radius(8.5).with_seed(1);
         let mut best = (f64::INFINITY, S1Path::Raster);
         for path in [S1Path::Raster, S1Path::Compute] {
@@ -251,7 +251,6 @@ impl GpuSampler {
         params: &Params,
         ctl: Control<'_>,
     ) -> Result<SampleSet> {
-        let start = Instant::now();
         let plan = params.plan()?;
         let limits = device.limits();
         let max = limits.max_texture_dimension_2d;
@@ -262,6 +261,7 @@ impl GpuSampler {
             )));
         }
         let path = self.path_for(device, queue, &plan)?;
+        let start = Instant::now();
         let cap = plan.batch.min(plan.pixels()).min(plan.layout.max_batch());
         let timestamps = device.features().contains(wgpu::Features::TIMESTAMP_QUERY);
         let fits = self

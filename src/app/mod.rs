@@ -1,0 +1,310 @@
+//! The interactive stippling app: an eframe/egui front end over the library.
+//!
+//! The importance map is loaded into textures, sampling runs on a worker
+//! thread (debounced, the latest request wins) on egui's own wgpu device, and
+//! the dots are drawn on the GPU by an `egui_wgpu` paint callback.
+
+mod dots;
+mod settings;
+mod view;
+mod worker;
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use egui_wgpu::wgpu;
+
+pub use dots::SHADER as DOTS_SHADER;
+pub use settings::{Background, Settings};
+use worker::{Job, Outcome, Reply, Worker};
+
+use crate::importance::ImportanceMap;
+use crate::sampler::Progress;
+
+/// How long the controls must rest before a re-sample starts.
+pub const DEBOUNCE: Duration = Duration::from_millis(150);
+/// The key under which the settings persist.
+const STORAGE_KEY: &str = "pixelpie-settings";
+/// The bundled image shown at first start.
+pub const DEFAULT_IMAGE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/default.png");
+
+/// A loaded picture: the importance map and its display textures.
+pub struct Source {
+    /// Where it came from.
+    pub path: PathBuf,
+    /// The importance map.
+    pub map: Arc<ImportanceMap>,
+    importance: egui::TextureHandle,
+    photo: egui::TextureHandle,
+}
+
+/// The app.
+pub struct PixelPieApp {
+    /// The controls.
+    pub settings: Settings,
+    /// The loaded picture.
+    pub source: Option<Source>,
+    /// The latest finished sampling.
+    pub outcome: Option<Outcome>,
+    /// The last error, shown in the panel.
+    pub error: Option<String>,
+    /// A status line (exports, fallbacks).
+    pub status: String,
+    /// Where exports go (the extension is set by the button).
+    pub export_path: String,
+    worker: Worker,
+    next_job: u64,
+    done_job: u64,
+    pending: Option<Instant>,
+    last_key: Option<settings::SamplingKey>,
+    progress: Option<Progress>,
+    dots_generation: u64,
+    dot_instances: Arc<Vec<dots::DotInstance>>,
+    view: view::ViewState,
+    gpu_dots: bool,
+    open_path: String,
+}
+
+impl PixelPieApp {
+    /// Builds the app on eframe's context; `image` overrides the stored one.
+    pub fn new(cc: &eframe::CreationContext<'_>, image: Option<PathBuf>) -> Self {
+        let mut settings: Settings = cc
+            .storage
+            .and_then(|s| eframe::get_value(s, STORAGE_KEY))
+            .unwrap_or_default();
+        let mut gpu = None;
+        let mut gpu_dots = false;
+        if let Some(rs) = &cc.wgpu_render_state {
+            let renderer = dots::DotRenderer::new(&rs.device, rs.target_format);
+            rs.renderer.write().callback_resources.insert(renderer);
+            gpu_dots = true;
+            gpu = Some((
+                rs.device.clone(),
+                rs.queue.clone(),
+                rs.adapter.get_info().name,
+            ));
+        }
+        let worker = Worker::new(gpu, cc.egui_ctx.clone());
+        let mut app = Self {
+            settings: settings.clone(),
+            source: None,
+            outcome: None,
+            error: None,
+            status: String::new(),
+            export_path: "stipple.svg".into(),
+            worker,
+            next_job: 0,
+            done_job: 0,
+            pending: None,
+            last_key: None,
+            progress: None,
+            dots_generation: 0,
+            dot_instances: Arc::new(Vec::new()),
+            view: view::ViewState::default(),
+            gpu_dots,
+            open_path: String::new(),
+        };
+        let path = image
+            .or_else(|| settings.image.take())
+            .unwrap_or_else(|| DEFAULT_IMAGE.into());
+        app.open(&cc.egui_ctx, &path);
+        if app.source.is_none() && path != Path::new(DEFAULT_IMAGE) {
+            app.open(&cc.egui_ctx, Path::new(DEFAULT_IMAGE));
+        }
+        app
+    }
+
+    /// Loads an image or EXR as the importance map; errors go to the panel.
+    pub fn open(&mut self, ctx: &egui::Context, path: &Path) {
+        match load_source(ctx, path) {
+            Ok(source) => {
+                self.settings.image = Some(path.to_path_buf());
+                self.open_path = path.display().to_string();
+                self.source = Some(source);
+                self.error = None;
+                self.last_key = None;
+                self.view.fit_next = true;
+                self.request_sample();
+            }
+            Err(e) => self.error = Some(e),
+        }
+    }
+
+    /// The GPU adapter that samples and draws, if any.
+    pub fn adapter(&self) -> Option<&str> {
+        self.worker.adapter()
+    }
+
+    /// The number of dots on screen.
+    pub fn dots_drawn(&self) -> usize {
+        self.dot_instances.len()
+    }
+
+    /// Whether a sampling job is queued or running.
+    pub fn busy(&self) -> bool {
+        self.pending.is_some() || self.done_job < self.next_job
+    }
+
+    fn request_sample(&mut self) {
+        self.pending = Some(Instant::now());
+    }
+
+    fn start_job(&mut self) {
+        let Some(src) = &self.source else { return };
+        self.next_job += 1;
+        self.progress = None;
+        self.worker.submit(Job {
+            id: self.next_job,
+            map: src.map.clone(),
+            settings: self.settings.clone(),
+        });
+    }
+
+    fn poll_worker(&mut self) {
+        for reply in self.worker.poll() {
+            match reply {
+                Reply::Progress(id, p) if id == self.next_job => self.progress = Some(p),
+                Reply::Progress(..) => {}
+                Reply::Done(id, result) => {
+                    self.done_job = self.done_job.max(id);
+                    if id != self.next_job {
+                        continue;
+                    }
+                    match result {
+                        Ok(outcome) => {
+                            self.status = outcome.note.clone().unwrap_or_default();
+                            self.dot_instances = Arc::new(
+                                outcome
+                                    .set
+                                    .points
+                                    .iter()
+                                    .map(|p| dots::DotInstance {
+                                        x: p.x,
+                                        y: p.y,
+                                        radius: p.radius,
+                                        pad: 0.0,
+                                    })
+                                    .collect(),
+                            );
+                            self.dots_generation += 1;
+                            self.outcome = Some(outcome);
+                            self.error = None;
+                        }
+                        Err(e) => self.error = Some(e),
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Decodes `path` into an importance map and two display textures.
+fn load_source(ctx: &egui::Context, path: &Path) -> Result<Source, String> {
+    let map = ImportanceMap::open(path, None).map_err(|e| e.to_string())?;
+    let (w, h) = (map.width() as usize, map.height() as usize);
+    let gray: Vec<egui::Color32> = map
+        .values()
+        .iter()
+        .map(|&v| {
+            let g =
+                (crate::stipple::raster::linear_to_srgb(v.clamp(0.0, 1.0)) * 255.0).round() as u8;
+            egui::Color32::from_gray(g)
+        })
+        .collect();
+    let importance = ctx.load_texture(
+        "importance",
+        egui::ColorImage::new([w, h], gray.clone()),
+        egui::TextureOptions::LINEAR,
+    );
+    // The photo in colour where `image` can decode it; EXR shows its luminance.
+    let photo_image = image::open(path)
+        .ok()
+        .map(|img| img.to_rgba8())
+        .filter(|img| img.dimensions() == (map.width(), map.height()))
+        .map_or_else(
+            || egui::ColorImage::new([w, h], gray),
+            |img| egui::ColorImage::from_rgba_unmultiplied([w, h], img.as_raw()),
+        );
+    let photo = ctx.load_texture("photo", photo_image, egui::TextureOptions::LINEAR);
+    Ok(Source {
+        path: path.to_path_buf(),
+        map: Arc::new(map),
+        importance,
+        photo,
+    })
+}
+
+impl eframe::App for PixelPieApp {
+    fn save(&mut self, storage: &mut dyn eframe::Storage) {
+        eframe::set_value(storage, STORAGE_KEY, &self.settings);
+    }
+
+    fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
+        let ctx = ui.ctx().clone();
+        self.poll_worker();
+        let dropped: Vec<PathBuf> = ctx.input(|i| {
+            i.raw
+                .dropped_files
+                .iter()
+                .map(|f| f.path().to_path_buf())
+                .filter(|p| !p.as_os_str().is_empty())
+                .collect()
+        });
+        if let Some(path) = dropped.into_iter().next() {
+            self.open(&ctx, &path);
+        }
+        egui::Panel::left("controls")
+            .resizable(false)
+            .show(ui, |ui| {
+                egui::ScrollArea::vertical().show(ui, |ui| self.controls(ui));
+            });
+        egui::CentralPanel::default().show(ui, |ui| self.canvas(ui));
+        let key = self.settings.sampling_key();
+        if self.last_key.as_ref() != Some(&key) {
+            self.last_key = Some(key);
+            self.request_sample();
+        }
+        if let Some(t) = self.pending {
+            let rest = DEBOUNCE.saturating_sub(t.elapsed());
+            if rest.is_zero() {
+                self.pending = None;
+                self.start_job();
+            } else {
+                ctx.request_repaint_after(rest);
+            }
+        }
+    }
+}
+
+/// Opens the app's window (`image`, or the last or bundled one).
+pub fn run(image: Option<PathBuf>) -> anyhow::Result<()> {
+    let mut options = eframe::NativeOptions {
+        viewport: egui::ViewportBuilder::default()
+            .with_title("PixelPie stippling")
+            .with_inner_size([1200.0, 800.0])
+            .with_drag_and_drop(true),
+        renderer: eframe::Renderer::Wgpu,
+        ..Default::default()
+    };
+    options.wgpu_options.wgpu_setup = wgpu_setup();
+    eframe::run_native(
+        "PixelPie",
+        options,
+        Box::new(move |cc| Ok(Box::new(PixelPieApp::new(cc, image)))),
+    )
+    .map_err(|e| anyhow::anyhow!("cannot open the window: {e}"))
+}
+
+/// egui's wgpu setup, asking for the adapter's own limits (the sampler needs
+/// more than egui's defaults) and its timestamp queries.
+pub fn wgpu_setup() -> egui_wgpu::WgpuSetup {
+    let mut setup = egui_wgpu::WgpuSetupCreateNew::without_display_handle();
+    setup.device_descriptor = Arc::new(|adapter: &wgpu::Adapter| wgpu::DeviceDescriptor {
+        label: Some("pixelpie"),
+        required_features: adapter.features() & wgpu::Features::TIMESTAMP_QUERY,
+        required_limits: adapter.limits(),
+        ..Default::default()
+    });
+    egui_wgpu::WgpuSetup::CreateNew(setup)
+}

@@ -1,0 +1,140 @@
+//! The app's controls, persisted between runs through eframe storage.
+
+use std::path::PathBuf;
+
+use serde::{Deserialize, Serialize};
+
+use crate::backend::BackendChoice;
+use crate::sampler::Policy;
+
+/// What is drawn behind the dots.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Background {
+    /// White paper.
+    #[default]
+    Paper,
+    /// The importance map after adjustments (grey levels).
+    Importance,
+    /// The original picture.
+    Photo,
+}
+
+/// Every control of the side panel.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct Settings {
+    /// The loaded image, reopened at start.
+    pub image: Option<PathBuf>,
+    /// Target a point count (true) or use the radius range as is.
+    pub use_count: bool,
+    /// The point count to target.
+    pub points: u32,
+    /// Smallest radius in pixels (for black); scaled in count mode.
+    pub r_min: f32,
+    /// Largest radius in pixels (for white); scaled in count mode.
+    pub r_max: f32,
+    /// Tone mapping (true) or the paper's linear ramp.
+    pub tone: bool,
+    /// The disk policy.
+    pub policy: Policy,
+    /// Gamma applied after the levels.
+    pub gamma: f32,
+    /// Black level.
+    pub black: f32,
+    /// White level.
+    pub white: f32,
+    /// Light parts become the important ones.
+    pub invert: bool,
+    /// No dots where the importance is above this (1 = off).
+    pub cutoff: f32,
+    /// Sub-pixel bits of dart positions.
+    pub subpixel_bits: u32,
+    /// The seed.
+    pub seed: u64,
+    /// Wrap-around domain.
+    pub periodic: bool,
+    /// The backend.
+    pub backend: BackendChoice,
+    /// Dot radius as a fraction of the sample radius.
+    pub dot_scale: f32,
+    /// Draw every dot with `fixed_radius` instead.
+    pub fixed_dots: bool,
+    /// The fixed dot radius in pixels.
+    pub fixed_radius: f32,
+    /// Dot colour.
+    pub dot_color: [u8; 3],
+    /// What is drawn behind the dots.
+    pub background: Background,
+    /// Show the coverage disks of the samples (paper Figure 4).
+    pub show_coverage: bool,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Self {
+            image: None,
+            use_count: true,
+            points: 8000,
+            r_min: 1.5,
+            r_max: 12.0,
+            tone: true,
+            policy: Policy::Smaller,
+            gamma: 1.0,
+            black: 0.0,
+            white: 1.0,
+            invert: false,
+            cutoff: 1.0,
+            subpixel_bits: crate::sampler::DEFAULT_SUBPIXEL_BITS,
+            seed: 1,
+            periodic: false,
+            backend: BackendChoice::Auto,
+            dot_scale: 0.35,
+            fixed_dots: true,
+            fixed_radius: 1.1,
+            dot_color: [20, 20, 20],
+            background: Background::Paper,
+            show_coverage: false,
+        }
+    }
+}
+
+/// The settings that change the points (a change re-samples).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SamplingKey {
+    use_count: bool,
+    points: u32,
+    range: (u32, u32),
+    tone: bool,
+    policy: Policy,
+    levels: (u32, u32, u32, u32),
+    invert: bool,
+    subpixel_bits: u32,
+    seed: u64,
+    periodic: bool,
+    backend: BackendChoice,
+}
+
+impl Settings {
+    /// The part of the settings that the points depend on.
+    #[must_use]
+    pub fn sampling_key(&self) -> SamplingKey {
+        SamplingKey {
+            use_count: self.use_count,
+            points: self.points,
+            range: (self.r_min.to_bits(), self.r_max.to_bits()),
+            tone: self.tone,
+            policy: self.policy,
+            levels: (
+                self.gamma.to_bits(),
+                self.black.to_bits(),
+                self.white.to_bits(),
+                self.cutoff.to_bits(),
+            ),
+            invert: self.invert,
+            subpixel_bits: self.subpixel_bits,
+            seed: self.seed,
+            periodic: self.periodic,
+            backend: self.backend,
+        }
+    }
+}

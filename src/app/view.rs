@@ -1,0 +1,365 @@
+//! The side panel's controls, the zoomable canvas and the exports.
+
+use std::path::PathBuf;
+
+use egui::{Color32, Rect, Sense, Vec2};
+
+use super::PixelPieApp;
+use super::dots::{DotLayer, ViewUniform};
+use super::settings::Background;
+use crate::backend::BackendChoice;
+use crate::sampler::Policy;
+use crate::stipple::{DotSize, raster, svg};
+
+/// Zoom and pan of the canvas.
+pub struct ViewState {
+    /// Points per image pixel.
+    pub zoom: f32,
+    /// Screen offset of the image origin from the canvas corner, in points.
+    pub pan: Vec2,
+    /// Fit the image at the next frame.
+    pub fit_next: bool,
+}
+
+impl Default for ViewState {
+    fn default() -> Self {
+        Self {
+            zoom: 1.0,
+            pan: Vec2::ZERO,
+            fit_next: true,
+        }
+    }
+}
+
+impl PixelPieApp {
+    pub(super) fn controls(&mut self, ui: &mut egui::Ui) {
+        ui.set_width(260.0);
+        ui.heading("PixelPie");
+        ui.label("Drop an image or EXR on the window, or type a path:");
+        ui.horizontal(|ui| {
+            let edit = ui.add(egui::TextEdit::singleline(&mut self.open_path).desired_width(170.0));
+            let enter = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
+            if ui.button("Open").clicked() || enter {
+                let path = PathBuf::from(self.open_path.trim());
+                let ctx = ui.ctx().clone();
+                self.open(&ctx, &path);
+            }
+        });
+        if let Some(src) = &self.source {
+            ui.label(format!(
+                "{} ({}×{})",
+                src.path
+                    .file_name()
+                    .map_or_else(String::new, |n| n.to_string_lossy().into_owned()),
+                src.map.width(),
+                src.map.height()
+            ));
+        }
+        ui.separator();
+        let s = &mut self.settings;
+        ui.horizontal(|ui| {
+            ui.radio_value(&mut s.use_count, true, "Point count");
+            ui.radio_value(&mut s.use_count, false, "Radius range");
+        });
+        ui.add_enabled_ui(s.use_count, |ui| {
+            ui.horizontal(|ui| {
+                let l = ui.label("Points");
+                ui.add(
+                    egui::DragValue::new(&mut s.points)
+                        .range(10..=2_000_000)
+                        .speed(50),
+                )
+                .labelled_by(l.id);
+            });
+        });
+        ui.horizontal(|ui| {
+            let l = ui.label("Radius");
+            ui.add(
+                egui::DragValue::new(&mut s.r_min)
+                    .range(1.0..=500.0)
+                    .speed(0.05)
+                    .prefix("min "),
+            )
+            .labelled_by(l.id);
+            ui.add(
+                egui::DragValue::new(&mut s.r_max)
+                    .range(1.0..=500.0)
+                    .speed(0.05)
+                    .prefix("max "),
+            );
+        });
+        s.r_max = s.r_max.max(s.r_min);
+        egui::ComboBox::from_label("Mapping")
+            .selected_text(if s.tone { "Tone" } else { "Linear" })
+            .show_ui(ui, |ui| {
+                ui.selectable_value(&mut s.tone, true, "Tone");
+                ui.selectable_value(&mut s.tone, false, "Linear");
+            });
+        egui::ComboBox::from_label("Policy")
+            .selected_text(format!("{:?}", s.policy))
+            .show_ui(ui, |ui| {
+                for p in Policy::ALL {
+                    ui.selectable_value(&mut s.policy, p, format!("{p:?}"));
+                }
+            });
+        ui.add(
+            egui::Slider::new(&mut s.gamma, 0.2..=5.0)
+                .logarithmic(true)
+                .text("Gamma"),
+        );
+        ui.add(egui::Slider::new(&mut s.black, 0.0..=0.95).text("Black level"));
+        ui.add(egui::Slider::new(&mut s.white, 0.05..=1.0).text("White level"));
+        s.white = s.white.max(s.black + 0.01);
+        ui.checkbox(&mut s.invert, "Invert");
+        ui.add(egui::Slider::new(&mut s.cutoff, 0.0..=1.0).text("White cutoff"));
+        ui.add(egui::Slider::new(&mut s.subpixel_bits, 0..=7).text("Sub-pixel bits"));
+        ui.horizontal(|ui| {
+            let l = ui.label("Seed");
+            ui.add(egui::DragValue::new(&mut s.seed)).labelled_by(l.id);
+            if ui.button("Re-roll").clicked() {
+                s.seed = crate::sampler::fixed::mix(s.seed as u32 ^ 0x5bd1_e995).into();
+            }
+        });
+        ui.checkbox(&mut s.periodic, "Periodic (tileable)");
+        egui::ComboBox::from_label("Backend")
+            .selected_text(format!("{:?}", s.backend))
+            .show_ui(ui, |ui| {
+                for b in [BackendChoice::Auto, BackendChoice::Gpu, BackendChoice::Cpu] {
+                    ui.selectable_value(&mut s.backend, b, format!("{b:?}"));
+                }
+            });
+        ui.label(format!(
+            "Adapter: {}",
+            self.worker.adapter().unwrap_or("none (CPU only)")
+        ));
+        ui.separator();
+        let s = &mut self.settings;
+        ui.checkbox(&mut s.fixed_dots, "Fixed dot size");
+        if s.fixed_dots {
+            ui.add(egui::Slider::new(&mut s.fixed_radius, 0.2..=10.0).text("Dot radius px"));
+        } else {
+            ui.add(egui::Slider::new(&mut s.dot_scale, 0.05..=1.0).text("Dot size"));
+        }
+        ui.horizontal(|ui| {
+            ui.label("Dot colour");
+            ui.color_edit_button_srgb(&mut s.dot_color);
+        });
+        ui.horizontal(|ui| {
+            ui.label("Behind");
+            ui.selectable_value(&mut s.background, Background::Paper, "Paper");
+            ui.selectable_value(&mut s.background, Background::Importance, "Map");
+            ui.selectable_value(&mut s.background, Background::Photo, "Photo");
+        });
+        ui.checkbox(&mut s.show_coverage, "Coverage disks (Figure 4)");
+        if ui.button("Fit view").clicked() {
+            self.view.fit_next = true;
+        }
+        ui.separator();
+        self.stats_ui(ui);
+        ui.separator();
+        self.export_ui(ui);
+    }
+
+    fn stats_ui(&mut self, ui: &mut egui::Ui) {
+        if self.busy() {
+            ui.horizontal(|ui| {
+                ui.spinner();
+                match &self.progress {
+                    Some(p) => ui.label(format!(
+                        "iteration {}, {:.0}% covered",
+                        p.iteration,
+                        100.0 - 100.0 * p.empty_pixels as f64 / p.pixels.max(1) as f64
+                    )),
+                    None => ui.label("sampling…"),
+                };
+            });
+        }
+        if let Some(o) = &self.outcome {
+            let st = &o.set.stats;
+            ui.label(format!(
+                "{} dots, {} iterations, {} run(s)",
+                o.set.points.len(),
+                st.iterations,
+                o.runs
+            ));
+            ui.label(format!(
+                "S1 {:.1} ms, S2 {:.1} ms, PP {:.1} ms, total {:.1} ms",
+                st.throw_seconds * 1e3,
+                st.cull_seconds * 1e3,
+                st.compact_seconds * 1e3,
+                st.seconds * 1e3
+            ));
+            ui.label(format!("{} on {}", st.backend, st.device));
+        }
+        if let Some(e) = &self.error {
+            ui.colored_label(Color32::from_rgb(200, 40, 40), format!("Error: {e}"));
+        }
+        if !self.status.is_empty() {
+            ui.label(&self.status);
+        }
+    }
+
+    fn export_ui(&mut self, ui: &mut egui::Ui) {
+        ui.label("Export to");
+        ui.add(egui::TextEdit::singleline(&mut self.export_path).desired_width(240.0));
+        ui.horizontal(|ui| {
+            for ext in ["svg", "png", "csv", "json"] {
+                if ui.button(ext.to_uppercase()).clicked() {
+                    let path = PathBuf::from(self.export_path.trim()).with_extension(ext);
+                    match self.export(&path) {
+                        Ok(()) => {
+                            self.status = format!("wrote {}", path.display());
+                            self.export_path = path.display().to_string();
+                        }
+                        Err(e) => self.error = Some(format!("{e:#}")),
+                    }
+                }
+            }
+        });
+    }
+
+    /// Writes the current stipple with the CLI's writers, picked by extension.
+    pub fn export(&self, path: &std::path::Path) -> anyhow::Result<()> {
+        let Some(o) = &self.outcome else {
+            anyhow::bail!("nothing to export yet");
+        };
+        let s = &self.settings;
+        let size = if s.fixed_dots {
+            DotSize::Fixed(s.fixed_radius)
+        } else {
+            DotSize::Proportional(s.dot_scale)
+        };
+        let dots = size.dots(&o.set.points);
+        let domain = (o.set.width, o.set.height);
+        match path.extension().and_then(|e| e.to_str()) {
+            Some("svg") => crate::io::write_atomic(path, |w| {
+                svg::write(
+                    w,
+                    &dots,
+                    &svg::SvgOptions {
+                        domain,
+                        size_mm: None,
+                    },
+                )?;
+                Ok(())
+            }),
+            Some("png") => {
+                let img = raster::render(&dots, domain, 1.0)?;
+                crate::io::write_atomic(path, |w| {
+                    raster::write_png(w, &img)?;
+                    Ok(())
+                })
+            }
+            _ => crate::io::write_points(path, &o.set, &self.settings),
+        }
+    }
+
+    pub(super) fn canvas(&mut self, ui: &mut egui::Ui) {
+        let (rect, response) = ui.allocate_exact_size(ui.available_size(), Sense::click_and_drag());
+        let painter = ui.painter_at(rect);
+        painter.rect_filled(rect, 0.0, Color32::from_gray(90));
+        let Some(src) = &self.source else {
+            painter.text(
+                rect.center(),
+                egui::Align2::CENTER_CENTER,
+                "Drop an image here",
+                egui::FontId::proportional(20.0),
+                Color32::WHITE,
+            );
+            return;
+        };
+        let size = Vec2::new(src.map.width() as f32, src.map.height() as f32);
+        if self.view.fit_next {
+            self.view.zoom = (rect.width() / size.x).min(rect.height() / size.y) * 0.98;
+            self.view.pan = (rect.size() - size * self.view.zoom) / 2.0;
+            self.view.fit_next = false;
+        }
+        // Zoom about the pointer, pan by dragging.
+        if response.hovered() {
+            let scroll = ui.input(|i| i.smooth_scroll_delta.y);
+            if scroll != 0.0 {
+                let factor = (scroll / 200.0).exp();
+                let pointer =
+                    ui.input(|i| i.pointer.hover_pos()).unwrap_or(rect.center()) - rect.min;
+                self.view.pan = pointer - (pointer - self.view.pan) * factor;
+                self.view.zoom *= factor;
+            }
+        }
+        self.view.pan += response.drag_delta();
+        let image_rect = Rect::from_min_size(rect.min + self.view.pan, size * self.view.zoom);
+        painter.rect_filled(image_rect, 0.0, Color32::WHITE);
+        let uv = Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0));
+        match self.settings.background {
+            Background::Paper => {}
+            Background::Importance => {
+                painter.image(src.importance.id(), image_rect, uv, Color32::WHITE);
+            }
+            Background::Photo => {
+                painter.image(
+                    src.photo.id(),
+                    image_rect,
+                    uv,
+                    Color32::from_white_alpha(150),
+                );
+            }
+        }
+        let s = &self.settings;
+        let [r, g, b] = s.dot_color;
+        let base = ViewUniform {
+            rect: [rect.width(), rect.height()],
+            scale: self.view.zoom,
+            pixels_per_point: ui.ctx().pixels_per_point(),
+            offset: [self.view.pan.x, self.view.pan.y],
+            radius_scale: if s.fixed_dots { 0.0 } else { s.dot_scale },
+            fixed_radius: if s.fixed_dots { s.fixed_radius } else { 0.0 },
+            color: [
+                f32::from(r) / 255.0,
+                f32::from(g) / 255.0,
+                f32::from(b) / 255.0,
+                1.0,
+            ],
+        };
+        let mut layers = Vec::new();
+        if s.show_coverage {
+            layers.push(DotLayer {
+                dots: self.dot_instances.clone(),
+                generation: self.dots_generation,
+                view: ViewUniform {
+                    radius_scale: 1.0,
+                    fixed_radius: 0.0,
+                    color: [0.2, 0.45, 0.9, 0.18],
+                    ..base
+                },
+                slot: 0,
+            });
+        }
+        layers.push(DotLayer {
+            dots: self.dot_instances.clone(),
+            generation: self.dots_generation,
+            view: base,
+            slot: 1,
+        });
+        for layer in layers {
+            if self.gpu_dots {
+                painter.add(egui_wgpu::Callback::new_paint_callback(rect, layer));
+            } else {
+                // No wgpu renderer (e.g. a glow build): egui's own shapes.
+                let color = Color32::from_rgba_unmultiplied(
+                    (layer.view.color[0] * 255.0) as u8,
+                    (layer.view.color[1] * 255.0) as u8,
+                    (layer.view.color[2] * 255.0) as u8,
+                    (layer.view.color[3] * 255.0) as u8,
+                );
+                for d in layer.dots.iter() {
+                    let radius = if layer.view.fixed_radius > 0.0 {
+                        layer.view.fixed_radius
+                    } else {
+                        d.radius * layer.view.radius_scale
+                    };
+                    let c = rect.min + self.view.pan + Vec2::new(d.x, d.y) * self.view.zoom;
+                    painter.circle_filled(c, (radius * self.view.zoom).max(0.5), color);
+                }
+            }
+        }
+    }
+}

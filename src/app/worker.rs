@@ -1,0 +1,244 @@
+//! Sampling off the UI thread: the latest job wins, an older one in flight is
+//! cancelled, and the GPU sampler shares egui's device.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::{Receiver, Sender, channel};
+use std::sync::{Arc, Mutex};
+
+use egui_wgpu::wgpu;
+
+use super::settings::Settings;
+use crate::backend::BackendChoice;
+use crate::count;
+use crate::gpu::GpuSampler;
+use crate::importance::{Adjust, ImportanceMap, Mapping, RadiusRange};
+use crate::sampler::{self, Control, Params, Progress, RadiusMap, SampleSet};
+
+/// A sampling request.
+pub struct Job {
+    /// Increases with every job; replies carry it.
+    pub id: u64,
+    /// The importance map.
+    pub map: Arc<ImportanceMap>,
+    /// The settings.
+    pub settings: Settings,
+}
+
+/// A finished job.
+pub struct Outcome {
+    /// The run (its points after the white cutoff).
+    pub set: SampleSet,
+    /// Sampler runs made (count targeting makes several).
+    pub runs: usize,
+    /// A note for the status line, such as a fallback to the CPU.
+    pub note: Option<String>,
+}
+
+/// A message from the worker.
+pub enum Reply {
+    /// An iteration finished.
+    Progress(u64, Progress),
+    /// A job ended.
+    Done(u64, Result<Outcome, String>),
+}
+
+struct GpuState {
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    sampler: GpuSampler,
+}
+
+/// The background sampler.
+pub struct Worker {
+    jobs: Option<Sender<Job>>,
+    thread: Option<std::thread::JoinHandle<()>>,
+    replies: Receiver<Reply>,
+    cancel: Arc<AtomicBool>,
+    adapter: Option<String>,
+}
+
+impl Worker {
+    /// Starts the worker. With `gpu`, it samples on that device (egui's).
+    pub fn new(gpu: Option<(wgpu::Device, wgpu::Queue, String)>, repaint: egui::Context) -> Self {
+        let (jobs, job_rx) = channel::<Job>();
+        let (reply_tx, replies) = channel();
+        let cancel = Arc::new(AtomicBool::new(false));
+        let mut adapter = None;
+        let gpu_state =
+            gpu.and_then(
+                |(device, queue, name)| match GpuSampler::new(&device, name.clone()) {
+                    Ok(sampler) => {
+                        adapter = Some(name);
+                        Some(GpuState {
+                            device,
+                            queue,
+                            sampler,
+                        })
+                    }
+                    Err(_) => None,
+                },
+            );
+        let flag = cancel.clone();
+        let thread = std::thread::Builder::new()
+            .name("pixelpie-sampler".into())
+            .spawn(move || run(job_rx, reply_tx, flag, gpu_state, repaint))
+            .ok();
+        Self {
+            jobs: Some(jobs),
+            thread,
+            replies,
+            cancel,
+            adapter,
+        }
+    }
+
+    /// The GPU adapter the worker samples on, if any.
+    pub fn adapter(&self) -> Option<&str> {
+        self.adapter.as_deref()
+    }
+
+    /// Queues a job and cancels the one in flight.
+    pub fn submit(&self, job: Job) {
+        self.cancel.store(true, Ordering::Relaxed);
+        if let Some(jobs) = &self.jobs {
+            let _ = jobs.send(job);
+        }
+    }
+
+    /// Replies received so far.
+    pub fn poll(&self) -> Vec<Reply> {
+        self.replies.try_iter().collect()
+    }
+}
+
+impl Drop for Worker {
+    /// Cancels the job in flight and waits for the thread, so that the GPU
+    /// sampler is released before the device.
+    fn drop(&mut self) {
+        self.cancel.store(true, Ordering::Relaxed);
+        self.jobs = None;
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
+}
+
+fn run(
+    jobs: Receiver<Job>,
+    replies: Sender<Reply>,
+    cancel: Arc<AtomicBool>,
+    gpu: Option<GpuState>,
+    repaint: egui::Context,
+) {
+    let gpu = Mutex::new(gpu);
+    while let Ok(mut job) = jobs.recv() {
+        while let Ok(newer) = jobs.try_recv() {
+            job = newer;
+        }
+        cancel.store(false, Ordering::Relaxed);
+        let id = job.id;
+        let progress = |p: Progress| {
+            let _ = replies.send(Reply::Progress(id, p));
+            repaint.request_repaint();
+        };
+        let ctl = Control {
+            progress: Some(&progress),
+            cancel: Some(&cancel),
+        };
+        let result = compute(&job, &gpu, ctl);
+        if matches!(&result, Err(e) if e == "cancelled") {
+            continue;
+        }
+        let _ = replies.send(Reply::Done(id, result));
+        repaint.request_repaint();
+    }
+}
+
+/// Samples a job's stipple on the chosen backend.
+fn compute(job: &Job, gpu: &Mutex<Option<GpuState>>, ctl: Control<'_>) -> Result<Outcome, String> {
+    let s = &job.settings;
+    let adjust = Adjust {
+        black: s.black,
+        white: s.white,
+        gamma: s.gamma,
+        invert: s.invert,
+    };
+    let map = job.map.adjusted(&adjust).map_err(|e| e.to_string())?;
+    let mapping = if s.tone {
+        Mapping::Tone
+    } else {
+        Mapping::Linear
+    };
+    let range = RadiusRange::new(s.r_min, s.r_max).map_err(|e| e.to_string())?;
+    let cutoff = (s.cutoff < 1.0).then_some(s.cutoff);
+    let mut note = None;
+    let mut run = |scale: f64| -> anyhow::Result<(usize, SampleSet)> {
+        // Radii stop at the sampler's 1 px floor: a count beyond what the
+        // image can hold then saturates instead of failing.
+        let radii: Vec<f32> = map
+            .radii(mapping, range.scaled(scale))
+            .into_iter()
+            .map(|r| r.max(1.0))
+            .collect();
+        let rmap = RadiusMap::from_pixels(map.width(), map.height(), &radii)?;
+        let params = Params::new(map.width(), map.height())
+            .with_radius_map(Arc::new(rmap))
+            .with_policy(s.policy)
+            .with_seed(s.seed)
+            .with_subpixel_bits(s.subpixel_bits)
+            .with_periodic(s.periodic);
+        let mut set = sample(&params, s.backend, gpu, ctl, &mut note)?;
+        set.points = map.cut(&set.points, cutoff);
+        Ok((set.points.len(), set))
+    };
+    let (set, runs) = if s.use_count {
+        let expected = map.expected_points(&map.radii(mapping, range), cutoff);
+        let initial = (expected / f64::from(s.points.max(1))).sqrt();
+        let (_, set, runs) =
+            count::fit_scale(s.points as usize, initial, &mut run).map_err(|e| format!("{e:#}"))?;
+        (set, runs)
+    } else {
+        (run(1.0).map_err(|e| format!("{e:#}"))?.1, 1)
+    };
+    if s.use_count {
+        let got = set.points.len() as f64;
+        if (got - f64::from(s.points)).abs() > count::COUNT_TOLERANCE * f64::from(s.points) {
+            note = Some(format!(
+                "{} points asked, {got} fit at radii of at least 1 px",
+                s.points
+            ));
+        }
+    }
+    Ok(Outcome { set, runs, note })
+}
+
+fn sample(
+    params: &Params,
+    choice: BackendChoice,
+    gpu: &Mutex<Option<GpuState>>,
+    ctl: Control<'_>,
+    note: &mut Option<String>,
+) -> sampler::Result<SampleSet> {
+    if choice == BackendChoice::Cpu {
+        return sampler::cpu::sample(params, ctl);
+    }
+    let mut guard = gpu
+        .lock()
+        .map_err(|_| sampler::Error::Gpu("poisoned".into()))?;
+    match guard.as_mut() {
+        Some(g) => match g.sampler.sample(&g.device, &g.queue, params, ctl) {
+            Err(sampler::Error::Gpu(e)) if choice == BackendChoice::Auto => {
+                *note = Some(format!("GPU failed ({e}); sampled on the CPU"));
+                sampler::cpu::sample(params, ctl)
+            }
+            other => other,
+        },
+        None if choice == BackendChoice::Gpu => {
+            Err(sampler::Error::Gpu("no GPU device in this window".into()))
+        }
+        None => {
+            *note = Some("no GPU device: sampled on the CPU".into());
+            sampler::cpu::sample(params, ctl)
+        }
+    }
+}

@@ -1,0 +1,182 @@
+//! The app driven through its UI with egui_kittest, rendered with wgpu (on
+//! lavapipe in CI): controls change the drawing, dropped files replace the
+//! map, exports read back with the CLI.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use pixelpie::app::{self, PixelPieApp};
+
+fn gradient_png(path: &Path, w: u32, h: u32) {
+    let img = image::GrayImage::from_fn(w, h, |x, y| {
+        image::Luma([((x * 255) / w) as u8 ^ (((y / 20) % 2) as u8 * 40)])
+    });
+    img.save(path).expect("write png");
+}
+
+fn harness(image: &Path) -> Harness<'static, PixelPieApp> {
+    let image = image.to_path_buf();
+    let h = Harness::builder()
+        .with_size([1000.0, 950.0])
+        .wgpu_setup(app::wgpu_setup())
+        .build_eframe(move |cc| PixelPieApp::new(cc, Some(image)));
+    if std::env::var("PIXELPIE_EXPECT_GPU").as_deref() == Ok("1") {
+        assert!(
+            h.state().adapter().is_some(),
+            "a GPU adapter is expected for the app"
+        );
+    }
+    h
+}
+
+/// Steps the UI until sampling is done (debounce, worker, reply).
+fn settle(h: &mut Harness<'_, PixelPieApp>) {
+    let start = Instant::now();
+    loop {
+        h.step();
+        if !h.state().busy() {
+            break;
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(120),
+            "sampling never finished"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    h.run_steps(2);
+    assert!(h.state().error.is_none(), "error: {:?}", h.state().error);
+}
+
+#[derive(Debug)]
+struct Dropped(PathBuf);
+
+impl egui::DroppedFile for Dropped {
+    fn path(&self) -> &Path {
+        &self.0
+    }
+    fn bytes(&self) -> Result<Vec<u8>, String> {
+        std::fs::read(&self.0).map_err(|e| e.to_string())
+    }
+}
+
+#[test]
+fn the_point_count_control_changes_the_dots_drawn() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("g.png");
+    gradient_png(&png, 200, 150);
+    let mut h = harness(&png);
+    for target in [400.0, 1500.0] {
+        h.get_by_label("Points").set_value_accesskit(target);
+        settle(&mut h);
+        let drawn = h.state().dots_drawn() as f64;
+        assert!(
+            (drawn - target).abs() <= 0.03 * target,
+            "asked {target}, drew {drawn}"
+        );
+    }
+}
+
+#[test]
+fn a_dropped_file_replaces_the_map() {
+    let dir = tempfile::tempdir().unwrap();
+    let (first, second) = (dir.path().join("a.png"), dir.path().join("b.png"));
+    gradient_png(&first, 200, 150);
+    gradient_png(&second, 90, 60);
+    let mut h = harness(&first);
+    settle(&mut h);
+    assert_eq!(h.state().source.as_ref().unwrap().map.width(), 200);
+    h.input_mut()
+        .dropped_files
+        .push(Arc::new(Dropped(second.clone())));
+    settle(&mut h);
+    let app = h.state();
+    let src = app.source.as_ref().unwrap();
+    assert_eq!((src.map.width(), src.map.height()), (90, 60));
+    assert_eq!(src.path, second);
+    let set = &app.outcome.as_ref().unwrap().set;
+    assert!(set.points.iter().all(|p| p.x < 90.0 && p.y < 60.0));
+    // A bad file shows an error and keeps the map.
+    let bad = dir.path().join("bad.png");
+    std::fs::write(&bad, b"not a png").unwrap();
+    h.input_mut().dropped_files.push(Arc::new(Dropped(bad)));
+    h.run_steps(2);
+    assert!(
+        h.state()
+            .error
+            .as_deref()
+            .is_some_and(|e| e.contains("bad.png"))
+    );
+    assert_eq!(h.state().source.as_ref().unwrap().map.width(), 90);
+}
+
+#[test]
+fn exports_are_read_by_the_cli_analyzer() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("g.png");
+    gradient_png(&png, 160, 120);
+    let mut h = harness(&png);
+    settle(&mut h);
+    h.state_mut().export_path = dir.path().join("out.svg").display().to_string();
+    h.get_by_label("CSV").click();
+    h.run_steps(2);
+    let csv = dir.path().join("out.csv");
+    assert!(
+        csv.exists(),
+        "status {:?}, error {:?}",
+        h.state().status,
+        h.state().error
+    );
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_pixelpie"))
+        .args([
+            "analyze",
+            csv.to_str().unwrap(),
+            "--width",
+            "160",
+            "--height",
+            "120",
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["count"].as_u64(), Some(h.state().dots_drawn() as u64));
+    h.get_by_label("SVG").click();
+    h.run_steps(2);
+    let svg = std::fs::read_to_string(dir.path().join("out.svg")).unwrap();
+    assert_eq!(svg.matches("<circle").count(), h.state().dots_drawn());
+}
+
+#[test]
+fn the_canvas_renders_dots_and_backgrounds() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("g.png");
+    gradient_png(&png, 200, 150);
+    let mut h = harness(&png);
+    settle(&mut h);
+    let dark = |img: &image::RgbaImage| {
+        // The canvas: right of the side panel.
+        img.enumerate_pixels()
+            .filter(|(x, _, p)| *x > 320 && p[0] < 60 && p[1] < 60 && p[2] < 60)
+            .count()
+    };
+    let paper = h.render().expect("render");
+    let _ = paper.save(concat!(env!("CARGO_TARGET_TMPDIR"), "/app-paper.png"));
+    let dots = dark(&paper);
+    assert!(dots > 200, "only {dots} dark pixels: no dots drawn");
+    h.get_by_label("Photo").click();
+    h.run_steps(3);
+    let photo = h.render().expect("render");
+    let _ = photo.save(concat!(env!("CARGO_TARGET_TMPDIR"), "/app-photo.png"));
+    assert_ne!(
+        paper.as_raw(),
+        photo.as_raw(),
+        "the photo background changed nothing"
+    );
+}
