@@ -57,10 +57,11 @@ pub struct Settings {
     pub backend: BackendChoice,
     /// Dot radius as a fraction of the sample radius.
     pub dot_scale: f32,
-    /// Draw every dot with `fixed_radius` instead.
+    /// Draw every dot the same size, `fixed_factor` × the smallest sample
+    /// radius (with tone mapping, equal dots reproduce the tones).
     pub fixed_dots: bool,
-    /// The fixed dot radius in pixels.
-    pub fixed_radius: f32,
+    /// The fixed dot radius as a fraction of the smallest sample radius.
+    pub fixed_factor: f32,
     /// Dot colour.
     pub dot_color: [u8; 3],
     /// What is drawn behind the dots.
@@ -90,7 +91,7 @@ impl Default for Settings {
             backend: BackendChoice::Auto,
             dot_scale: 0.35,
             fixed_dots: true,
-            fixed_radius: 1.1,
+            fixed_factor: crate::stipple::FIXED_DOT_FACTOR,
             dot_color: [20, 20, 20],
             background: Background::Paper,
             show_coverage: false,

@@ -136,7 +136,7 @@ impl PixelPieApp {
         let s = &mut self.settings;
         ui.checkbox(&mut s.fixed_dots, "Fixed dot size");
         if s.fixed_dots {
-            ui.add(egui::Slider::new(&mut s.fixed_radius, 0.2..=10.0).text("Dot radius px"));
+            ui.add(egui::Slider::new(&mut s.fixed_factor, 0.05..=1.5).text("Dot size (× r min)"));
         } else {
             ui.add(egui::Slider::new(&mut s.dot_scale, 0.05..=1.0).text("Dot size"));
         }
@@ -218,18 +218,23 @@ impl PixelPieApp {
         });
     }
 
+    /// How big the dots are drawn and exported.
+    pub fn dot_size(&self) -> DotSize {
+        let s = &self.settings;
+        if s.fixed_dots {
+            let r_min = self.outcome.as_ref().map_or(1.0, |o| o.min_radius);
+            DotSize::Fixed(s.fixed_factor * r_min)
+        } else {
+            DotSize::Proportional(s.dot_scale)
+        }
+    }
+
     /// Writes the current stipple with the CLI's writers, picked by extension.
     pub fn export(&self, path: &std::path::Path) -> anyhow::Result<()> {
         let Some(o) = &self.outcome else {
             anyhow::bail!("nothing to export yet");
         };
-        let s = &self.settings;
-        let size = if s.fixed_dots {
-            DotSize::Fixed(s.fixed_radius)
-        } else {
-            DotSize::Proportional(s.dot_scale)
-        };
-        let dots = size.dots(&o.set.points);
+        let dots = self.dot_size().dots(&o.set.points);
         let domain = (o.set.width, o.set.height);
         match path.extension().and_then(|e| e.to_str()) {
             Some("svg") => crate::io::write_atomic(path, |w| {
@@ -311,7 +316,10 @@ impl PixelPieApp {
             pixels_per_point: ui.ctx().pixels_per_point(),
             offset: [self.view.pan.x, self.view.pan.y],
             radius_scale: if s.fixed_dots { 0.0 } else { s.dot_scale },
-            fixed_radius: if s.fixed_dots { s.fixed_radius } else { 0.0 },
+            fixed_radius: match self.dot_size() {
+                DotSize::Fixed(r) => r,
+                DotSize::Proportional(_) => 0.0,
+            },
             color: [
                 f32::from(r) / 255.0,
                 f32::from(g) / 255.0,

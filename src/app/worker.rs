@@ -30,6 +30,8 @@ pub struct Outcome {
     pub set: SampleSet,
     /// Sampler runs made (count targeting makes several).
     pub runs: usize,
+    /// The smallest sample radius (fixed dots are sized from it).
+    pub min_radius: f32,
     /// A note for the status line, such as a fallback to the CPU.
     pub note: Option<String>,
 }
@@ -209,7 +211,21 @@ fn compute(job: &Job, gpu: &Mutex<Option<GpuState>>, ctl: Control<'_>) -> Result
             ));
         }
     }
-    Ok(Outcome { set, runs, note })
+    let min_radius = set
+        .points
+        .iter()
+        .map(|p| p.radius)
+        .fold(f32::INFINITY, f32::min);
+    Ok(Outcome {
+        min_radius: if min_radius.is_finite() {
+            min_radius
+        } else {
+            1.0
+        },
+        set,
+        runs,
+        note,
+    })
 }
 
 fn sample(

@@ -18,9 +18,7 @@ use super::sample::{PolicyArg, progress_bar};
 
 /// The default number of dots.
 pub const DEFAULT_POINTS: usize = 10_000;
-/// Fixed dots of 0.7 × r_min cover about 87% of a black area's paper (a
-/// maximal set of radius r_min covers 53% with dots of r_min/2).
-pub const FIXED_DOT_FACTOR: f32 = 0.7;
+pub use pixelpie::stipple::FIXED_DOT_FACTOR;
 /// The default domain's longer side is at least this many pixels.
 pub const MIN_DOMAIN_SIDE: u32 = 1024;
 
