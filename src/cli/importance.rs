@@ -104,8 +104,8 @@ impl ImportanceOpts {
         {
             bail!("--white-cutoff {c} must be between 0 and 1");
         }
-        let map = ImportanceMap::open(path, self.hdr_white)
-            .with_context(|| format!("cannot load importance map '{}'", path.display()))?;
+        // The library's errors name the file.
+        let map = ImportanceMap::open(path, self.hdr_white)?;
         let (w, h) = size(map.width(), map.height());
         let map = map.resized(w, h)?.adjusted(&adjust)?;
         let range = match (self.min_radius, self.max_radius) {

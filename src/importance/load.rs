@@ -44,9 +44,9 @@ pub struct Luminance {
 /// assert!(lum.values.iter().all(|&y| (0.0..=1.0).contains(&y)));
 /// ```
 pub fn load(path: &Path) -> Result<Luminance> {
-    let io = |source| Error::Io {
+    let io = |error| Error::Io {
         path: path.to_owned(),
-        source,
+        error,
     };
     let mut magic = Vec::with_capacity(4);
     std::fs::File::open(path)
@@ -87,6 +87,15 @@ fn non_finite(path: &Path, channel: &str, i: usize, width: u32, value: f32) -> E
     }
 }
 
+/// A decoder's message on one line (some end in a newline or span several).
+fn one_line(msg: &str) -> String {
+    msg.lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty())
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
 /// Checks a float channel for NaN and infinities.
 fn check_finite(path: &Path, channel: &str, width: u32, samples: &[f32]) -> Result<()> {
     match samples.iter().position(|v| !v.is_finite()) {
@@ -108,12 +117,12 @@ pub fn srgb_to_linear(c: f32) -> f32 {
 fn load_image(path: &Path) -> Result<Luminance> {
     let decode = |e: &dyn std::fmt::Display| Error::Decode {
         path: path.to_owned(),
-        message: e.to_string(),
+        message: one_line(&e.to_string()),
     };
     let img = image::ImageReader::open(path)
-        .map_err(|source| Error::Io {
+        .map_err(|error| Error::Io {
             path: path.to_owned(),
-            source,
+            error,
         })?
         .with_guessed_format()
         .map_err(|e| decode(&e))?
@@ -181,7 +190,7 @@ fn load_image(path: &Path) -> Result<Luminance> {
 fn load_exr(path: &Path) -> Result<Luminance> {
     let img = crate::io::read_exr(path).map_err(|e| Error::Decode {
         path: path.to_owned(),
-        message: e.root_cause().to_string(),
+        message: one_line(&e.root_cause().to_string()),
     })?;
     // Layered files name channels "layer.R"; match on the last component.
     let find = |name: &str| {

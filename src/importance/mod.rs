@@ -37,13 +37,14 @@ pub const HDR_PERCENTILE: f64 = 99.5;
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum Error {
-    /// The file could not be opened or read.
-    #[error("cannot read '{}': {source}", path.display())]
+    /// The file could not be opened or read. (The cause is part of the
+    /// message, not a `source`, so that error chains do not repeat it.)
+    #[error("cannot read '{}': {error}", path.display())]
     Io {
         /// The file.
         path: PathBuf,
         /// The cause.
-        source: std::io::Error,
+        error: std::io::Error,
     },
     /// The file is not an image we can decode, or is damaged.
     #[error("cannot decode image '{}': {message}", path.display())]

@@ -1,0 +1,489 @@
+//! `pixelpie stipple`, `sample --importance` and `analyze` through the
+//! binary: the defaults just work, count targeting keeps its tolerance, the
+//! plotter order is reported, and bad input ends in one `error:` line with
+//! no output left behind.
+
+mod fixtures;
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+use fixtures::{exr_y, file, halves_gray8};
+use quick_xml::events::Event;
+
+fn pixelpie(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_pixelpie"))
+        .args(args)
+        .output()
+        .expect("run pixelpie")
+}
+
+fn ok(args: &[&str]) -> Output {
+    let out = pixelpie(args);
+    assert!(
+        out.status.success(),
+        "{args:?} failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
+
+fn asset(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("assets")
+        .join(name)
+        .display()
+        .to_string()
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().expect("utf-8 path")
+}
+
+/// The circles of an SVG file as (cx, cy, r); panics unless well-formed.
+fn circles(path: &Path) -> Vec<[f64; 3]> {
+    let text = std::fs::read_to_string(path).expect("read svg");
+    let mut reader = quick_xml::Reader::from_str(&text);
+    let mut out = Vec::new();
+    loop {
+        match reader.read_event().expect("well-formed SVG") {
+            Event::Empty(e) if e.name().as_ref() == b"circle" => {
+                let mut c = [f64::NAN; 3];
+                for a in e.attributes() {
+                    let a = a.expect("attribute");
+                    let v: f64 = std::str::from_utf8(&a.value).unwrap().parse().unwrap();
+                    match a.key.as_ref() {
+                        b"cx" => c[0] = v,
+                        b"cy" => c[1] = v,
+                        b"r" => c[2] = v,
+                        _ => {}
+                    }
+                }
+                out.push(c);
+            }
+            Event::Eof => break,
+            _ => {}
+        }
+    }
+    out
+}
+
+/// Rows of a `x,y,radius` CSV.
+fn csv_points(path: &Path) -> Vec<[f64; 3]> {
+    std::fs::read_to_string(path)
+        .expect("read csv")
+        .lines()
+        .skip(1)
+        .map(|l| {
+            let v: Vec<f64> = l.split(',').map(|f| f.parse().unwrap()).collect();
+            [v[0], v[1], v[2]]
+        })
+        .collect()
+}
+
+fn within(count: usize, target: usize) -> bool {
+    (count as f64 - target as f64).abs() <= 0.03 * target as f64
+}
+
+#[test]
+fn default_stipple_of_the_bundled_photo_just_works() {
+    let dir = tempfile::tempdir().unwrap();
+    let svg = file(dir.path(), "out.svg");
+    let out = ok(&[
+        "stipple",
+        &asset("default.png"),
+        "-o",
+        s(&svg),
+        "--backend",
+        "cpu",
+    ]);
+    assert!(
+        out.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let c = circles(&svg);
+    assert!(within(c.len(), 10_000), "{} dots", c.len());
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(text.contains(r#"viewBox="0 0 1024 1024""#));
+    assert!(
+        c.iter()
+            .all(|d| (0.0..1024.0).contains(&d[0]) && (0.0..1024.0).contains(&d[1]))
+    );
+    // Fixed dots by default: one radius for all.
+    assert!(c.iter().all(|d| d[2] == c[0][2]));
+
+    let png = file(dir.path(), "out.png");
+    ok(&[
+        "stipple",
+        &asset("default.png"),
+        "-o",
+        s(&png),
+        "--scale",
+        "0.5",
+        "--backend",
+        "cpu",
+        "-q",
+    ]);
+    let img = image::open(&png).unwrap();
+    assert_eq!((img.width(), img.height()), (512, 512));
+
+    let mm = file(dir.path(), "mm.svg");
+    ok(&[
+        "stipple",
+        &asset("rocket.jpg"),
+        "-o",
+        s(&mm),
+        "--width-mm",
+        "150",
+        "--points",
+        "2000",
+        "--backend",
+        "cpu",
+    ]);
+    let text = std::fs::read_to_string(&mm).unwrap();
+    // 480×320 becomes a 1024×683 domain; the page keeps the viewBox's aspect.
+    assert!(
+        text.contains(r#"width="150mm" height="100.049mm" viewBox="0 0 1024 683""#),
+        "{}",
+        &text[..300]
+    );
+}
+
+#[test]
+fn point_count_targeting_keeps_its_tolerance() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = file(dir.path(), "halves.png");
+    halves_gray8(300, 200, 40, 200).save(&png).unwrap();
+    let exr = file(dir.path(), "ramp.exr");
+    exr_y(&exr, 256, 128, true, false, |x, _| {
+        (x as f32 / 255.0).powi(2) * 3.0
+    });
+    for image in [&png, &exr] {
+        for n in [1500usize, 4000] {
+            let svg = file(dir.path(), "n.svg");
+            ok(&[
+                "stipple",
+                s(image),
+                "-o",
+                s(&svg),
+                "--points",
+                &n.to_string(),
+                "--backend",
+                "cpu",
+                "-q",
+            ]);
+            let got = circles(&svg).len();
+            assert!(within(got, n), "{}: {got} dots for {n}", image.display());
+        }
+    }
+    // With a white cutoff the count is of the dots kept, and none is in the cut area.
+    let csv = file(dir.path(), "cut.csv");
+    let svg = file(dir.path(), "cut.svg");
+    ok(&[
+        "stipple",
+        s(&png),
+        "-o",
+        s(&svg),
+        "--points",
+        "2000",
+        "--white-cutoff",
+        "0.5",
+        "--width",
+        "300",
+        "--save-points",
+        s(&csv),
+        "--backend",
+        "cpu",
+        "-q",
+    ]);
+    let pts = csv_points(&csv);
+    assert!(within(pts.len(), 2000), "{} dots", pts.len());
+    assert!(pts.iter().all(|p| p[0] < 150.0), "a dot in the white half");
+    assert_eq!(circles(&svg).len(), pts.len());
+}
+
+#[test]
+fn sample_importance_uses_the_image_size_or_resizes() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = file(dir.path(), "halves.png");
+    halves_gray8(300, 200, 30, 220).save(&png).unwrap();
+    let csv = file(dir.path(), "p.csv");
+    ok(&[
+        "sample",
+        "--importance",
+        s(&png),
+        "--points",
+        "1200",
+        "-o",
+        s(&csv),
+        "--backend",
+        "cpu",
+        "-q",
+    ]);
+    let pts = csv_points(&csv);
+    assert!(within(pts.len(), 1200), "{}", pts.len());
+    assert!(pts.iter().all(|p| p[0] < 300.0 && p[1] < 200.0));
+    assert!(pts.iter().any(|p| p[0] > 250.0 && p[1] > 150.0));
+    // Dark pixels get small radii (linear mapping by default).
+    let r_at = |left: bool| {
+        let v: Vec<f64> = pts
+            .iter()
+            .filter(|p| (p[0] < 140.0) == left && (p[0] < 140.0 || p[0] > 160.0))
+            .map(|p| p[2])
+            .collect();
+        v.iter().sum::<f64>() / v.len() as f64
+    };
+    assert!(r_at(true) * 2.0 < r_at(false));
+
+    ok(&[
+        "sample",
+        "--importance",
+        s(&png),
+        "--width",
+        "600",
+        "--min-radius",
+        "3",
+        "--max-radius",
+        "12",
+        "-o",
+        s(&csv),
+        "--backend",
+        "cpu",
+        "-q",
+    ]);
+    let pts = csv_points(&csv);
+    assert!(pts.iter().all(|p| p[0] < 600.0 && p[1] < 400.0));
+    assert!(pts.iter().any(|p| p[0] > 550.0 && p[1] > 350.0));
+    assert!(pts.iter().all(|p| (3.0..=12.0).contains(&p[2])));
+}
+
+#[test]
+fn tsp_order_reports_a_shorter_pen_path() {
+    let dir = tempfile::tempdir().unwrap();
+    let svg = file(dir.path(), "t.svg");
+    let csv = file(dir.path(), "t.csv");
+    let out = ok(&[
+        "stipple",
+        &asset("default.png"),
+        "-o",
+        s(&svg),
+        "--points",
+        "5000",
+        "--order",
+        "tsp",
+        "--save-points",
+        s(&csv),
+        "--backend",
+        "cpu",
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let line = stderr
+        .lines()
+        .find(|l| l.starts_with("tsp:"))
+        .expect("tsp report");
+    let numbers: Vec<f64> = line
+        .split_whitespace()
+        .filter_map(|w| w.parse::<f64>().ok())
+        .collect();
+    let (before, after) = (numbers[0], numbers[1]);
+    assert!(after < 0.95 * before, "{line}");
+    // The drawing follows the reported path.
+    let pts = csv_points(&csv);
+    let length: f64 = pts
+        .windows(2)
+        .map(|w| (w[0][0] - w[1][0]).hypot(w[0][1] - w[1][1]))
+        .sum();
+    assert!(
+        (length - after).abs() < 1.0,
+        "path {length} vs reported {after}"
+    );
+    let c = circles(&svg);
+    assert_eq!(c.len(), pts.len());
+    assert!(
+        c.iter()
+            .zip(&pts)
+            .all(|(a, b)| (a[0] - b[0]).abs() < 1e-3 && (a[1] - b[1]).abs() < 1e-3)
+    );
+}
+
+/// Runs a command that must fail: one `error:` line, no panic, no output
+/// file and no temporary file left in its directory.
+fn assert_fails(args: &[&str], output: &Path, why: &str) {
+    let out = pixelpie(args);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{why}: succeeded");
+    assert_ne!(out.status.code(), Some(101), "{why}: panicked: {stderr}");
+    let lines: Vec<&str> = stderr.lines().collect();
+    assert_eq!(lines.len(), 1, "{why}: stderr was {stderr:?}");
+    assert!(lines[0].starts_with("error"), "{why}: {stderr}");
+    assert!(!output.exists(), "{why}: left {}", output.display());
+    let Ok(entries) = std::fs::read_dir(output.parent().unwrap()) else {
+        return; // the directory itself is missing
+    };
+    let leftovers: Vec<_> = entries
+        .filter_map(|e| e.ok())
+        .filter(|e| e.file_name().to_string_lossy().starts_with(".pixelpie"))
+        .collect();
+    assert!(leftovers.is_empty(), "{why}: temporary files left");
+}
+
+#[test]
+fn bad_input_fails_cleanly() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let good = file(d, "good.png");
+    halves_gray8(64, 64, 10, 250).save(&good).unwrap();
+    let bytes = std::fs::read(&good).unwrap();
+    std::fs::write(file(d, "truncated.png"), &bytes[..bytes.len() / 2]).unwrap();
+    std::fs::write(file(d, "empty.png"), b"").unwrap();
+    std::fs::write(file(d, "corrupt.jpg"), b"\xff\xd8\xff\xdb garbage garbage").unwrap();
+    exr_y(&file(d, "nan.exr"), 16, 16, false, false, |x, _| {
+        if x == 5 { f32::NAN } else { 1.0 }
+    });
+    let out = file(d, "out.svg");
+    for (name, why) in [
+        ("truncated.png", "truncated PNG"),
+        ("empty.png", "empty file"),
+        ("corrupt.jpg", "corrupt JPEG"),
+        ("nan.exr", "NaN in EXR"),
+        ("missing.png", "missing file"),
+    ] {
+        let img = file(d, name);
+        assert_fails(
+            &["stipple", s(&img), "-o", s(&out), "--backend", "cpu"],
+            &out,
+            why,
+        );
+        let csv = file(d, "out.csv");
+        assert_fails(
+            &[
+                "sample",
+                "--importance",
+                s(&img),
+                "--points",
+                "100",
+                "-o",
+                s(&csv),
+                "--backend",
+                "cpu",
+            ],
+            &csv,
+            why,
+        );
+    }
+    let g = s(&good);
+    for (args, why) in [
+        (vec!["--white-cutoff", "1.5"], "cutoff above 1"),
+        (vec!["--gamma=-1"], "negative gamma"),
+        (
+            vec!["--black-level", "0.6", "--white-level", "0.5"],
+            "crossed levels",
+        ),
+        (vec!["--points", "0"], "zero points"),
+        (
+            vec!["--min-radius", "9", "--max-radius", "3"],
+            "inverted radius range",
+        ),
+        (vec!["--dot-radius", "0"], "zero dot"),
+        (vec!["--scale", "2"], "--scale with SVG"),
+    ] {
+        let mut all = vec!["stipple", g, "-o", s(&out), "--backend", "cpu"];
+        all.extend(args);
+        assert_fails(&all, &out, why);
+    }
+    let pdf = file(d, "out.pdf");
+    assert_fails(
+        &["stipple", g, "-o", s(&pdf)],
+        &pdf,
+        "unknown output format",
+    );
+    // Writing into a missing directory fails before leaving anything.
+    let nowhere = file(d, "no/such/dir/out.svg");
+    assert_fails(
+        &["stipple", g, "-o", s(&nowhere), "--backend", "cpu"],
+        &nowhere,
+        "missing directory",
+    );
+}
+
+#[test]
+fn analyze_prints_the_measures_and_writes_plots() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = file(dir.path(), "p.csv");
+    ok(&[
+        "sample",
+        "--width",
+        "256",
+        "--height",
+        "192",
+        "--radius",
+        "5",
+        "-o",
+        s(&csv),
+        "--backend",
+        "cpu",
+        "-q",
+    ]);
+    let plots = file(dir.path(), "plots");
+    let out = ok(&[
+        "analyze",
+        s(&csv),
+        "--width",
+        "256",
+        "--height",
+        "192",
+        "--plots",
+        s(&plots),
+    ]);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON on stdout");
+    let n = csv_points(&csv).len();
+    assert_eq!(v["count"].as_u64(), Some(n as u64));
+    assert_eq!(
+        v["uncovered_pixels"].as_u64(),
+        Some(0),
+        "radius read from the CSV"
+    );
+    assert!(v["min_distance"].as_f64().unwrap() >= 5.0 - std::f64::consts::FRAC_1_SQRT_2);
+    let rho = v["rho"].as_f64().unwrap();
+    assert!((0.6..1.0).contains(&rho), "rho {rho}");
+    let density = v["density"].as_f64().unwrap();
+    assert!((0.45..0.6).contains(&density), "density {density}");
+    assert!(v["angle_std"].as_f64().unwrap() > 0.0);
+    for name in [
+        "points",
+        "periodogram",
+        "radial_power",
+        "anisotropy",
+        "angles",
+    ] {
+        let path = plots.join(format!("{name}.png"));
+        let img = image::open(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert!(img.width() >= 256);
+        assert!(std::fs::metadata(&path).unwrap().len() < 300_000);
+    }
+    // A smaller --radius leaves pixels uncovered; the radius flag overrides the column.
+    let out = ok(&[
+        "analyze",
+        s(&csv),
+        "--width",
+        "256",
+        "--height",
+        "192",
+        "--radius",
+        "2",
+    ]);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert!(v["uncovered_pixels"].as_u64().unwrap() > 0);
+    assert!(v.get("spectrum").is_none());
+
+    let bad = file(dir.path(), "bad.csv");
+    std::fs::write(&bad, "x,y\n1,2\n3,four\n").unwrap();
+    let out = pixelpie(&["analyze", s(&bad), "--width", "10", "--height", "10"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && stderr.starts_with("error:") && stderr.contains("line 3"),
+        "{stderr}"
+    );
+    assert_eq!(stderr.lines().count(), 1);
+}
