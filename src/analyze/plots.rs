@@ -172,8 +172,10 @@ pub fn radial_power(r: &RadialSpectrum) -> Result<RgbImage> {
     line_chart(&r.frequency, &r.power, (0.0, top * 1.05), 1.0)
 }
 
-/// The anisotropy in dB (dashed: 0 dB, an isotropic single periodogram).
+/// The anisotropy in dB (dashed: the isotropic level, −10 log₁₀ of the
+/// number of sets averaged).
 pub fn anisotropy(r: &RadialSpectrum) -> Result<RgbImage> {
+    let reference = -10.0 * (r.sets.max(1) as f64).log10();
     let hi = r
         .anisotropy_db
         .iter()
@@ -181,7 +183,12 @@ pub fn anisotropy(r: &RadialSpectrum) -> Result<RgbImage> {
         .filter(|a| a.is_finite())
         .fold(10.0f64, f64::max)
         .min(40.0);
-    line_chart(&r.frequency, &r.anisotropy_db, (-10.0, hi), 0.0)
+    line_chart(
+        &r.frequency,
+        &r.anisotropy_db,
+        (reference - 10.0, hi),
+        reference,
+    )
 }
 
 /// The 360-bin angle histogram as bars (dashed: the mean count).

@@ -10,8 +10,9 @@
 //! i − ½ ≤ |f| < i + ½, i = 1…K; the **anisotropy** is the ring's variance
 //! over its squared mean, in dB: 10 log₁₀(σ²/μ²). A single periodogram's
 //! values are exponentially distributed, so an isotropic spectrum reads about
-//! 0 dB here (PSA's −10 dB reference assumes averaging over 10 sets); radial
-//! spikes, such as those of a grid, read well above it.
+//! 0 dB; averaging M sets ([`average`]) lowers that to −10 log₁₀ M (PSA's
+//! −10 dB reference is for 10 sets). Radial spikes, such as those of a grid,
+//! read well above it.
 
 use rayon::prelude::*;
 
@@ -22,8 +23,10 @@ pub struct Periodogram {
     pub max_frequency: usize,
     /// P, row-major: row l = −K…K (top to bottom), column k = −K…K.
     pub power: Vec<f64>,
-    /// The number of points.
+    /// The number of points (of each set, when averaged).
     pub count: usize,
+    /// How many point sets' periodograms were averaged ([`average`]).
+    pub sets: usize,
 }
 
 impl Periodogram {
@@ -125,7 +128,45 @@ pub fn periodogram(points: &[[f64; 2]], domain: (f64, f64), max_frequency: usize
         max_frequency,
         power,
         count: n,
+        sets: 1,
     }
+}
+
+/// The mean of periodograms of the same size, as PSA averages several
+/// realizations: the noise of each frequency drops by √sets, and so does the
+/// anisotropy of an isotropic spectrum, to −10 log₁₀(sets) dB.
+///
+/// ```
+/// use pixelpie::analyze::spectrum::{average, periodogram};
+/// let a = periodogram(&[[1.0, 2.0], [5.0, 3.0]], (8.0, 8.0), 4);
+/// let b = periodogram(&[[7.0, 1.0], [2.0, 6.0]], (8.0, 8.0), 4);
+/// let m = average(&[a.clone(), b.clone()]).unwrap();
+/// assert_eq!(m.sets, 2);
+/// assert!((m.at(1, 2) - (a.at(1, 2) + b.at(1, 2)) / 2.0).abs() < 1e-12);
+/// ```
+#[must_use]
+pub fn average(periodograms: &[Periodogram]) -> Option<Periodogram> {
+    let first = periodograms.first()?;
+    if periodograms
+        .iter()
+        .any(|p| p.max_frequency != first.max_frequency)
+    {
+        return None;
+    }
+    let sets: usize = periodograms.iter().map(|p| p.sets).sum();
+    let mut power = vec![0f64; first.power.len()];
+    for p in periodograms {
+        for (acc, v) in power.iter_mut().zip(&p.power) {
+            *acc += v * p.sets as f64;
+        }
+    }
+    power.iter_mut().for_each(|v| *v /= sets as f64);
+    Some(Periodogram {
+        max_frequency: first.max_frequency,
+        power,
+        count: first.count,
+        sets,
+    })
 }
 
 /// The radial average and anisotropy of a periodogram, for rings 1…K.
@@ -137,6 +178,9 @@ pub struct RadialSpectrum {
     pub power: Vec<f64>,
     /// 10 log₁₀(variance / mean²) in each ring, in dB.
     pub anisotropy_db: Vec<f64>,
+    /// The number of sets averaged: an isotropic spectrum's anisotropy is
+    /// about −10 log₁₀(sets) dB.
+    pub sets: usize,
 }
 
 /// Averages `p` over rings of width 1.
@@ -162,6 +206,7 @@ pub fn radial(p: &Periodogram) -> RadialSpectrum {
         frequency: Vec::new(),
         power: Vec::new(),
         anisotropy_db: Vec::new(),
+        sets: p.sets,
     };
     for i in 1..=p.max_frequency {
         let c = count[i].max(1) as f64;
