@@ -121,6 +121,15 @@ fn a_larger_domain_and_capped_runs_match_reference_implementation() {
             .with_seed(1),
         "capped",
     );
+    // Radii above 1024 px take the 32-bit radius texture.
+    let radii: Vec<f32> = (0..1200 * 48)
+        .map(|i| if i % 1200 > 1150 { 1030.0 } else { 3.0 })
+        .collect();
+    let map = Arc::new(RadiusMap::from_pixels(1200, 48, &radii).unwrap());
+    assert_identical(
+        &Params::new(1200, 48).with_radius_map(map).with_seed(2),
+        "32-bit radii",
+    );
     assert_identical(
         &Params::new(257, 131)
             .with_radius(4.0)

@@ -17,6 +17,11 @@ use crate::sampler::{Error, Plan, Result};
 const HEADER: u64 = 64;
 const DART_BYTES: u64 = std::mem::size_of::<Dart>() as u64;
 
+/// Whether the plan's radii fit a 16-bit texture.
+fn narrow_radii(plan: &Plan) -> bool {
+    plan.radius_range.1 <= u32::from(u16::MAX)
+}
+
 /// What one iteration returns.
 pub struct Step {
     /// Empty pixels after the iteration.
@@ -44,6 +49,7 @@ pub struct Resources {
     width: u32,
     height: u32,
     has_map: bool,
+    narrow: bool,
     capacity: u32,
     path: S1Path,
     keys: wgpu::Buffer,
@@ -151,10 +157,15 @@ impl Resources {
         );
         let has_map = plan.map.is_some();
         let map_size = if has_map { (width, height) } else { (1, 1) };
+        let narrow = narrow_radii(plan);
         let radius = texture(
             "radius map",
             map_size,
-            wgpu::TextureFormat::R32Uint,
+            if narrow {
+                wgpu::TextureFormat::R16Uint
+            } else {
+                wgpu::TextureFormat::R32Uint
+            },
             T::TEXTURE_BINDING | T::COPY_DST,
         );
         let depth = depth.create_view(&Default::default());
@@ -223,7 +234,12 @@ impl Resources {
                 tex(&radius_view),
             ],
         );
-        let bytes = 4 * u64::from(width) * u64::from(height) * (1 + u64::from(has_map))
+        let map_bytes = if has_map {
+            4 - 2 * u64::from(narrow)
+        } else {
+            0
+        };
+        let bytes = (4 + map_bytes) * u64::from(width) * u64::from(height)
             + 3 * dart_bytes
             + coverage.size()
             + word_scan.bytes()
@@ -232,6 +248,7 @@ impl Resources {
             width,
             height,
             has_map,
+            narrow,
             capacity,
             path,
             keys,
@@ -256,9 +273,19 @@ impl Resources {
 
     /// Whether these resources serve `plan` with batches of `capacity` darts.
     pub fn fits(&self, plan: &Plan, capacity: u32, path: S1Path) -> bool {
-        (self.width, self.height, self.has_map, self.path)
-            == (plan.width, plan.height, plan.map.is_some(), path)
-            && capacity <= self.capacity
+        (
+            self.width,
+            self.height,
+            self.has_map,
+            self.narrow,
+            self.path,
+        ) == (
+            plan.width,
+            plan.height,
+            plan.map.is_some(),
+            narrow_radii(plan),
+            path,
+        ) && capacity <= self.capacity
     }
 
     /// Device memory held, in bytes.
@@ -266,9 +293,17 @@ impl Resources {
         self.bytes
     }
 
-    /// Uploads the plan's radius map, if any.
+    /// Uploads the plan's radius map, if any: 16-bit radii when they fit
+    /// (below 1024 px), so that the map costs 2 bytes per pixel.
     pub fn upload_map(&self, queue: &wgpu::Queue, plan: &Plan) {
         let Some(map) = &plan.map else { return };
+        let narrow: Vec<u16>;
+        let (data, texel): (&[u8], u32) = if self.narrow {
+            narrow = map.radii_fx().iter().map(|&r| r as u16).collect();
+            (bytemuck::cast_slice(&narrow), 2)
+        } else {
+            (bytemuck::cast_slice(map.radii_fx()), 4)
+        };
         queue.write_texture(
             wgpu::TexelCopyTextureInfo {
                 texture: &self.radius,
@@ -276,10 +311,10 @@ impl Resources {
                 origin: wgpu::Origin3d::ZERO,
                 aspect: wgpu::TextureAspect::All,
             },
-            bytemuck::cast_slice(map.radii_fx()),
+            data,
             wgpu::TexelCopyBufferLayout {
                 offset: 0,
-                bytes_per_row: Some(4 * plan.width),
+                bytes_per_row: Some(texel * plan.width),
                 rows_per_image: Some(plan.height),
             },
             wgpu::Extent3d {
