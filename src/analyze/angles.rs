@@ -45,6 +45,11 @@ pub fn delaunay_angles(points: &[[f64; 2]]) -> Vec<f64> {
 }
 
 /// Counts `angles` (degrees) into `bins` equal bins over [0°, 360°).
+///
+/// ```
+/// let h = pixelpie::analyze::angles::histogram(&[0.5, 359.9, 360.0, 90.0], 4);
+/// assert_eq!(h, vec![2, 1, 0, 1]); // 360° is 0°
+/// ```
 #[must_use]
 pub fn histogram(angles: &[f64], bins: usize) -> Vec<u64> {
     let mut h = vec![0u64; bins.max(1)];

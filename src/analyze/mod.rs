@@ -113,6 +113,15 @@ pub struct Report {
 }
 
 /// Computes the report for `points` on `domain`, covering with `radius`.
+///
+/// ```
+/// use pixelpie::analyze::{CoverRadius, Domain, report};
+/// let d = Domain { width: 4.0, height: 4.0, periodic: false };
+/// let pts = [[1.0, 1.0], [3.0, 1.0], [1.0, 3.0], [3.0, 3.0]];
+/// let r = report(&pts, d, Some(CoverRadius::Uniform(1.5))).unwrap();
+/// assert_eq!((r.count, r.min_distance, r.uncovered_pixels), (4, Some(2.0), Some(0)));
+/// assert_eq!(r.angle_edges, 5); // four sides and a diagonal
+/// ```
 pub fn report(
     points: &[[f64; 2]],
     domain: Domain,

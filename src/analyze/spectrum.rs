@@ -184,6 +184,15 @@ pub struct RadialSpectrum {
 }
 
 /// Averages `p` over rings of width 1.
+///
+/// ```
+/// use pixelpie::analyze::spectrum::{periodogram, radial};
+/// let pts: Vec<[f64; 2]> = (0..64).map(|i| [(i % 8) as f64 + 0.5, (i / 8) as f64 + 0.5]).collect();
+/// let r = radial(&periodogram(&pts, (8.0, 8.0), 8));
+/// // An 8×8 grid has power only on its lattice: none in rings 1 to 7.
+/// assert!(r.power[..7].iter().all(|&p| p < 1e-6));
+/// assert!(r.power[7] > 1.0);
+/// ```
 #[must_use]
 pub fn radial(p: &Periodogram) -> RadialSpectrum {
     let k = p.max_frequency as i64;
@@ -239,6 +248,19 @@ pub struct SpectrumSummary {
 }
 
 /// Summarizes `r`.
+///
+/// ```
+/// use pixelpie::analyze::spectrum::{RadialSpectrum, summary};
+/// let r = RadialSpectrum {
+///     frequency: vec![1.0, 2.0, 3.0, 4.0],
+///     power: vec![0.1, 0.2, 1.8, 1.0],
+///     anisotropy_db: vec![0.0; 4],
+///     sets: 1,
+/// };
+/// let s = summary(&r);
+/// assert_eq!((s.peak_frequency, s.peak_power), (3.0, 1.8));
+/// assert!((s.low_frequency_power - 0.1).abs() < 1e-12);
+/// ```
 #[must_use]
 pub fn summary(r: &RadialSpectrum) -> SpectrumSummary {
     let (mut peak_i, mut peak) = (0, f64::NEG_INFINITY);

@@ -266,6 +266,16 @@ impl Luminance {
 
     /// Normalizes to [0, 1] by the white point (`hdr_white` overrides it for
     /// float images) and composites alpha over white.
+    ///
+    /// ```
+    /// use pixelpie::importance::{Luminance, Range};
+    /// let lum = Luminance {
+    ///     width: 2, height: 1, values: vec![0.5, 4.0], alpha: Some(vec![1.0, 0.5]),
+    ///     premultiplied: true, range: Range::Float,
+    /// };
+    /// let m = lum.normalized(Some(2.0)).unwrap();
+    /// assert_eq!(m.values(), &[0.25, 1.0]);
+    /// ```
     pub fn normalized(self, hdr_white: Option<f32>) -> Result<ImportanceMap> {
         if let Some(w) = hdr_white
             && !(w.is_finite() && w > 0.0)

@@ -245,6 +245,13 @@ impl ImportanceMap {
 
     /// The map resampled to `width`×`height` with a triangle filter (area
     /// averaging when shrinking), on linear values.
+    ///
+    /// ```
+    /// use pixelpie::importance::ImportanceMap;
+    /// let m = ImportanceMap::from_values(2, 2, vec![0.0, 1.0, 0.0, 1.0]).unwrap();
+    /// let r = m.resized(1, 1).unwrap();
+    /// assert!((r.value(0, 0) - 0.5).abs() < 1e-6);
+    /// ```
     pub fn resized(&self, width: u32, height: u32) -> Result<Self> {
         if (width, height) == (self.width, self.height) {
             return Ok(self.clone());
@@ -287,6 +294,13 @@ impl ImportanceMap {
     }
 
     /// The radius of every pixel under `mapping`, row-major.
+    ///
+    /// ```
+    /// use pixelpie::importance::{ImportanceMap, Mapping, RadiusRange};
+    /// let m = ImportanceMap::from_values(3, 1, vec![0.0, 0.5, 1.0]).unwrap();
+    /// let r = m.radii(Mapping::Linear, RadiusRange::new(2.0, 4.0).unwrap());
+    /// assert_eq!(r, vec![2.0, 3.0, 4.0]);
+    /// ```
     #[must_use]
     pub fn radii(&self, mapping: Mapping, range: RadiusRange) -> Vec<f32> {
         self.values

@@ -97,6 +97,12 @@ pub fn write_png(w: &mut dyn Write, img: &GrayImage) -> Result<()> {
 
 /// The mean ink coverage (0 = white, 1 = black) of a region of `img`, in
 /// linear light: a check that a drawing reproduces a tone.
+///
+/// ```
+/// use pixelpie::stipple::raster;
+/// let img = image::GrayImage::from_fn(2, 1, |x, _| image::Luma([if x == 0 { 0 } else { 255 }]));
+/// assert!((raster::mean_ink(&img, 0, 0, 2, 1) - 0.5).abs() < 1e-9);
+/// ```
 #[must_use]
 pub fn mean_ink(img: &GrayImage, x0: u32, y0: u32, x1: u32, y1: u32) -> f64 {
     let mut sum = 0.0;
