@@ -1,8 +1,8 @@
 // Coverage (paper §3.2, second half of S2). CPU mirror: src/sampler/cpu/cover.rs.
 //
-// One thread per survivor walks the rows of its reach; each row's span comes
-// from an exact integer square root, and the bits of the coverage map are set
-// a word at a time with atomicOr.
+// One thread per survivor and row of its reach; each row's span comes from an
+// exact integer square root, and the bits of the coverage map are set a word
+// at a time with atomicOr.
 
 @group(0) @binding(0) var<uniform> cfg: Config;
 @group(0) @binding(1) var<storage, read> survivors: array<Dart>;
@@ -17,13 +17,16 @@ fn radius_at(x: u32, y: u32) -> u32 {
     return textureLoad(radius_map, vec2<i32>(i32(x), i32(y)), 0).x;
 }
 
+// Thread (k, row) covers row `row` of survivor k's reach: one row per thread
+// keeps every loop short (llvmpipe caps a loop at 65535 iterations) and gives
+// a GPU many small tasks. Dispatched as (ceil(darts / 256), rows of the
+// largest reach).
 @compute @workgroup_size(256)
 fn cover(
     @builtin(workgroup_id) wg: vec3<u32>,
-    @builtin(num_workgroups) groups: vec3<u32>,
     @builtin(local_invocation_index) local: u32,
 ) {
-    let k = thread_index(wg, groups, local);
+    let k = wg.x * 256u + local;
     if k >= survivor_count[0] {
         return;
     }
@@ -36,49 +39,51 @@ fn cover(
     let cx = i32(s.x);
     let cy = i32(s.y);
     let periodic = cfg.period_x != 0u;
-    let y0 = -((-(cy - r + 1 - 128)) >> 8u);
-    let y1 = (cy + r - 1 - 128) >> 8u;
-    for (var qy = y0; qy <= y1; qy++) {
-        var y = qy;
+    let qy = -((-(cy - r + 1 - 128)) >> 8u) + i32(wg.y);
+    if qy > (cy + r - 1 - 128) >> 8u {
+        return;
+    }
+    var y = qy;
+    if periodic {
+        y = wrap(qy, cfg.height);
+    } else if qy < 0 || qy >= i32(cfg.height) {
+        return;
+    }
+    let dy = u32(abs(qy * 256 + 128 - cy));
+    let m = sub64(sub64(mul_wide(u32(r), u32(r)), mul_wide(dy, dy)), vec2<u32>(1u, 0u));
+    let dx_max = i32(isqrt64(m));
+    var x0 = -((-(cx - dx_max - 128)) >> 8u);
+    var x1 = (cx + dx_max - 128) >> 8u;
+    if !periodic {
+        x0 = max(x0, 0);
+        x1 = min(x1, i32(cfg.width) - 1);
+    }
+    var word = 0xffffffffu;
+    var mask = 0u;
+    for (var qx = x0; qx <= x1; qx++) {
+        var x = qx;
         if periodic {
-            y = wrap(qy, cfg.height);
-        } else if qy < 0 || qy >= i32(cfg.height) {
-            continue;
+            x = wrap(qx, cfg.width);
         }
-        let dy = u32(abs(qy * 256 + 128 - cy));
-        let m = sub64(sub64(mul_wide(u32(r), u32(r)), mul_wide(dy, dy)), vec2<u32>(1u, 0u));
-        let dx_max = i32(isqrt64(m));
-        let x0 = -((-(cx - dx_max - 128)) >> 8u);
-        let x1 = (cx + dx_max - 128) >> 8u;
-        var word = 0xffffffffu;
-        var mask = 0u;
-        for (var qx = x0; qx <= x1; qx++) {
-            var x = qx;
-            if periodic {
-                x = wrap(qx, cfg.width);
-            } else if qx < 0 || qx >= i32(cfg.width) {
-                continue;
-            }
-            var covered = cfg.policy == POLICY_PRIOR;
-            if !covered {
-                let dx = u32(abs(qx * 256 + 128 - cx));
-                let f = coverage_radius(cfg.policy, s.radius, radius_at(u32(x), u32(y)));
-                covered = inside(dx, dy, f);
-            }
-            if covered {
-                let p = u32(y) * cfg.width + u32(x);
-                if (p >> 5u) != word {
-                    if mask != 0u {
-                        atomicOr(&coverage[word], mask);
-                    }
-                    word = p >> 5u;
-                    mask = 0u;
+        var covered = cfg.policy == POLICY_PRIOR;
+        if !covered {
+            let dx = u32(abs(qx * 256 + 128 - cx));
+            let f = coverage_radius(cfg.policy, s.radius, radius_at(u32(x), u32(y)));
+            covered = inside(dx, dy, f);
+        }
+        if covered {
+            let p = u32(y) * cfg.width + u32(x);
+            if (p >> 5u) != word {
+                if mask != 0u {
+                    atomicOr(&coverage[word], mask);
                 }
-                mask |= 1u << (p & 31u);
+                word = p >> 5u;
+                mask = 0u;
             }
+            mask |= 1u << (p & 31u);
         }
-        if mask != 0u {
-            atomicOr(&coverage[word], mask);
-        }
+    }
+    if mask != 0u {
+        atomicOr(&coverage[word], mask);
     }
 }

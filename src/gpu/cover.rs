@@ -34,10 +34,17 @@ impl CoverStage {
         }
     }
 
-    /// Covers the pixels of up to `darts` survivors.
-    pub fn encode(&self, pass: &mut wgpu::ComputePass<'_>, group: &wgpu::BindGroup, darts: u32) {
+    /// Covers the pixels of up to `darts` survivors whose reach is at most
+    /// `reach` (1/64 px): one thread per survivor and row.
+    pub fn encode(
+        &self,
+        pass: &mut wgpu::ComputePass<'_>,
+        group: &wgpu::BindGroup,
+        darts: u32,
+        reach: u32,
+    ) {
         pass.set_pipeline(&self.cover);
         pass.set_bind_group(0, group, &[]);
-        util::dispatch(pass, darts.div_ceil(256));
+        util::dispatch_rows(pass, darts, util::disk_rows(reach));
     }
 }

@@ -260,6 +260,11 @@ impl GpuSampler {
                 plan.width, plan.height
             )));
         }
+        if util::disk_rows(plan.radius_range.1) > 65535 {
+            return Err(Error::Gpu(
+                "radii above 32766 px exceed the GPU's row dispatch".into(),
+            ));
+        }
         let path = self.path_for(device, queue, &plan)?;
         let start = Instant::now();
         let cap = plan.batch.min(plan.pixels()).min(plan.layout.max_batch());

@@ -402,7 +402,7 @@ impl Resources {
                         }
                     }),
                 });
-                throw.encode_splat(&mut pass, &self.splat_group, darts);
+                throw.encode_splat(&mut pass, &self.splat_group, darts, plan.radius_range.1);
             }
         }
         lap(&mut encoder, 0);
@@ -415,7 +415,7 @@ impl Resources {
             cull.encode_cull(&mut pass, &self.cull_group, darts);
             self.dart_scan.encode_scan(&mut pass, compact, darts);
             cull.encode_gather(&mut pass, &self.cull_group, darts);
-            cover.encode(&mut pass, &self.cover_group, darts);
+            cover.encode(&mut pass, &self.cover_group, darts, plan.radius_range.1);
         }
         lap(&mut encoder, 1);
         // PP: count and scan the empty pixels.

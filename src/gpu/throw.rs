@@ -131,10 +131,11 @@ impl ThrowStage {
         pass: &mut wgpu::ComputePass<'_>,
         group: &wgpu::BindGroup,
         darts: u32,
+        max_radius: u32,
     ) {
         pass.set_pipeline(&self.splat);
         pass.set_bind_group(0, group, &[]);
-        util::dispatch(pass, darts.div_ceil(256));
+        util::dispatch_rows(pass, darts, util::disk_rows(max_radius));
     }
 
     /// Rasterizes `darts` darts into `depth`, cleared to the losing end.

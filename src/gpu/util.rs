@@ -151,6 +151,20 @@ pub fn dispatch(pass: &mut wgpu::ComputePass<'_>, groups: u32) {
     pass.dispatch_workgroups(x, groups.div_ceil(x), 1);
 }
 
+/// The rows a disk of radius up to `r_fx` (1/64 px) spans: the second
+/// dimension of the row-parallel dispatches of `cover.wgsl` and `splat.wgsl`.
+#[must_use]
+pub fn disk_rows(r_fx: u32) -> u32 {
+    2 * r_fx.div_ceil(crate::sampler::fixed::RADIUS_ONE) + 2
+}
+
+/// Dispatches one thread per dart (x, 256 per workgroup) and row (y).
+pub fn dispatch_rows(pass: &mut wgpu::ComputePass<'_>, darts: u32, rows: u32) {
+    if darts > 0 {
+        pass.dispatch_workgroups(darts.div_ceil(256), rows.min(MAX_GROUPS), 1);
+    }
+}
+
 /// Creates a buffer.
 pub fn buffer_of(
     device: &wgpu::Device,
