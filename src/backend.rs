@@ -34,6 +34,7 @@ pub enum BackendChoice {
 pub struct SharedGpu {
     ctx: GpuContext,
     sampler: Mutex<GpuSampler>,
+    preferred: Mutex<Option<S1Path>>,
 }
 
 impl SharedGpu {
@@ -47,6 +48,7 @@ impl SharedGpu {
             Ok(Self {
                 ctx,
                 sampler: Mutex::new(sampler),
+                preferred: Mutex::new(None),
             })
         })
         .as_ref()
@@ -58,9 +60,18 @@ impl SharedGpu {
         &self.ctx.info.name
     }
 
-    /// Runs the sampler on this GPU, on the faster S1 path for this adapter.
+    /// Sets the S1 path of later [`Self::sample`] calls (`None`: the faster
+    /// one, measured on this adapter).
+    pub fn set_preferred_path(&self, path: Option<S1Path>) {
+        if let Ok(mut p) = self.preferred.lock() {
+            *p = path;
+        }
+    }
+
+    /// Runs the sampler on this GPU, on the preferred S1 path.
     pub fn sample(&self, params: &Params, ctl: Control<'_>) -> sampler::Result<SampleSet> {
-        self.sample_on(params, None, ctl)
+        let path = self.preferred.lock().ok().and_then(|p| *p);
+        self.sample_on(params, path, ctl)
     }
 
     /// Runs the sampler on this GPU on the given S1 path (`None`: the faster).

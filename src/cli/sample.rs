@@ -11,6 +11,7 @@ use serde::Serialize;
 
 use pixelpie::backend::{self, BackendChoice, Notice};
 use pixelpie::count;
+use pixelpie::gpu::S1Path;
 use pixelpie::importance::{Mapping, fit_size};
 use pixelpie::io;
 use pixelpie::sampler::{self, Control, Params, Policy, Progress, RadiusMap, SampleSet};
@@ -59,6 +60,10 @@ pub struct SampleArgs {
     /// Backend.
     #[arg(long, value_enum, default_value_t = BackendChoice::Auto)]
     backend: BackendChoice,
+    /// How the GPU rasterizes darts (S1): by measurement, the depth-tested
+    /// draw, or the compute pass.
+    #[arg(long, value_enum, default_value_t = GpuPath::Auto)]
+    gpu_path: GpuPath,
     /// Cap on iterations; a capped run is reported as not maximal.
     #[arg(long, default_value_t = sampler::DEFAULT_MAX_ITERATIONS)]
     max_iterations: u32,
@@ -74,6 +79,32 @@ pub struct SampleArgs {
     /// Print the backend and adapter on stderr.
     #[arg(long, short)]
     verbose: bool,
+}
+
+/// The GPU's S1 path on the command line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum GpuPath {
+    /// The faster on this adapter (measured once).
+    Auto,
+    /// An instanced depth-only draw (the paper's way).
+    Raster,
+    /// A compute pass with atomicMax.
+    Compute,
+}
+
+impl GpuPath {
+    /// Makes the process's GPU use this path.
+    pub fn apply(self) {
+        let path = match self {
+            Self::Auto => None,
+            Self::Raster => Some(S1Path::Raster),
+            Self::Compute => Some(S1Path::Compute),
+        };
+        if let Ok(gpu) = backend::SharedGpu::get() {
+            gpu.set_preferred_path(path);
+        }
+    }
 }
 
 /// The disk policy on the command line.
@@ -201,6 +232,9 @@ pub fn run(a: &SampleArgs) -> Result<()> {
     io::PointFormat::from_path(&a.output)?;
     if let Some(s) = &a.stats {
         check_json_path(s)?;
+    }
+    if a.backend != BackendChoice::Cpu && a.gpu_path != GpuPath::Auto {
+        a.gpu_path.apply();
     }
     if let Some(path) = &a.importance {
         return run_importance(a, path);
