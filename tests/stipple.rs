@@ -213,3 +213,32 @@ fn tsp_handles_tiny_and_degenerate_inputs() {
     let tour = tsp::plan(&xy, tsp::TspOptions::default());
     assert!((tour.length - 199.0).abs() < 1e-9, "{}", tour.length);
 }
+
+#[test]
+fn tone_mapping_with_default_dots_reproduces_a_ramp() {
+    // A linear ramp from black (left) to white (right), stippled as `stipple`
+    // does by default: tone mapping, r_max = 8 r_min, fixed dots of
+    // FIXED_DOT_FACTOR × r_min. The ink (in linear light) follows the darkness.
+    let (w, h) = (1024u32, 256u32);
+    let values = (0..w * h)
+        .map(|i| (i % w) as f32 / (w - 1) as f32)
+        .collect();
+    let map = ImportanceMap::from_values(w, h, values).unwrap();
+    let range = RadiusRange::new(5.0, 40.0).unwrap();
+    let radii = map.radii(Mapping::Tone, range);
+    let params = Params::new(w, h)
+        .with_radius_map(Arc::new(RadiusMap::from_pixels(w, h, &radii).unwrap()))
+        .with_policy(Policy::Smaller);
+    let set = cpu::sample(&params, Default::default()).unwrap();
+    let dots = DotSize::Fixed(pixelpie::stipple::FIXED_DOT_FACTOR * range.min).dots(&set.points);
+    let img = raster::render(&dots, (w, h), 1.0).unwrap();
+    for band in 1..9u32 {
+        let (x0, x1) = (band * 102 + 10, band * 102 + 92);
+        let darkness = 1.0 - f64::from(x0 + x1) / 2.0 / f64::from(w - 1);
+        let ink = raster::mean_ink(&img, x0, 20, x1, h - 20);
+        assert!(
+            (ink - darkness).abs() < 0.08,
+            "darkness {darkness:.2}: ink {ink:.3}"
+        );
+    }
+}
