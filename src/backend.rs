@@ -33,7 +33,8 @@ pub enum BackendChoice {
 /// that pipelines and buffers are reused.
 pub struct SharedGpu {
     ctx: GpuContext,
-    sampler: Mutex<GpuSampler>,
+    /// Built on the first run, so that probing the adapter stays cheap.
+    sampler: Mutex<Option<GpuSampler>>,
     preferred: Mutex<Option<S1Path>>,
 }
 
@@ -43,11 +44,9 @@ impl SharedGpu {
         static GPU: OnceLock<Result<SharedGpu, String>> = OnceLock::new();
         GPU.get_or_init(|| {
             let ctx = GpuContext::new().map_err(|e| e.to_string())?;
-            let sampler =
-                GpuSampler::new(&ctx.device, ctx.info.name.clone()).map_err(|e| e.to_string())?;
             Ok(Self {
                 ctx,
-                sampler: Mutex::new(sampler),
+                sampler: Mutex::new(None),
                 preferred: Mutex::new(None),
             })
         })
@@ -58,6 +57,11 @@ impl SharedGpu {
     /// The adapter's name.
     pub fn adapter(&self) -> &str {
         &self.ctx.info.name
+    }
+
+    /// Whether the adapter is a software rasterizer (such as lavapipe).
+    pub fn is_software(&self) -> bool {
+        self.ctx.info.device_type == wgpu::DeviceType::Cpu
     }
 
     /// Sets the S1 path of later [`Self::sample`] calls (`None`: the faster
@@ -81,10 +85,19 @@ impl SharedGpu {
         path: Option<S1Path>,
         ctl: Control<'_>,
     ) -> sampler::Result<SampleSet> {
-        let mut s = self
+        let mut guard = self
             .sampler
             .lock()
             .map_err(|_| Error::Gpu("the GPU sampler was poisoned by an earlier failure".into()))?;
+        if guard.is_none() {
+            *guard = Some(GpuSampler::new(
+                &self.ctx.device,
+                self.ctx.info.name.clone(),
+            )?);
+        }
+        let Some(s) = guard.as_mut() else {
+            return Err(Error::Gpu("no GPU sampler".into()));
+        };
         s.set_path(path);
         s.sample(&self.ctx.device, &self.ctx.queue, params, ctl)
     }
@@ -95,7 +108,8 @@ impl SharedGpu {
 pub enum Notice {
     /// The GPU adapter that runs the sampler (for `--verbose`).
     Adapter(String),
-    /// `auto` found no usable GPU and falls back to the CPU (always shown).
+    /// `auto` found no usable GPU, or only a software rasterizer, and falls
+    /// back to the CPU (always shown).
     Fallback(String),
 }
 
@@ -123,6 +137,14 @@ pub fn sample(
             gpu.sample(params, ctl)
         }
         BackendChoice::Auto => match SharedGpu::get() {
+            Ok(gpu) if gpu.is_software() => {
+                // A software rasterizer is slower than the CPU backend itself.
+                notice(Notice::Fallback(format!(
+                    "'{}' is a software rasterizer",
+                    gpu.adapter()
+                )));
+                sampler::cpu::sample(params, ctl)
+            }
             Ok(gpu) => {
                 notice(Notice::Adapter(gpu.adapter().to_owned()));
                 gpu.sample(params, ctl)
