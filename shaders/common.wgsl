@@ -167,3 +167,42 @@ fn encode_key(cfg: Config, key: u32) -> u32 {
     }
     return (1u << 29u) - key;
 }
+
+// Row `row` (counted from the top) of the pixels whose centres lie strictly
+// within r (1/256 px) of (cx, cy): the row and its x range, wrapped or
+// clipped to the domain. Shared by cover.wgsl and splat.wgsl, which give
+// each row to its own thread.
+struct DiskRow {
+    valid: bool,
+    y: i32,
+    dy: u32,
+    x0: i32,
+    x1: i32,
+}
+
+fn disk_row(cfg: Config, cx: i32, cy: i32, r: i32, row: u32) -> DiskRow {
+    var out: DiskRow;
+    out.valid = false;
+    let qy = -((-(cy - r + 1 - 128)) >> 8u) + i32(row);
+    if qy > (cy + r - 1 - 128) >> 8u {
+        return out;
+    }
+    let periodic = cfg.period_x != 0u;
+    out.y = qy;
+    if periodic {
+        out.y = wrap(qy, cfg.height);
+    } else if qy < 0 || qy >= i32(cfg.height) {
+        return out;
+    }
+    out.dy = u32(abs(qy * 256 + 128 - cy));
+    let m = sub64(sub64(mul_wide(u32(r), u32(r)), mul_wide(out.dy, out.dy)), vec2<u32>(1u, 0u));
+    let dx_max = i32(isqrt64(m));
+    out.x0 = -((-(cx - dx_max - 128)) >> 8u);
+    out.x1 = (cx + dx_max - 128) >> 8u;
+    if !periodic {
+        out.x0 = max(out.x0, 0);
+        out.x1 = min(out.x1, i32(cfg.width) - 1);
+    }
+    out.valid = true;
+    return out;
+}

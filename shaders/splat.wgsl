@@ -20,34 +20,16 @@ fn splat(
     let d = darts[k];
     let value = encode_key(cfg, dart_key(cfg, k, d.radius));
     let r = i32(d.radius << (POS_FRAC_BITS - RADIUS_FRAC_BITS));
-    let cx = i32(d.x);
-    let cy = i32(d.y);
-    let periodic = cfg.period_x != 0u;
-    let qy = -((-(cy - r + 1 - 128)) >> 8u) + i32(wg.y);
-    if qy > (cy + r - 1 - 128) >> 8u {
+    let row = disk_row(cfg, i32(d.x), i32(d.y), r, wg.y);
+    if !row.valid {
         return;
     }
-    var y = qy;
-    if periodic {
-        y = wrap(qy, cfg.height);
-    } else if qy < 0 || qy >= i32(cfg.height) {
-        return;
-    }
-    let dy = u32(abs(qy * 256 + 128 - cy));
-    let m = sub64(sub64(mul_wide(u32(r), u32(r)), mul_wide(dy, dy)), vec2<u32>(1u, 0u));
-    let dx_max = i32(isqrt64(m));
-    var x0 = -((-(cx - dx_max - 128)) >> 8u);
-    var x1 = (cx + dx_max - 128) >> 8u;
-    if !periodic {
-        x0 = max(x0, 0);
-        x1 = min(x1, i32(cfg.width) - 1);
-    }
-    for (var qx = x0; qx <= x1; qx++) {
+    for (var qx = row.x0; qx <= row.x1; qx++) {
         var x = qx;
-        if periodic {
+        if cfg.period_x != 0u {
             x = wrap(qx, cfg.width);
         }
-        let p = u32(y) * cfg.width + u32(x);
+        let p = u32(row.y) * cfg.width + u32(x);
         if atomicLoad(&keys[p]) < value {
             atomicMax(&keys[p], value);
         }

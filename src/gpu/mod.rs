@@ -22,8 +22,9 @@ use std::time::Instant;
 
 pub use resources::{Resources, S1Path};
 
-use crate::sampler::fixed::{fx_to_pos, fx_to_radius, iteration_key};
-use crate::sampler::{Control, Error, Params, Plan, Point, Progress, Result, SampleSet, Stats};
+use crate::sampler::cpu::throw::Dart;
+use crate::sampler::fixed::iteration_key;
+use crate::sampler::{Control, Error, Params, Plan, Progress, Result, SampleSet, Stats};
 
 /// The run's configuration. Mirrors `struct Config` in `shaders/common.wgsl`.
 #[repr(C)]
@@ -329,11 +330,7 @@ impl GpuSampler {
             stats.throw_seconds += step.seconds[0];
             stats.cull_seconds += step.seconds[1];
             stats.compact_seconds += step.seconds[2];
-            points.extend(step.survivors.iter().map(|d| Point {
-                x: fx_to_pos(d.x),
-                y: fx_to_pos(d.y),
-                radius: fx_to_radius(d.radius),
-            }));
+            points.extend(step.survivors.iter().map(Dart::point));
             config.empty = step.empty;
             config.first = 0;
             iteration += 1;
@@ -344,20 +341,15 @@ impl GpuSampler {
                 pixels: u64::from(plan.pixels()),
             })?;
         }
-        let maximal = config.empty == 0;
-        stats.points = points.len();
-        stats.iterations = iteration;
-        stats.maximal = maximal;
         stats.seconds = start.elapsed().as_secs_f64();
         stats.bytes_per_pixel = res.bytes() as f64 / f64::from(plan.pixels());
-        Ok(SampleSet {
-            width: plan.width,
-            height: plan.height,
+        Ok(SampleSet::finish(
+            (plan.width, plan.height),
             points,
-            maximal,
-            iterations: iteration,
+            iteration,
+            config.empty == 0,
             stats,
-        })
+        ))
     }
 }
 

@@ -458,10 +458,13 @@ impl Resources {
             let header: &[u32] = bytemuck::cast_slice(&view[..HEADER as usize]);
             let (empty, count) = (header[0], header[1].min(darts));
             if timestamps {
+                // Each stage runs from its first pass's start to the next
+                // stage's start (PP: to its end), so no gap goes uncounted.
                 let ts: &[u64] = bytemuck::cast_slice(&view[16..64]);
                 let period = f64::from(queue.get_timestamp_period()) * 1e-9;
-                for (s, pair) in seconds.iter_mut().zip(ts.chunks(2)) {
-                    *s = pair[1].saturating_sub(pair[0]) as f64 * period;
+                let bounds = [(0, 2), (2, 4), (4, 5)];
+                for (s, (a, b)) in seconds.iter_mut().zip(bounds) {
+                    *s = ts[b].saturating_sub(ts[a]) as f64 * period;
                 }
             }
             let survivors: &[Dart] = bytemuck::cast_slice(

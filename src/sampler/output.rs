@@ -56,3 +56,28 @@ pub struct SampleSet {
     /// The run's statistics.
     pub stats: Stats,
 }
+
+impl SampleSet {
+    /// A finished run of a `width`×`height` domain; the statistics' counts are
+    /// taken from the run itself.
+    #[must_use]
+    pub fn finish(
+        (width, height): (u32, u32),
+        points: Vec<Point>,
+        iterations: u32,
+        maximal: bool,
+        mut stats: Stats,
+    ) -> Self {
+        stats.points = points.len();
+        stats.iterations = iterations;
+        stats.maximal = maximal;
+        Self {
+            width,
+            height,
+            points,
+            maximal,
+            iterations,
+            stats,
+        }
+    }
+}

@@ -53,25 +53,30 @@ impl EmptyList {
 }
 
 /// The list without the pixels the coverage map marks, in the same order.
-/// The list is cut at band boundaries ([`super::cover::BAND_ROWS`] rows) and
-/// the pieces filtered in parallel.
+/// The list is cut at band boundaries ([`super::cover::BAND_ROWS`] rows), the
+/// pieces are filtered in parallel and joined in band order.
 #[must_use]
 pub fn compact(empty: &EmptyList, coverage: &[u8], width: u32) -> EmptyList {
     let band = super::cover::BAND_ROWS * width;
     let n_bands = (coverage.len() as u32).div_ceil(band);
     let uncovered = |p: &u32| coverage[*p as usize] == 0;
-    EmptyList::List(match empty {
+    let pieces: Vec<Vec<u32>> = match empty {
         EmptyList::All(n) => (0..n_bands)
             .into_par_iter()
-            .flat_map_iter(|b| (b * band..((b + 1) * band).min(*n)).filter(uncovered))
+            .map(|b| {
+                (b * band..((b + 1) * band).min(*n))
+                    .filter(uncovered)
+                    .collect()
+            })
             .collect(),
         EmptyList::List(v) => {
             let cuts: Vec<usize> = (0..=n_bands)
                 .map(|b| v.partition_point(|&p| p < b.saturating_mul(band)))
                 .collect();
             cuts.par_windows(2)
-                .flat_map_iter(|c| v[c[0]..c[1]].iter().copied().filter(uncovered))
+                .map(|c| v[c[0]..c[1]].iter().copied().filter(uncovered).collect())
                 .collect()
         }
-    })
+    };
+    EmptyList::List(pieces.concat())
 }

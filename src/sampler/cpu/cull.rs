@@ -16,6 +16,17 @@ use crate::sampler::fixed::{axis_delta, inside, pixel_centre};
 /// cells are at least `reach` wide; a partial last cell may add one at the seam.
 fn cells_along(p: u32, reach: u32, n: u32, cell: u32, periodic: bool) -> ([u32; 4], usize) {
     let (mut out, mut len) = ([0u32; 4], 0);
+    if !periodic {
+        let (a, b) = (
+            p.saturating_sub(reach) / cell,
+            (p + reach).min(n - 1) / cell,
+        );
+        for c in a..=b {
+            out[len] = c;
+            len += 1;
+        }
+        return (out, len);
+    }
     let (lo, hi) = if periodic {
         (
             i64::from(p) - i64::from(reach),
@@ -53,10 +64,9 @@ fn occluded(plan: &Plan, darts: &[Dart], grid: &DartGrid, j: u32) -> bool {
     for &ny in &rows[..nrows] {
         for &nx in &cols[..ncols] {
             let c = (ny * grid.cols + nx) as usize;
-            for &i in &grid.order[grid.start[c] as usize..grid.start[c + 1] as usize] {
-                let di = darts[i as usize];
-                if i != j
-                    && layout.beats(layout.key(i, di.radius), key_j)
+            for di in &grid.entries[grid.start[c] as usize..grid.start[c + 1] as usize] {
+                // Keys are unique, so a key beating j's is another dart's.
+                if layout.beats(di.key, key_j)
                     && inside(
                         axis_delta(di.x, cx, period_x),
                         axis_delta(di.y, cy, period_y),

@@ -12,8 +12,8 @@ use std::time::Instant;
 
 use compact::EmptyList;
 
-use super::fixed::{fx_to_pos, fx_to_radius};
-use super::{Control, Params, Point, Progress, Result, SampleSet, Stats};
+use super::{Control, Params, Progress, Result, SampleSet, Stats};
+use throw::Dart;
 
 /// Runs the sampler on the CPU.
 ///
@@ -54,11 +54,7 @@ pub fn sample(params: &Params, ctl: Control<'_>) -> Result<SampleSet> {
         stats.throw_seconds += (t1 - t0).as_secs_f64();
         stats.cull_seconds += (t2 - t1).as_secs_f64();
         stats.compact_seconds += (t3 - t2).as_secs_f64();
-        points.extend(survivors.iter().map(|d| Point {
-            x: fx_to_pos(d.x),
-            y: fx_to_pos(d.y),
-            radius: fx_to_radius(d.radius),
-        }));
+        points.extend(survivors.iter().map(Dart::point));
         iteration += 1;
         ctl.step(Progress {
             iteration,
@@ -67,19 +63,14 @@ pub fn sample(params: &Params, ctl: Control<'_>) -> Result<SampleSet> {
             pixels: u64::from(pixels),
         })?;
     }
-    let maximal = empty.is_empty();
-    stats.points = points.len();
-    stats.iterations = iteration;
-    stats.maximal = maximal;
     stats.seconds = start.elapsed().as_secs_f64();
     stats.bytes_per_pixel =
         (coverage.len() + map_bytes + peak_bytes) as f64 / f64::from(pixels.max(1));
-    Ok(SampleSet {
-        width: plan.width,
-        height: plan.height,
+    Ok(SampleSet::finish(
+        (plan.width, plan.height),
         points,
-        maximal,
-        iterations: iteration,
+        iteration,
+        empty.is_empty(),
         stats,
-    })
+    ))
 }

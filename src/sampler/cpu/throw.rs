@@ -24,6 +24,18 @@ pub struct Dart {
     pub radius: u32,
 }
 
+impl Dart {
+    /// The accepted sample this dart becomes, in pixels (exact).
+    #[must_use]
+    pub fn point(&self) -> crate::sampler::Point {
+        crate::sampler::Point {
+            x: fixed::fx_to_pos(self.x),
+            y: fixed::fx_to_pos(self.y),
+            radius: fixed::fx_to_radius(self.radius),
+        }
+    }
+}
+
 /// Dart `k` of the iteration with key `iteration_key`.
 #[inline]
 #[must_use]
@@ -61,10 +73,24 @@ pub struct DartGrid {
     pub cols: u32,
     /// Cells per column.
     pub rows: u32,
-    /// `start[c]..start[c + 1]` indexes `order` for cell `c`.
+    /// `start[c]..start[c + 1]` indexes `entries` for cell `c`.
     pub start: Vec<u32>,
-    /// Dart indices, grouped by cell, ascending within a cell.
-    pub order: Vec<u32>,
+    /// The darts with their keys, grouped by cell, in dart order within a cell.
+    pub entries: Vec<GridEntry>,
+}
+
+/// A dart as the grid holds it: its depth key, centre and radius, stored
+/// together so that the cull reads one cell's darts from contiguous memory.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct GridEntry {
+    /// The dart's depth key.
+    pub key: u32,
+    /// x in 1/256 px.
+    pub x: u32,
+    /// y in 1/256 px.
+    pub y: u32,
+    /// Radius in 1/64 px.
+    pub radius: u32,
 }
 
 impl DartGrid {
@@ -87,10 +113,15 @@ impl DartGrid {
             start[c] += start[c - 1];
         }
         let mut fill = start.clone();
-        let mut order = vec![0u32; darts.len()];
+        let mut entries = vec![GridEntry::default(); darts.len()];
         for (k, d) in darts.iter().enumerate() {
             let c = cell_of(d) as usize;
-            order[fill[c] as usize] = k as u32;
+            entries[fill[c] as usize] = GridEntry {
+                key: plan.layout.key(k as u32, d.radius),
+                x: d.x,
+                y: d.y,
+                radius: d.radius,
+            };
             fill[c] += 1;
         }
         Self {
@@ -98,13 +129,13 @@ impl DartGrid {
             cols,
             rows,
             start,
-            order,
+            entries,
         }
     }
 
     /// Bytes held.
     #[must_use]
     pub fn bytes(&self) -> usize {
-        4 * (self.start.len() + self.order.len())
+        4 * self.start.len() + std::mem::size_of_val(self.entries.as_slice())
     }
 }
