@@ -47,36 +47,62 @@ impl EmptyList {
     pub fn bytes(&self) -> usize {
         match self {
             Self::All(_) => 0,
-            Self::List(v) => 4 * v.len(),
+            Self::List(v) => 4 * v.capacity(),
         }
     }
 }
 
-/// The list without the pixels the coverage map marks, in the same order.
-/// The list is cut at band boundaries ([`super::cover::BAND_ROWS`] rows), the
-/// pieces are filtered in parallel and joined in band order.
-#[must_use]
-pub fn compact(empty: &EmptyList, coverage: &[u8], width: u32) -> EmptyList {
+/// Writes into `out` the list without the pixels the coverage map marks, in
+/// the same order. The list is cut at band boundaries
+/// ([`super::cover::BAND_ROWS`] rows); the pieces are counted, then written in
+/// parallel straight to their place (the scan and scatter of paper §3.3).
+/// `out` is reused between iterations: fresh memory costs page faults.
+pub fn compact(empty: &EmptyList, coverage: &[u8], width: u32, out: &mut Vec<u32>) {
     let band = super::cover::BAND_ROWS * width;
     let n_bands = (coverage.len() as u32).div_ceil(band);
     let uncovered = |p: &u32| coverage[*p as usize] == 0;
-    let pieces: Vec<Vec<u32>> = match empty {
-        EmptyList::All(n) => (0..n_bands)
-            .into_par_iter()
-            .map(|b| {
-                (b * band..((b + 1) * band).min(*n))
-                    .filter(uncovered)
-                    .collect()
-            })
-            .collect(),
-        EmptyList::List(v) => {
-            let cuts: Vec<usize> = (0..=n_bands)
-                .map(|b| v.partition_point(|&p| p < b.saturating_mul(band)))
+    match empty {
+        EmptyList::All(n) => {
+            let pieces: Vec<_> = (0..n_bands)
+                .map(|b| b * band..((b + 1) * band).min(*n))
                 .collect();
-            cuts.par_windows(2)
-                .map(|c| v[c[0]..c[1]].iter().copied().filter(uncovered).collect())
-                .collect()
+            scatter(&pieces, |r| r.clone().filter(uncovered), out);
         }
-    };
-    EmptyList::List(pieces.concat())
+        EmptyList::List(v) => {
+            let cut = |b: u32| v.partition_point(|&p| p < b.saturating_mul(band));
+            let pieces: Vec<_> = (0..n_bands).map(|b| cut(b)..cut(b + 1)).collect();
+            scatter(
+                &pieces,
+                |r| v[r.clone()].iter().copied().filter(uncovered),
+                out,
+            );
+        }
+    }
+}
+
+/// Counts each piece's items, then writes them in parallel into their place
+/// in `out`.
+fn scatter<R: Sync, I: Iterator<Item = u32>>(
+    pieces: &[R],
+    items: impl Fn(&R) -> I + Sync,
+    out: &mut Vec<u32>,
+) {
+    let counts: Vec<usize> = pieces.par_iter().map(|p| items(p).count()).collect();
+    out.clear();
+    out.resize(counts.iter().sum(), 0);
+    let mut slots = Vec::with_capacity(counts.len());
+    let mut rest = out.as_mut_slice();
+    for &c in &counts {
+        let (head, tail) = rest.split_at_mut(c);
+        slots.push(head);
+        rest = tail;
+    }
+    slots
+        .into_par_iter()
+        .zip(pieces.par_iter())
+        .for_each(|(slot, p)| {
+            for (dst, src) in slot.iter_mut().zip(items(p)) {
+                *dst = src;
+            }
+        });
 }

@@ -81,12 +81,13 @@ fn occluded(plan: &Plan, darts: &[Dart], grid: &DartGrid, j: u32) -> bool {
     false
 }
 
-/// The darts that survive, in dart order.
-#[must_use]
-pub fn survivors(plan: &Plan, darts: &[Dart], grid: &DartGrid) -> Vec<Dart> {
-    (0..darts.len() as u32)
-        .into_par_iter()
-        .filter(|&j| !occluded(plan, darts, grid, j))
-        .map(|j| darts[j as usize])
-        .collect()
+/// The darts that survive, in dart order, into `out`.
+pub fn survivors(plan: &Plan, darts: &[Dart], grid: &DartGrid, out: &mut Vec<Dart>) {
+    out.clear();
+    out.par_extend(
+        (0..darts.len() as u32)
+            .into_par_iter()
+            .filter(|&j| !occluded(plan, darts, grid, j))
+            .map(|j| darts[j as usize]),
+    );
 }

@@ -37,20 +37,36 @@ pub fn sample(params: &Params, ctl: Control<'_>) -> Result<SampleSet> {
     let map_bytes = plan.map.as_ref().map_or(0, |m| 4 * m.radii_fx().len());
     let mut peak_bytes = 0usize;
     let mut iteration = 0;
+    // Buffers reused by every iteration.
+    let (mut darts, mut survivors, mut spare) = (Vec::new(), Vec::new(), Vec::new());
+    let mut grid = throw::DartGrid::default();
     while !empty.is_empty() && iteration < plan.max_iterations {
         let t0 = Instant::now();
-        let darts = throw::throw(&plan, iteration, plan.darts_for(empty.len()), &empty);
-        let grid = throw::DartGrid::new(&plan, &darts);
+        throw::throw(
+            &plan,
+            iteration,
+            plan.darts_for(empty.len()),
+            &empty,
+            &mut darts,
+        );
+        grid.rebuild(&plan, &darts);
         let t1 = Instant::now();
-        let survivors = cull::survivors(&plan, &darts, &grid);
+        cull::survivors(&plan, &darts, &grid, &mut survivors);
         cover::cover(&plan, &survivors, &mut coverage);
         let t2 = Instant::now();
-        let next = compact::compact(&empty, &coverage, plan.width);
+        compact::compact(&empty, &coverage, plan.width, &mut spare);
         let t3 = Instant::now();
+        if let EmptyList::List(old) =
+            std::mem::replace(&mut empty, EmptyList::List(std::mem::take(&mut spare)))
+        {
+            spare = old;
+        }
         peak_bytes = peak_bytes.max(
-            empty.bytes() + next.bytes() + grid.bytes() + 16 * (darts.len() + survivors.len()),
+            empty.bytes()
+                + 4 * spare.capacity()
+                + grid.bytes()
+                + 16 * (darts.capacity() + survivors.capacity()),
         );
-        empty = next;
         stats.throw_seconds += (t1 - t0).as_secs_f64();
         stats.cull_seconds += (t2 - t1).as_secs_f64();
         stats.compact_seconds += (t3 - t2).as_secs_f64();

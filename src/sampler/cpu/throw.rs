@@ -53,19 +53,20 @@ pub fn dart(plan: &Plan, iteration_key: u32, k: u32, empty: &EmptyList) -> Dart 
     }
 }
 
-/// The `count` darts of iteration `iteration`, in dart order.
-#[must_use]
-pub fn throw(plan: &Plan, iteration: u32, count: u32, empty: &EmptyList) -> Vec<Dart> {
+/// The `count` darts of iteration `iteration`, in dart order, into `out`
+/// (reused between iterations: fresh memory costs page faults).
+pub fn throw(plan: &Plan, iteration: u32, count: u32, empty: &EmptyList, out: &mut Vec<Dart>) {
     let ik = fixed::iteration_key(plan.seed_key, iteration);
     (0..count)
         .into_par_iter()
         .map(|k| dart(plan, ik, k, empty))
-        .collect()
+        .collect_into_vec(out);
 }
 
 /// The batch binned by pixel into square cells at least as wide as the largest
 /// radius, so that every dart whose disk reaches a pixel centre lies in that
 /// pixel's cell or one of its eight neighbours.
+#[derive(Default)]
 pub struct DartGrid {
     /// Cell side in pixels.
     pub cell: u32,
@@ -77,6 +78,7 @@ pub struct DartGrid {
     pub start: Vec<u32>,
     /// The darts with their keys, grouped by cell, in dart order within a cell.
     pub entries: Vec<GridEntry>,
+    fill: Vec<u32>,
 }
 
 /// A dart as the grid holds it: its depth key, centre and radius, stored
@@ -94,9 +96,8 @@ pub struct GridEntry {
 }
 
 impl DartGrid {
-    /// Bins `darts` (counting sort, deterministic).
-    #[must_use]
-    pub fn new(plan: &Plan, darts: &[Dart]) -> Self {
+    /// Bins `darts` (counting sort, deterministic), reusing the buffers.
+    pub fn rebuild(&mut self, plan: &Plan, darts: &[Dart]) {
         let r_max = darts.iter().map(|d| d.radius).max().unwrap_or(RADIUS_ONE);
         let cell = r_max.div_ceil(RADIUS_ONE).max(1);
         let cols = plan.width.div_ceil(cell);
@@ -105,37 +106,35 @@ impl DartGrid {
             let (px, py) = (d.pixel % plan.width, d.pixel / plan.width);
             (py / cell) * cols + px / cell
         };
-        let mut start = vec![0u32; (cols * rows) as usize + 1];
+        (self.cell, self.cols, self.rows) = (cell, cols, rows);
+        let start = &mut self.start;
+        start.clear();
+        start.resize((cols * rows) as usize + 1, 0);
         for d in darts {
             start[cell_of(d) as usize + 1] += 1;
         }
         for c in 1..start.len() {
             start[c] += start[c - 1];
         }
-        let mut fill = start.clone();
-        let mut entries = vec![GridEntry::default(); darts.len()];
+        self.fill.clone_from(start);
+        self.entries.clear();
+        self.entries.resize(darts.len(), GridEntry::default());
         for (k, d) in darts.iter().enumerate() {
             let c = cell_of(d) as usize;
-            entries[fill[c] as usize] = GridEntry {
+            self.entries[self.fill[c] as usize] = GridEntry {
                 key: plan.layout.key(k as u32, d.radius),
                 x: d.x,
                 y: d.y,
                 radius: d.radius,
             };
-            fill[c] += 1;
-        }
-        Self {
-            cell,
-            cols,
-            rows,
-            start,
-            entries,
+            self.fill[c] += 1;
         }
     }
 
     /// Bytes held.
     #[must_use]
     pub fn bytes(&self) -> usize {
-        4 * self.start.len() + std::mem::size_of_val(self.entries.as_slice())
+        4 * (self.start.capacity() + self.fill.capacity())
+            + self.entries.capacity() * std::mem::size_of::<GridEntry>()
     }
 }
