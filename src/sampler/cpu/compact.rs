@@ -52,57 +52,56 @@ impl EmptyList {
     }
 }
 
-/// Writes into `out` the list without the pixels the coverage map marks, in
-/// the same order. The list is cut at band boundaries
-/// ([`super::cover::BAND_ROWS`] rows); the pieces are counted, then written in
-/// parallel straight to their place (the scan and scatter of paper §3.3).
-/// `out` is reused between iterations: fresh memory costs page faults.
-pub fn compact(empty: &EmptyList, coverage: &[u8], width: u32, out: &mut Vec<u32>) {
-    let band = super::cover::BAND_ROWS * width;
-    let n_bands = (coverage.len() as u32).div_ceil(band);
-    let uncovered = |p: &u32| coverage[*p as usize] == 0;
-    match empty {
-        EmptyList::All(n) => {
-            let pieces: Vec<_> = (0..n_bands)
-                .map(|b| b * band..((b + 1) * band).min(*n))
-                .collect();
-            scatter(&pieces, |r| r.clone().filter(uncovered), out);
-        }
-        EmptyList::List(v) => {
-            let cut = |b: u32| v.partition_point(|&p| p < b.saturating_mul(band));
-            let pieces: Vec<_> = (0..n_bands).map(|b| cut(b)..cut(b + 1)).collect();
-            scatter(
-                &pieces,
-                |r| v[r.clone()].iter().copied().filter(uncovered),
-                out,
-            );
-        }
-    }
+/// Compacts the empty-pixel list by the coverage map. Holds one buffer per
+/// band of [`super::cover::BAND_ROWS`] rows, reused between iterations
+/// (fresh memory costs page faults).
+#[derive(Default)]
+pub struct Compactor {
+    pieces: Vec<Vec<u32>>,
 }
 
-/// Counts each piece's items, then writes them in parallel into their place
-/// in `out`.
-fn scatter<R: Sync, I: Iterator<Item = u32>>(
-    pieces: &[R],
-    items: impl Fn(&R) -> I + Sync,
-    out: &mut Vec<u32>,
-) {
-    let counts: Vec<usize> = pieces.par_iter().map(|p| items(p).count()).collect();
-    out.clear();
-    out.resize(counts.iter().sum(), 0);
-    let mut slots = Vec::with_capacity(counts.len());
-    let mut rest = out.as_mut_slice();
-    for &c in &counts {
-        let (head, tail) = rest.split_at_mut(c);
-        slots.push(head);
-        rest = tail;
-    }
-    slots
-        .into_par_iter()
-        .zip(pieces.par_iter())
-        .for_each(|(slot, p)| {
-            for (dst, src) in slot.iter_mut().zip(items(p)) {
-                *dst = src;
+impl Compactor {
+    /// Writes into `out` the list without the pixels the coverage map marks,
+    /// in the same order: the list is cut at band boundaries, the pieces are
+    /// filtered in parallel and joined in band order.
+    pub fn compact(&mut self, empty: &EmptyList, coverage: &[u8], width: u32, out: &mut Vec<u32>) {
+        let band = super::cover::BAND_ROWS * width;
+        let n_bands = (coverage.len() as u32).div_ceil(band);
+        let uncovered = |p: &u32| coverage[*p as usize] == 0;
+        self.pieces.resize_with(n_bands as usize, Vec::new);
+        match empty {
+            EmptyList::All(n) => {
+                self.pieces
+                    .par_iter_mut()
+                    .enumerate()
+                    .for_each(|(b, piece)| {
+                        let b = b as u32;
+                        piece.clear();
+                        piece.extend((b * band..((b + 1) * band).min(*n)).filter(uncovered));
+                    });
             }
-        });
+            EmptyList::List(v) => {
+                let cut = |b: u32| v.partition_point(|&p| p < b.saturating_mul(band));
+                self.pieces
+                    .par_iter_mut()
+                    .enumerate()
+                    .for_each(|(b, piece)| {
+                        let b = b as u32;
+                        piece.clear();
+                        piece.extend(v[cut(b)..cut(b + 1)].iter().copied().filter(uncovered));
+                    });
+            }
+        }
+        out.clear();
+        out.reserve(self.pieces.iter().map(Vec::len).sum());
+        for piece in &self.pieces {
+            out.extend_from_slice(piece);
+        }
+    }
+
+    /// Bytes held.
+    #[must_use]
+    pub fn bytes(&self) -> usize {
+        self.pieces.iter().map(|p| 4 * p.capacity()).sum()
+    }
 }

@@ -40,6 +40,7 @@ pub fn sample(params: &Params, ctl: Control<'_>) -> Result<SampleSet> {
     // Buffers reused by every iteration.
     let (mut darts, mut survivors, mut spare) = (Vec::new(), Vec::new(), Vec::new());
     let mut grid = throw::DartGrid::default();
+    let mut compactor = compact::Compactor::default();
     while !empty.is_empty() && iteration < plan.max_iterations {
         let t0 = Instant::now();
         throw::throw(
@@ -54,7 +55,7 @@ pub fn sample(params: &Params, ctl: Control<'_>) -> Result<SampleSet> {
         cull::survivors(&plan, &darts, &grid, &mut survivors);
         cover::cover(&plan, &survivors, &mut coverage);
         let t2 = Instant::now();
-        compact::compact(&empty, &coverage, plan.width, &mut spare);
+        compactor.compact(&empty, &coverage, plan.width, &mut spare);
         let t3 = Instant::now();
         if let EmptyList::List(old) =
             std::mem::replace(&mut empty, EmptyList::List(std::mem::take(&mut spare)))
@@ -65,6 +66,7 @@ pub fn sample(params: &Params, ctl: Control<'_>) -> Result<SampleSet> {
             empty.bytes()
                 + 4 * spare.capacity()
                 + grid.bytes()
+                + compactor.bytes()
                 + 16 * (darts.capacity() + survivors.capacity()),
         );
         stats.throw_seconds += (t1 - t0).as_secs_f64();
