@@ -9,10 +9,9 @@ use egui_wgpu::wgpu;
 
 use super::settings::Settings;
 use crate::backend::BackendChoice;
-use crate::count;
 use crate::gpu::GpuSampler;
-use crate::importance::{Adjust, ImportanceMap, Mapping, RadiusRange};
-use crate::sampler::{self, Control, Params, Progress, RadiusMap, SampleSet};
+use crate::importance::{Adjust, ImportanceMap, Mapping, Prepared, RadiusRange};
+use crate::sampler::{self, Control, Params, Progress, SampleSet};
 
 /// A sampling request.
 pub struct Job {
@@ -165,53 +164,36 @@ fn compute(job: &Job, gpu: &Mutex<Option<GpuState>>, ctl: Control<'_>) -> Result
         gamma: s.gamma,
         invert: s.invert,
     };
-    let map = job.map.adjusted(&adjust).map_err(|e| e.to_string())?;
-    let mapping = if s.tone {
-        Mapping::Tone
-    } else {
-        Mapping::Linear
+    let prepared = Prepared {
+        map: job.map.adjusted(&adjust).map_err(|e| e.to_string())?,
+        mapping: if s.tone {
+            Mapping::Tone
+        } else {
+            Mapping::Linear
+        },
+        range: RadiusRange::new(s.r_min, s.r_max).map_err(|e| e.to_string())?,
+        cutoff: (s.cutoff < 1.0).then_some(s.cutoff),
     };
-    let range = RadiusRange::new(s.r_min, s.r_max).map_err(|e| e.to_string())?;
-    let cutoff = (s.cutoff < 1.0).then_some(s.cutoff);
+    let base = Params::new(prepared.map.width(), prepared.map.height())
+        .with_policy(s.policy)
+        .with_seed(s.seed)
+        .with_subpixel_bits(s.subpixel_bits)
+        .with_periodic(s.periodic);
     let mut note = None;
-    let mut run = |scale: f64| -> anyhow::Result<(usize, SampleSet)> {
-        // Radii stop at the sampler's 1 px floor: a count beyond what the
-        // image can hold then saturates instead of failing.
-        let radii: Vec<f32> = map
-            .radii(mapping, range.scaled(scale))
-            .into_iter()
-            .map(|r| r.max(1.0))
-            .collect();
-        let rmap = RadiusMap::from_pixels(map.width(), map.height(), &radii)?;
-        let params = Params::new(map.width(), map.height())
-            .with_radius_map(Arc::new(rmap))
-            .with_policy(s.policy)
-            .with_seed(s.seed)
-            .with_subpixel_bits(s.subpixel_bits)
-            .with_periodic(s.periodic);
-        let mut set = sample(&params, s.backend, gpu, ctl, &mut note)?;
-        set.points = map.cut(&set.points, cutoff);
-        Ok((set.points.len(), set))
-    };
-    let (set, runs) = if s.use_count {
-        let expected = map.expected_points(&map.radii(mapping, range), cutoff);
-        let initial = (expected / f64::from(s.points.max(1))).sqrt();
-        let (_, set, runs) =
-            count::fit_scale(s.points as usize, initial, &mut run).map_err(|e| format!("{e:#}"))?;
-        (set, runs)
-    } else {
-        (run(1.0).map_err(|e| format!("{e:#}"))?.1, 1)
-    };
-    if s.use_count {
-        let got = set.points.len() as f64;
-        if (got - f64::from(s.points)).abs() > count::COUNT_TOLERANCE * f64::from(s.points) {
-            note = Some(format!(
-                "{} points asked, {got} fit at radii of at least 1 px",
-                s.points
-            ));
-        }
+    let points = s.use_count.then_some(s.points as usize);
+    let fitted = prepared
+        .sample(&base, points, |params| {
+            Ok(sample(params, s.backend, gpu, ctl, &mut note)?)
+        })
+        .map_err(|e| format!("{e:#}"))?;
+    if let Some(n) = fitted.short_of {
+        note = Some(format!(
+            "{n} points asked, {} fit at radii of at least 1 px",
+            fitted.set.points.len()
+        ));
     }
-    let min_radius = set
+    let min_radius = fitted
+        .set
         .points
         .iter()
         .map(|p| p.radius)
@@ -222,8 +204,8 @@ fn compute(job: &Job, gpu: &Mutex<Option<GpuState>>, ctl: Control<'_>) -> Result
         } else {
             1.0
         },
-        set,
-        runs,
+        set: fitted.set,
+        runs: fitted.runs,
         note,
     })
 }

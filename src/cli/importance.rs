@@ -2,17 +2,15 @@
 //! and the sampling run with point-count targeting over a radius range.
 
 use std::path::Path;
-use std::sync::Arc;
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Result, bail};
 use clap::Args;
 use indicatif::ProgressBar;
 use serde::Serialize;
 
 use pixelpie::backend::BackendChoice;
-use pixelpie::count;
-use pixelpie::importance::{Adjust, ImportanceMap, Mapping, RadiusRange};
-use pixelpie::sampler::{Params, RadiusMap, SampleSet};
+use pixelpie::importance::{Adjust, ImportanceMap, Mapping, Prepared, RadiusRange};
+use pixelpie::sampler::{Params, SampleSet};
 
 use super::sample::run_with_progress;
 
@@ -68,18 +66,6 @@ pub struct ImportanceOpts {
     /// White point of float images (EXR, float TIFF) [default: their 99.5th percentile].
     #[arg(long, requires = "importance")]
     pub hdr_white: Option<f32>,
-}
-
-/// An importance map ready to sample.
-pub struct Prepared {
-    /// The adjusted map, at the domain's size.
-    pub map: ImportanceMap,
-    /// The mapping.
-    pub mapping: Mapping,
-    /// The radius range at scale 1.
-    pub range: RadiusRange,
-    /// The white cutoff.
-    pub cutoff: Option<f32>,
 }
 
 impl ImportanceOpts {
@@ -140,57 +126,26 @@ pub struct RunOpts<'a> {
     pub verbose: bool,
 }
 
-impl Prepared {
-    fn params(&self, base: &Params, scale: f64) -> Result<Params> {
-        let radii = self.map.radii(self.mapping, self.range.scaled(scale));
-        let m = RadiusMap::from_pixels(self.map.width(), self.map.height(), &radii)
-            .context("importance radius map")?;
-        Ok(base.clone().with_radius_map(Arc::new(m)))
+/// Samples a prepared map with a progress bar, fitting `--points`; returns
+/// the points that survive the white cutoff and the radius range used.
+pub fn sample(prepared: &Prepared, o: &RunOpts<'_>) -> Result<(SampleSet, RadiusRange)> {
+    let fitted = prepared.sample(&o.base, o.points, |params| {
+        run_with_progress(params, o.backend, o.bar, o.quiet, o.verbose)
+    })?;
+    let got = fitted.set.points.len();
+    if o.verbose {
+        o.bar
+            .suspend(|| eprintln!("{got} points after {} runs", fitted.runs));
     }
-
-    /// Samples the map, fitting the radius scale to `--points` when given;
-    /// returns the points that survive the white cutoff and the radius range
-    /// used.
-    pub fn sample(&self, o: &RunOpts<'_>) -> Result<(SampleSet, RadiusRange)> {
-        let run = |scale: f64| -> Result<SampleSet> {
-            let mut set = run_with_progress(
-                &self.params(&o.base, scale)?,
-                o.backend,
-                o.bar,
-                o.quiet,
-                o.verbose,
-            )?;
-            set.points = self.map.cut(&set.points, self.cutoff);
-            Ok(set)
-        };
-        let Some(n) = o.points else {
-            return Ok((run(1.0)?, self.range));
-        };
-        // The sampler needs radii of at least 1 px.
-        let floor = 1.0 / f64::from(self.range.min);
-        let radii = self.map.radii(self.mapping, self.range);
-        let expected = self.map.expected_points(&radii, self.cutoff);
-        if expected <= 0.0 {
-            bail!("the white cutoff leaves no pixel to place dots on");
-        }
-        let initial = (expected / n as f64).sqrt().max(floor);
-        let (scale, set, runs) = count::fit_scale(n, initial, |s| {
-            let set = run(s.max(floor))?;
-            Ok((set.points.len(), set))
-        })?;
-        let got = set.points.len();
-        if o.verbose {
-            o.bar
-                .suspend(|| eprintln!("count target {n}: {got} points after {runs} runs"));
-        }
-        if (got as f64 - n as f64).abs() > count::COUNT_TOLERANCE * n as f64 && !o.quiet {
-            o.bar.suspend(|| {
-                eprintln!(
-                    "warning: asked for {n} points, got {got}: the smallest radius is at the sampler's \
-                     1 px floor; enlarge the domain with --width/--height"
-                );
-            });
-        }
-        Ok((set, self.range.scaled(scale.max(floor))))
+    if let Some(n) = fitted.short_of
+        && !o.quiet
+    {
+        o.bar.suspend(|| {
+            eprintln!(
+                "warning: asked for {n} points, got {got}: the smallest radius is at the sampler's \
+                 1 px floor; enlarge the domain with --width/--height"
+            );
+        });
     }
+    Ok((fitted.set, fitted.range))
 }

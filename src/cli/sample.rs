@@ -223,7 +223,7 @@ fn run_importance(a: &SampleArgs, path: &Path) -> Result<()> {
         quiet: a.quiet,
         verbose: a.verbose,
     };
-    let (set, _) = prepared.sample(&opts)?;
+    let (set, _) = super::importance::sample(&prepared, &opts)?;
     bar.finish_and_clear();
     write_outputs(a, &set)
 }

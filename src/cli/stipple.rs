@@ -183,7 +183,7 @@ pub fn run(a: &StippleArgs) -> Result<()> {
         quiet: a.quiet,
         verbose: a.verbose,
     };
-    let (set, range) = prepared.sample(&opts)?;
+    let (set, range) = super::importance::sample(&prepared, &opts)?;
     bar.finish_and_clear();
     let t_sample = t0.elapsed().as_secs_f64() - t_load;
     let size = match (a.dot_radius, a.dot) {

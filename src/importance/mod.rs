@@ -20,11 +20,13 @@
 //!    between r_min and r_max; [`ImportanceMap::keeps`] applies the white
 //!    cutoff (no dots where v is above it).
 
+mod fit;
 mod load;
 mod mapping;
 
 use std::path::{Path, PathBuf};
 
+pub use fit::{Fitted, Prepared};
 pub use load::{Luminance, Range, load, srgb_to_linear};
 pub use mapping::{Mapping, RadiusRange};
 

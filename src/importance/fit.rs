@@ -1,0 +1,88 @@
+//! Sampling an importance map: its radii at a scale, the white cutoff, and
+//! point-count targeting over the scale. Shared by `stipple`, `sample
+//! --importance` and the app, which differ only in how they run the sampler.
+
+use std::sync::Arc;
+
+use anyhow::{Context, Result, bail};
+
+use super::{ImportanceMap, Mapping, RadiusRange};
+use crate::count;
+use crate::sampler::{Params, RadiusMap, SampleSet};
+
+/// An adjusted importance map with its mapping, radius range and cutoff.
+pub struct Prepared {
+    /// The adjusted map, at the domain's size.
+    pub map: ImportanceMap,
+    /// The mapping.
+    pub mapping: Mapping,
+    /// The radius range at scale 1.
+    pub range: RadiusRange,
+    /// The white cutoff.
+    pub cutoff: Option<f32>,
+}
+
+/// The result of [`Prepared::sample`].
+pub struct Fitted {
+    /// The run, its points after the white cutoff.
+    pub set: SampleSet,
+    /// The radius range used.
+    pub range: RadiusRange,
+    /// Sampler runs made.
+    pub runs: usize,
+    /// The count asked for, when the domain could not hold it at radii of
+    /// at least 1 px (the sampler's floor).
+    pub short_of: Option<usize>,
+}
+
+impl Prepared {
+    /// `base` (domain, policy, seed…) with the map's radii at `scale`.
+    pub fn params(&self, base: &Params, scale: f64) -> Result<Params> {
+        let radii = self.map.radii(self.mapping, self.range.scaled(scale));
+        let m = RadiusMap::from_pixels(self.map.width(), self.map.height(), &radii)
+            .context("importance radius map")?;
+        Ok(base.clone().with_radius_map(Arc::new(m)))
+    }
+
+    /// Samples the map with `run`, fitting the radius scale to `points` (±3%)
+    /// when given. The scale never takes the smallest radius below 1 px.
+    pub fn sample(
+        &self,
+        base: &Params,
+        points: Option<usize>,
+        mut run: impl FnMut(&Params) -> Result<SampleSet>,
+    ) -> Result<Fitted> {
+        let mut cut_run = |scale: f64| -> Result<SampleSet> {
+            let mut set = run(&self.params(base, scale)?)?;
+            set.points = self.map.cut(&set.points, self.cutoff);
+            Ok(set)
+        };
+        let Some(n) = points else {
+            return Ok(Fitted {
+                set: cut_run(1.0)?,
+                range: self.range,
+                runs: 1,
+                short_of: None,
+            });
+        };
+        let floor = 1.0 / f64::from(self.range.min);
+        let radii = self.map.radii(self.mapping, self.range);
+        let expected = self.map.expected_points(&radii, self.cutoff);
+        if expected <= 0.0 {
+            bail!("the white cutoff leaves no pixel to place dots on");
+        }
+        let initial = (expected / n as f64).sqrt().max(floor);
+        let (scale, set, runs) = count::fit_scale(n, initial, |s| {
+            let set = cut_run(s.max(floor))?;
+            Ok((set.points.len(), set))
+        })?;
+        let got = set.points.len() as f64;
+        let short = (got - n as f64).abs() > count::COUNT_TOLERANCE * n as f64;
+        Ok(Fitted {
+            set,
+            range: self.range.scaled(scale.max(floor)),
+            runs,
+            short_of: short.then_some(n),
+        })
+    }
+}
