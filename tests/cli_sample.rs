@@ -307,25 +307,8 @@ fn bad_input_gives_one_line_errors_and_no_output() {
         assert_fails(&args, &out, why);
     }
     // Outputs: unknown extension, unwritable directory, stats not JSON.
-    let txt: PathBuf = dir.path().join("out.txt");
-    assert_fails(
-        &[
-            "sample",
-            "--width",
-            "64",
-            "--height",
-            "64",
-            "--radius",
-            "3",
-            "-o",
-            txt.to_str().unwrap(),
-        ],
-        &txt,
-        "unknown extension",
-    );
-    let nowhere = Path::new("/nonexistent-dir/out.csv");
-    assert_fails(
-        &[
+    let small = |output: &str, extra: &[&str]| -> Vec<String> {
+        let base = [
             "sample",
             "--width",
             "64",
@@ -336,25 +319,27 @@ fn bad_input_gives_one_line_errors_and_no_output() {
             "--backend",
             "cpu",
             "-o",
-            nowhere.to_str().unwrap(),
-        ],
+        ];
+        base.iter()
+            .chain(&[output])
+            .chain(extra)
+            .map(|s| (*s).to_owned())
+            .collect()
+    };
+    let run = |args: Vec<String>, output: &Path, why: &str| {
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        assert_fails(&args, output, why);
+    };
+    let txt: PathBuf = dir.path().join("out.txt");
+    run(small(txt.to_str().unwrap(), &[]), &txt, "unknown extension");
+    let nowhere = Path::new("/nonexistent-dir/out.csv");
+    run(
+        small(nowhere.to_str().unwrap(), &[]),
         nowhere,
         "unwritable output",
     );
-    assert_fails(
-        &[
-            "sample",
-            "--width",
-            "64",
-            "--height",
-            "64",
-            "--radius",
-            "3",
-            "-o",
-            o,
-            "--stats",
-            "/tmp/x.yaml",
-        ],
+    run(
+        small(o, &["--stats", "/tmp/x.yaml"]),
         &out,
         "stats extension",
     );
