@@ -68,6 +68,8 @@ fn the_point_count_control_changes_the_dots_drawn() {
     let png = dir.path().join("g.png");
     gradient_png(&png, 200, 150);
     let mut h = harness(&png);
+    // Sample on egui's own device (auto would pick the CPU on lavapipe).
+    h.state_mut().settings.backend = pixelpie::backend::BackendChoice::Gpu;
     for target in [400.0, 1500.0] {
         h.get_by_label("Points").set_value_accesskit(target);
         settle(&mut h);

@@ -79,11 +79,7 @@ impl PixelPieApp {
             let renderer = dots::DotRenderer::new(&rs.device, rs.target_format);
             rs.renderer.write().callback_resources.insert(renderer);
             gpu_dots = true;
-            gpu = Some((
-                rs.device.clone(),
-                rs.queue.clone(),
-                rs.adapter.get_info().name,
-            ));
+            gpu = Some((rs.device.clone(), rs.queue.clone(), rs.adapter.get_info()));
         }
         let worker = Worker::new(gpu, cc.egui_ctx.clone());
         let mut app = Self {

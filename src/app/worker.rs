@@ -47,6 +47,8 @@ struct GpuState {
     device: wgpu::Device,
     queue: wgpu::Queue,
     sampler: GpuSampler,
+    /// A software rasterizer (lavapipe): `Auto` samples on the CPU, faster.
+    software: bool,
 }
 
 /// The background sampler.
@@ -60,25 +62,28 @@ pub struct Worker {
 
 impl Worker {
     /// Starts the worker. With `gpu`, it samples on that device (egui's).
-    pub fn new(gpu: Option<(wgpu::Device, wgpu::Queue, String)>, repaint: egui::Context) -> Self {
+    pub fn new(
+        gpu: Option<(wgpu::Device, wgpu::Queue, wgpu::AdapterInfo)>,
+        repaint: egui::Context,
+    ) -> Self {
         let (jobs, job_rx) = channel::<Job>();
         let (reply_tx, replies) = channel();
         let cancel = Arc::new(AtomicBool::new(false));
         let mut adapter = None;
-        let gpu_state =
-            gpu.and_then(
-                |(device, queue, name)| match GpuSampler::new(&device, name.clone()) {
-                    Ok(sampler) => {
-                        adapter = Some(name);
-                        Some(GpuState {
-                            device,
-                            queue,
-                            sampler,
-                        })
-                    }
-                    Err(_) => None,
-                },
-            );
+        let gpu_state = gpu.and_then(|(device, queue, info)| {
+            match GpuSampler::new(&device, info.name.clone()) {
+                Ok(sampler) => {
+                    adapter = Some(info.name);
+                    Some(GpuState {
+                        device,
+                        queue,
+                        sampler,
+                        software: info.device_type == wgpu::DeviceType::Cpu,
+                    })
+                }
+                Err(_) => None,
+            }
+        });
         let flag = cancel.clone();
         let thread = std::thread::Builder::new()
             .name("pixelpie-sampler".into())
@@ -224,6 +229,10 @@ fn sample(
         .lock()
         .map_err(|_| sampler::Error::Gpu("poisoned".into()))?;
     match guard.as_mut() {
+        Some(g) if g.software && choice == BackendChoice::Auto => {
+            *note = Some("software adapter: sampled on the CPU, which is faster".into());
+            sampler::cpu::sample(params, ctl)
+        }
         Some(g) => match g.sampler.sample(&g.device, &g.queue, params, ctl) {
             Err(sampler::Error::Gpu(e)) if choice == BackendChoice::Auto => {
                 *note = Some(format!("GPU failed ({e}); sampled on the CPU"));
