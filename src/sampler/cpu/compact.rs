@@ -2,27 +2,50 @@
 //! compaction of the empty-pixel list by the coverage map.
 //!
 //! WGSL mirror: `shaders/compact.wgsl` (a prefix-sum scan and scatter).
+//!
+//! The list is held in pieces, one per band of [`BAND_ROWS`] rows. A pixel's
+//! band never changes, so each piece is compacted in place by its own thread
+//! and nothing is copied; read in band order, the pieces are the one ordered
+//! list that the semantics define.
 
 use rayon::prelude::*;
 
-/// The pixels still empty, in ascending order of first listing.
+use super::cover::BAND_ROWS;
+
+/// The pixels still empty, in ascending order.
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub enum EmptyList {
-    /// Every pixel `0..n`: the first iteration's list, never stored (paper
-    /// §3.3, "Optimizations for an Empty Domain").
-    All(u32),
-    /// An explicit list of pixel indices.
-    List(Vec<u32>),
+pub struct EmptyList {
+    /// The domain's pixel count.
+    pixels: u32,
+    /// Pixels per band.
+    band: u32,
+    /// `None` while every pixel is empty: the first iteration's list is never
+    /// stored (paper §3.3, "Optimizations for an Empty Domain").
+    pieces: Option<Vec<Vec<u32>>>,
+    /// `starts[b]` is the list index of the first pixel of band `b`; the last
+    /// entry is the length.
+    starts: Vec<u32>,
 }
 
 impl EmptyList {
+    /// Every pixel of a `width`-wide domain of `pixels` pixels.
+    #[must_use]
+    pub fn all(pixels: u32, width: u32) -> Self {
+        Self {
+            pixels,
+            band: BAND_ROWS.saturating_mul(width).max(1),
+            pieces: None,
+            starts: Vec::new(),
+        }
+    }
+
     /// The number of empty pixels.
     #[inline]
     #[must_use]
     pub fn len(&self) -> u32 {
-        match self {
-            Self::All(n) => *n,
-            Self::List(v) => v.len() as u32,
+        match self.pieces {
+            None => self.pixels,
+            Some(_) => self.starts.last().copied().unwrap_or(0),
         }
     }
 
@@ -36,72 +59,136 @@ impl EmptyList {
     #[inline]
     #[must_use]
     pub fn get(&self, i: u32) -> u32 {
-        match self {
-            Self::All(_) => i,
-            Self::List(v) => v[i as usize],
+        match &self.pieces {
+            None => i,
+            Some(pieces) => {
+                // The last band starting at or before i: the one holding it.
+                let b = self.starts.partition_point(|&s| s <= i) - 1;
+                pieces[b][(i - self.starts[b]) as usize]
+            }
+        }
+    }
+
+    /// Removes the pixels that the coverage map marks, keeping the order.
+    pub fn compact(&mut self, coverage: &[u8]) {
+        let band = self.band as usize;
+        match &mut self.pieces {
+            None => {
+                let mut pieces = vec![Vec::new(); coverage.len().div_ceil(band)];
+                pieces
+                    .par_iter_mut()
+                    .zip(coverage.par_chunks(band))
+                    .enumerate()
+                    .for_each(|(b, (piece, cov))| uncovered_of(piece, (b * band) as u32, cov));
+                self.pieces = Some(pieces);
+            }
+            Some(pieces) => pieces
+                .par_iter_mut()
+                .for_each(|piece| retain_uncovered(piece, coverage)),
+        }
+        let pieces = self.pieces.as_deref().unwrap_or_default();
+        self.starts.clear();
+        self.starts.push(0);
+        let mut total = 0u32;
+        for piece in pieces {
+            total += piece.len() as u32;
+            self.starts.push(total);
         }
     }
 
     /// Bytes held.
     #[must_use]
     pub fn bytes(&self) -> usize {
-        match self {
-            Self::All(_) => 0,
-            Self::List(v) => 4 * v.capacity(),
+        let pieces = self.pieces.as_deref().unwrap_or_default();
+        pieces.iter().map(|p| 4 * p.capacity()).sum::<usize>() + 4 * self.starts.capacity()
+    }
+}
+
+/// Sets `piece` to the pixels `base..` whose coverage bytes `cov` are 0.
+///
+/// Most of the domain is covered after the first iteration, so the bytes are
+/// read 64 at a time into a mask of the uncovered ones (vectorized), and
+/// only its set bits are visited. A first pass counts them (by the same
+/// masks) so that `piece` holds no more than it keeps.
+fn uncovered_of(piece: &mut Vec<u32>, base: u32, cov: &[u8]) {
+    let count: u32 = cov.chunks(64).map(|b| uncovered_mask(b).count_ones()).sum();
+    piece.clear();
+    piece.resize(count as usize, 0);
+    let mut n = 0;
+    for (block, bytes) in (base..).step_by(64).zip(cov.chunks(64)) {
+        let mut mask = uncovered_mask(bytes);
+        while mask != 0 {
+            piece[n] = block + mask.trailing_zeros();
+            n += 1;
+            mask &= mask - 1;
         }
     }
 }
 
-/// Compacts the empty-pixel list by the coverage map. Holds one buffer per
-/// band of [`super::cover::BAND_ROWS`] rows, reused between iterations
-/// (fresh memory costs page faults).
-#[derive(Default)]
-pub struct Compactor {
-    pieces: Vec<Vec<u32>>,
+/// Bit `i` set where `bytes[i]` (coverage, 0 or 1) is 0, for up to 64 bytes.
+#[inline]
+fn uncovered_mask(bytes: &[u8]) -> u64 {
+    const LOW_BITS: u64 = 0x0101_0101_0101_0101;
+    // Moves bit 8k to bit 56 + k: every product term lands on its own bit.
+    const GATHER: u64 = 0x0102_0408_1020_4080;
+    let mut mask = 0u64;
+    let words = bytes.chunks_exact(8);
+    let tail = words.remainder();
+    for (i, word) in words.enumerate() {
+        let word = u64::from_le_bytes(word.try_into().unwrap_or_default());
+        let empty = (word ^ LOW_BITS) & LOW_BITS;
+        mask |= (empty.wrapping_mul(GATHER) >> 56) << (8 * i);
+    }
+    let done = bytes.len() - tail.len();
+    for (i, &c) in tail.iter().enumerate() {
+        mask |= u64::from(c == 0) << (done + i);
+    }
+    mask
 }
 
-impl Compactor {
-    /// Writes into `out` the list without the pixels the coverage map marks,
-    /// in the same order: the list is cut at band boundaries, the pieces are
-    /// filtered in parallel and joined in band order.
-    pub fn compact(&mut self, empty: &EmptyList, coverage: &[u8], width: u32, out: &mut Vec<u32>) {
-        let band = super::cover::BAND_ROWS * width;
-        let n_bands = (coverage.len() as u32).div_ceil(band);
-        let uncovered = |p: &u32| coverage[*p as usize] == 0;
-        self.pieces.resize_with(n_bands as usize, Vec::new);
-        match empty {
-            EmptyList::All(n) => {
-                self.pieces
-                    .par_iter_mut()
-                    .enumerate()
-                    .for_each(|(b, piece)| {
-                        let b = b as u32;
-                        piece.clear();
-                        piece.extend((b * band..((b + 1) * band).min(*n)).filter(uncovered));
-                    });
-            }
-            EmptyList::List(v) => {
-                let cut = |b: u32| v.partition_point(|&p| p < b.saturating_mul(band));
-                self.pieces
-                    .par_iter_mut()
-                    .enumerate()
-                    .for_each(|(b, piece)| {
-                        let b = b as u32;
-                        piece.clear();
-                        piece.extend(v[cut(b)..cut(b + 1)].iter().copied().filter(uncovered));
-                    });
-            }
-        }
-        out.clear();
-        out.reserve(self.pieces.iter().map(Vec::len).sum());
-        for piece in &self.pieces {
-            out.extend_from_slice(piece);
-        }
+/// Keeps the pixels of `piece` that the coverage map leaves empty, in order,
+/// in place. Branchless: every pixel is written and the length advances only
+/// past the uncovered ones, since a data-dependent branch would mispredict
+/// about as often as coverage changes along the list.
+fn retain_uncovered(piece: &mut Vec<u32>, coverage: &[u8]) {
+    let mut n = 0;
+    for i in 0..piece.len() {
+        let p = piece[i];
+        piece[n] = p;
+        n += usize::from(coverage[p as usize] == 0);
     }
+    piece.truncate(n);
+}
 
-    /// Bytes held.
-    #[must_use]
-    pub fn bytes(&self) -> usize {
-        self.pieces.iter().map(|p| 4 * p.capacity()).sum()
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The list equals a plain filter of all pixels after each compaction,
+    /// and `get` reads it in order across empty and full bands.
+    #[test]
+    fn compaction_matches_a_plain_filter() {
+        let (w, h) = (7u32, 3 * BAND_ROWS + 5);
+        let n = w * h;
+        let mut list = EmptyList::all(n, w);
+        let mut coverage = vec![0u8; n as usize];
+        let mut want: Vec<u32> = (0..n).collect();
+        for round in 0..4u32 {
+            for p in 0..n {
+                // Round 1 covers a whole band; the others scatter.
+                let band = p / (BAND_ROWS * w);
+                if (round == 1 && band == 1)
+                    || crate::sampler::fixed::mix(p ^ (round << 20)) % 3 == 0
+                {
+                    coverage[p as usize] = 1;
+                }
+            }
+            list.compact(&coverage);
+            want.retain(|&p| coverage[p as usize] == 0);
+            assert_eq!(list.len() as usize, want.len(), "round {round}");
+            for (i, &p) in want.iter().enumerate() {
+                assert_eq!(list.get(i as u32), p, "round {round} index {i}");
+            }
+        }
     }
 }

@@ -7,9 +7,9 @@
 
 use rayon::prelude::*;
 
-use super::throw::{Dart, DartGrid};
+use super::throw::{Dart, DartGrid, GridEntry};
 use crate::sampler::Plan;
-use crate::sampler::fixed::{axis_delta, inside, pixel_centre};
+use crate::sampler::fixed::{POS_FRAC_BITS, axis_delta, inside, pixel_centre};
 
 /// The grid columns (or rows) that hold pixels within `reach` pixels of pixel
 /// `p` along an axis of `n` pixels, wrapping when periodic. At most 4, since
@@ -51,12 +51,10 @@ fn cells_along(p: u32, reach: u32, n: u32, cell: u32, periodic: bool) -> ([u32; 
     (out, len)
 }
 
-/// Whether dart `j` is occluded at the centre of its pixel.
-fn occluded(plan: &Plan, darts: &[Dart], grid: &DartGrid, j: u32) -> bool {
-    let dj = darts[j as usize];
+/// Whether the dart of grid entry `e` is occluded at the centre of its pixel.
+fn occluded(plan: &Plan, grid: &DartGrid, e: &GridEntry) -> bool {
     let layout = plan.layout;
-    let key_j = layout.key(j, dj.radius);
-    let (px, py) = (dj.pixel % plan.width, dj.pixel / plan.width);
+    let (px, py) = (e.x >> POS_FRAC_BITS, e.y >> POS_FRAC_BITS);
     let (cx, cy) = (pixel_centre(px), pixel_centre(py));
     let (period_x, period_y) = plan.periods();
     let (cols, ncols) = cells_along(px, grid.cell, plan.width, grid.cell, plan.periodic);
@@ -65,8 +63,8 @@ fn occluded(plan: &Plan, darts: &[Dart], grid: &DartGrid, j: u32) -> bool {
         for &nx in &cols[..ncols] {
             let c = (ny * grid.cols + nx) as usize;
             for di in &grid.entries[grid.start[c] as usize..grid.start[c + 1] as usize] {
-                // Keys are unique, so a key beating j's is another dart's.
-                if layout.beats(di.key, key_j)
+                // Keys are unique, so a key beating e's is another dart's.
+                if layout.beats(di.key, e.key)
                     && inside(
                         axis_delta(di.x, cx, period_x),
                         axis_delta(di.y, cy, period_y),
@@ -81,13 +79,47 @@ fn occluded(plan: &Plan, darts: &[Dart], grid: &DartGrid, j: u32) -> bool {
     false
 }
 
-/// The darts that survive, in dart order, into `out`.
-pub fn survivors(plan: &Plan, darts: &[Dart], grid: &DartGrid, out: &mut Vec<Dart>) {
-    out.clear();
-    out.par_extend(
-        (0..darts.len() as u32)
-            .into_par_iter()
-            .filter(|&j| !occluded(plan, darts, grid, j))
-            .map(|j| darts[j as usize]),
-    );
+/// Per-batch flags, reused between iterations.
+#[derive(Default)]
+pub struct Culler {
+    /// Whether each grid entry is occluded, in grid order.
+    by_entry: Vec<bool>,
+    /// Whether each dart is occluded, in dart order.
+    by_dart: Vec<bool>,
+}
+
+impl Culler {
+    /// The darts that survive, in dart order, into `out`.
+    ///
+    /// The test runs over the grid's entries in cell order, so that the
+    /// neighbouring cells it reads are close in memory; the flags are then
+    /// put back in dart order, read from the low bits of each key.
+    pub fn survivors(&mut self, plan: &Plan, darts: &[Dart], grid: &DartGrid, out: &mut Vec<Dart>) {
+        grid.entries
+            .par_iter()
+            .with_min_len(1024)
+            .map(|e| occluded(plan, grid, e))
+            .collect_into_vec(&mut self.by_entry);
+        // index_bits <= KEY_BITS (29), so the shift cannot overflow.
+        let index_mask = (1u32 << plan.layout.index_bits) - 1;
+        self.by_dart.clear();
+        self.by_dart.resize(darts.len(), false);
+        for (e, &occ) in grid.entries.iter().zip(&self.by_entry) {
+            self.by_dart[(e.key & index_mask) as usize] = occ;
+        }
+        out.clear();
+        out.extend(
+            darts
+                .iter()
+                .zip(&self.by_dart)
+                .filter(|(_, occ)| !**occ)
+                .map(|(d, _)| *d),
+        );
+    }
+
+    /// Bytes held.
+    #[must_use]
+    pub fn bytes(&self) -> usize {
+        self.by_entry.capacity() + self.by_dart.capacity()
+    }
 }

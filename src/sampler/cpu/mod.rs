@@ -27,7 +27,7 @@ pub fn sample(params: &Params, ctl: Control<'_>) -> Result<SampleSet> {
     let plan = params.plan()?;
     let pixels = plan.pixels();
     let mut coverage = vec![0u8; pixels as usize];
-    let mut empty = EmptyList::All(pixels);
+    let mut empty = EmptyList::all(pixels, plan.width);
     let mut points = Vec::new();
     let mut stats = Stats {
         backend: "cpu".into(),
@@ -38,9 +38,9 @@ pub fn sample(params: &Params, ctl: Control<'_>) -> Result<SampleSet> {
     let mut peak_bytes = 0usize;
     let mut iteration = 0;
     // Buffers reused by every iteration.
-    let (mut darts, mut survivors, mut spare) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut darts, mut survivors) = (Vec::new(), Vec::new());
     let mut grid = throw::DartGrid::default();
-    let mut compactor = compact::Compactor::default();
+    let mut culler = cull::Culler::default();
     while !empty.is_empty() && iteration < plan.max_iterations {
         let t0 = Instant::now();
         throw::throw(
@@ -52,21 +52,15 @@ pub fn sample(params: &Params, ctl: Control<'_>) -> Result<SampleSet> {
         );
         grid.rebuild(&plan, &darts);
         let t1 = Instant::now();
-        cull::survivors(&plan, &darts, &grid, &mut survivors);
+        culler.survivors(&plan, &darts, &grid, &mut survivors);
         cover::cover(&plan, &survivors, &mut coverage);
         let t2 = Instant::now();
-        compactor.compact(&empty, &coverage, plan.width, &mut spare);
+        empty.compact(&coverage);
         let t3 = Instant::now();
-        if let EmptyList::List(old) =
-            std::mem::replace(&mut empty, EmptyList::List(std::mem::take(&mut spare)))
-        {
-            spare = old;
-        }
         peak_bytes = peak_bytes.max(
             empty.bytes()
-                + 4 * spare.capacity()
                 + grid.bytes()
-                + compactor.bytes()
+                + culler.bytes()
                 + 16 * (darts.capacity() + survivors.capacity()),
         );
         stats.throw_seconds += (t1 - t0).as_secs_f64();

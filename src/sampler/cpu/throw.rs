@@ -78,7 +78,8 @@ pub struct DartGrid {
     pub start: Vec<u32>,
     /// The darts with their keys, grouped by cell, in dart order within a cell.
     pub entries: Vec<GridEntry>,
-    fill: Vec<u32>,
+    /// The cell of each dart, in dart order.
+    cell_of: Vec<u32>,
 }
 
 /// A dart as the grid holds it: its depth key, centre and radius, stored
@@ -97,44 +98,91 @@ pub struct GridEntry {
 
 impl DartGrid {
     /// Bins `darts` (counting sort, deterministic), reusing the buffers.
+    ///
+    /// The grid is cut into bands of cell rows, one per thread, each sorted
+    /// by its own task: every task reads the whole list of cell numbers,
+    /// keeps its band's darts in dart order, and writes only its band's
+    /// counts and entries. The result does not depend on the band count.
     pub fn rebuild(&mut self, plan: &Plan, darts: &[Dart]) {
-        let r_max = darts.iter().map(|d| d.radius).max().unwrap_or(RADIUS_ONE);
+        let r_max = darts
+            .par_iter()
+            .map(|d| d.radius)
+            .max()
+            .unwrap_or(RADIUS_ONE);
         let cell = r_max.div_ceil(RADIUS_ONE).max(1);
         let cols = plan.width.div_ceil(cell);
         let rows = plan.height.div_ceil(cell);
-        let cell_of = |d: &Dart| {
-            let (px, py) = (d.pixel % plan.width, d.pixel / plan.width);
-            (py / cell) * cols + px / cell
-        };
         (self.cell, self.cols, self.rows) = (cell, cols, rows);
-        let start = &mut self.start;
-        start.clear();
-        start.resize((cols * rows) as usize + 1, 0);
-        for d in darts {
-            start[cell_of(d) as usize + 1] += 1;
+        darts
+            .par_iter()
+            .map(|d| {
+                let (px, py) = (d.pixel % plan.width, d.pixel / plan.width);
+                (py / cell) * cols + px / cell
+            })
+            .collect_into_vec(&mut self.cell_of);
+        // One band per thread: each task reads every dart's cell number.
+        let bands = rayon::current_num_threads().clamp(1, 64) as u32;
+        let band_cells = (rows.div_ceil(bands) * cols) as usize;
+        let n_cells = (cols * rows) as usize;
+        let mut band_len = vec![0u32; n_cells.div_ceil(band_cells)];
+        for &c in &self.cell_of {
+            band_len[c as usize / band_cells] += 1;
         }
-        for c in 1..start.len() {
-            start[c] += start[c - 1];
-        }
-        self.fill.clone_from(start);
+        self.start.clear();
+        self.start.resize(n_cells + 1, 0);
+        self.start[n_cells] = darts.len() as u32;
         self.entries.clear();
         self.entries.resize(darts.len(), GridEntry::default());
-        for (k, d) in darts.iter().enumerate() {
-            let c = cell_of(d) as usize;
-            self.entries[self.fill[c] as usize] = GridEntry {
-                key: plan.layout.key(k as u32, d.radius),
-                x: d.x,
-                y: d.y,
-                radius: d.radius,
-            };
-            self.fill[c] += 1;
+        let mut tasks = Vec::with_capacity(band_len.len());
+        let (mut start, mut entries, mut first) =
+            (&mut self.start[..n_cells], &mut self.entries[..], 0u32);
+        for (b, &len) in band_len.iter().enumerate() {
+            let (s, s_rest) = start.split_at_mut(band_cells.min(start.len()));
+            let (e, e_rest) = entries.split_at_mut(len as usize);
+            tasks.push((b, s, e, first));
+            (start, entries, first) = (s_rest, e_rest, first + len);
         }
+        let cell_of = &self.cell_of;
+        tasks
+            .into_par_iter()
+            .for_each(|(b, start, entries, first)| {
+                let lo = (b * band_cells) as u32;
+                let hi = lo + start.len() as u32;
+                start.fill(0);
+                for &c in cell_of {
+                    if (lo..hi).contains(&c) {
+                        start[(c - lo) as usize] += 1;
+                    }
+                }
+                // Exclusive prefix sum, offset by the band's first entry.
+                let mut at = first;
+                for s in start.iter_mut() {
+                    (*s, at) = (at, at + *s);
+                }
+                // Place the band's darts, then restore the starts.
+                for (k, (&c, d)) in cell_of.iter().zip(darts).enumerate() {
+                    if (lo..hi).contains(&c) {
+                        let slot = &mut start[(c - lo) as usize];
+                        entries[(*slot - first) as usize] = GridEntry {
+                            key: plan.layout.key(k as u32, d.radius),
+                            x: d.x,
+                            y: d.y,
+                            radius: d.radius,
+                        };
+                        *slot += 1;
+                    }
+                }
+                let mut prev = first;
+                for s in start.iter_mut() {
+                    (*s, prev) = (prev, *s);
+                }
+            });
     }
 
     /// Bytes held.
     #[must_use]
     pub fn bytes(&self) -> usize {
-        4 * (self.start.capacity() + self.fill.capacity())
+        4 * (self.start.capacity() + self.cell_of.capacity())
             + self.entries.capacity() * std::mem::size_of::<GridEntry>()
     }
 }
