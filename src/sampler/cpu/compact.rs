@@ -178,7 +178,7 @@ mod tests {
                 // Round 1 covers a whole band; the others scatter.
                 let band = p / (BAND_ROWS * w);
                 if (round == 1 && band == 1)
-                    || crate::sampler::fixed::mix(p ^ (round << 20)) % 3 == 0
+                    || crate::sampler::fixed::mix(p ^ (round << 20)).is_multiple_of(3)
                 {
                     coverage[p as usize] = 1;
                 }
