@@ -10,7 +10,7 @@
 
 use rayon::prelude::*;
 
-use super::cover::BAND_ROWS;
+use super::cover::{BAND_ROWS, is_covered};
 
 /// The pixels still empty, in ascending order.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -69,15 +69,16 @@ impl EmptyList {
         }
     }
 
-    /// Removes the pixels that the coverage map marks, keeping the order.
-    pub fn compact(&mut self, coverage: &[u8]) {
+    /// Removes the pixels that the coverage map ([`super::cover::new_map`])
+    /// marks, keeping the order.
+    pub fn compact(&mut self, coverage: &[u64]) {
         let band = self.band as usize;
         match &mut self.pieces {
             None => {
-                let mut pieces = vec![Vec::new(); coverage.len().div_ceil(band)];
+                let mut pieces = vec![Vec::new(); (self.pixels as usize).div_ceil(band)];
                 pieces
                     .par_iter_mut()
-                    .zip(coverage.par_chunks(band))
+                    .zip(coverage.par_chunks(band / 64))
                     .enumerate()
                     .for_each(|(b, (piece, cov))| uncovered_of(piece, (b * band) as u32, cov));
                 self.pieces = Some(pieces);
@@ -104,58 +105,34 @@ impl EmptyList {
     }
 }
 
-/// Sets `piece` to the pixels `base..` whose coverage bytes `cov` are 0.
-///
-/// Most of the domain is covered after the first iteration, so the bytes are
-/// read 64 at a time into a mask of the uncovered ones (vectorized), and
-/// only its set bits are visited. A first pass counts them (by the same
-/// masks) so that `piece` holds no more than it keeps.
-fn uncovered_of(piece: &mut Vec<u32>, base: u32, cov: &[u8]) {
-    let count: u32 = cov.chunks(64).map(|b| uncovered_mask(b).count_ones()).sum();
+/// Sets `piece` to the empty pixels of the coverage words `cov`, whose
+/// first pixel is `base`: a word's zero bits, visited by their index. A first
+/// pass counts them so that `piece` holds no more than it keeps.
+fn uncovered_of(piece: &mut Vec<u32>, base: u32, cov: &[u64]) {
+    let count: u32 = cov.iter().map(|w| w.count_zeros()).sum();
     piece.clear();
     piece.resize(count as usize, 0);
     let mut n = 0;
-    for (block, bytes) in (base..).step_by(64).zip(cov.chunks(64)) {
-        let mut mask = uncovered_mask(bytes);
-        while mask != 0 {
-            piece[n] = block + mask.trailing_zeros();
+    for (word, &bits) in (base..).step_by(64).zip(cov) {
+        let mut empty = !bits;
+        while empty != 0 {
+            piece[n] = word + empty.trailing_zeros();
             n += 1;
-            mask &= mask - 1;
+            empty &= empty - 1;
         }
     }
-}
-
-/// Bit `i` set where `bytes[i]` (coverage, 0 or 1) is 0, for up to 64 bytes.
-#[inline]
-fn uncovered_mask(bytes: &[u8]) -> u64 {
-    const LOW_BITS: u64 = 0x0101_0101_0101_0101;
-    // Moves bit 8k to bit 56 + k: every product term lands on its own bit.
-    const GATHER: u64 = 0x0102_0408_1020_4080;
-    let mut mask = 0u64;
-    let words = bytes.chunks_exact(8);
-    let tail = words.remainder();
-    for (i, word) in words.enumerate() {
-        let word = u64::from_le_bytes(word.try_into().unwrap_or_default());
-        let empty = (word ^ LOW_BITS) & LOW_BITS;
-        mask |= (empty.wrapping_mul(GATHER) >> 56) << (8 * i);
-    }
-    let done = bytes.len() - tail.len();
-    for (i, &c) in tail.iter().enumerate() {
-        mask |= u64::from(c == 0) << (done + i);
-    }
-    mask
 }
 
 /// Keeps the pixels of `piece` that the coverage map leaves empty, in order,
 /// in place. Branchless: every pixel is written and the length advances only
 /// past the uncovered ones, since a data-dependent branch would mispredict
 /// about as often as coverage changes along the list.
-fn retain_uncovered(piece: &mut Vec<u32>, coverage: &[u8]) {
+fn retain_uncovered(piece: &mut Vec<u32>, coverage: &[u64]) {
     let mut n = 0;
     for i in 0..piece.len() {
         let p = piece[i];
         piece[n] = p;
-        n += usize::from(coverage[p as usize] == 0);
+        n += usize::from(!is_covered(coverage, p));
     }
     piece.truncate(n);
 }
@@ -171,7 +148,7 @@ mod tests {
         let (w, h) = (7u32, 3 * BAND_ROWS + 5);
         let n = w * h;
         let mut list = EmptyList::all(n, w);
-        let mut coverage = vec![0u8; n as usize];
+        let mut coverage = crate::sampler::cpu::cover::new_map(n);
         let mut want: Vec<u32> = (0..n).collect();
         for round in 0..4u32 {
             for p in 0..n {
@@ -180,11 +157,11 @@ mod tests {
                 if (round == 1 && band == 1)
                     || crate::sampler::fixed::mix(p ^ (round << 20)).is_multiple_of(3)
                 {
-                    coverage[p as usize] = 1;
+                    coverage[(p / 64) as usize] |= 1 << (p % 64);
                 }
             }
             list.compact(&coverage);
-            want.retain(|&p| coverage[p as usize] == 0);
+            want.retain(|&p| !is_covered(&coverage, p));
             assert_eq!(list.len() as usize, want.len(), "round {round}");
             for (i, &p) in want.iter().enumerate() {
                 assert_eq!(list.get(i as u32), p, "round {round} index {i}");

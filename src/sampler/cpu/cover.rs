@@ -2,6 +2,10 @@
 //! survivor marks the pixels whose centres lie within the policy's distance
 //! f(r_sample, r_pixel) in the coverage map.
 //!
+//! The map is a bitmap, as on the GPU: pixel `p` is bit `p % 64` of word
+//! `p / 64`. A band of [`BAND_ROWS`] rows is `BAND_ROWS * width` pixels, a
+//! whole number of words, so threads own whole words.
+//!
 //! WGSL mirror: `shaders/cover.wgsl`.
 
 use rayon::prelude::*;
@@ -21,7 +25,9 @@ pub fn reach(plan: &Plan, s: &Dart) -> u32 {
 
 /// The largest `d >= 0` with `d * d <= m`.
 fn isqrt(m: u64) -> u64 {
-    let mut d = (m as f64).sqrt() as u64;
+    // m < 2^62, so the signed conversions (one instruction each) are exact
+    // enough for the corrections below to finish in a step or two.
+    let mut d = (m as i64 as f64).sqrt() as i64 as u64;
     while d * d > m {
         d -= 1;
     }
@@ -41,8 +47,40 @@ fn wrap(q: i64, n: u32, periodic: bool) -> Option<u32> {
 }
 
 /// Rows per band: the coverage map is split into bands of rows that threads
-/// own, so that spans are plain `fill`s and no atomics are needed.
+/// own, so that no atomics are needed. 64, so that a band is whole words.
 pub const BAND_ROWS: u32 = 64;
+
+/// An empty coverage map for `pixels` pixels. The bits past the last pixel
+/// are set, so that they never read as empty.
+#[must_use]
+pub fn new_map(pixels: u32) -> Vec<u64> {
+    let mut map = vec![0u64; pixels.div_ceil(64) as usize];
+    if let Some(last) = map.last_mut().filter(|_| !pixels.is_multiple_of(64)) {
+        *last = !0u64 << (pixels % 64);
+    }
+    map
+}
+
+/// Whether pixel `p` is covered.
+#[inline]
+#[must_use]
+pub fn is_covered(map: &[u64], p: u32) -> bool {
+    map[(p / 64) as usize] >> (p % 64) & 1 == 1
+}
+
+/// Sets bits `lo..=hi` of `map`.
+#[inline]
+fn set_bits(map: &mut [u64], lo: usize, hi: usize) {
+    let (wl, wh) = (lo / 64, hi / 64);
+    let (ml, mh) = (!0u64 << (lo % 64), !0u64 >> (63 - hi % 64));
+    if wl == wh {
+        map[wl] |= ml & mh;
+    } else {
+        map[wl] |= ml;
+        map[wl + 1..wh].fill(!0);
+        map[wh] |= mh;
+    }
+}
 
 /// The unwrapped rows whose centres may lie within reach of sample `s`.
 fn row_range(plan: &Plan, s: &Dart) -> (i64, i64) {
@@ -58,24 +96,33 @@ fn row_range(plan: &Plan, s: &Dart) -> (i64, i64) {
 
 /// Marks the pixels of rows `band.start..band.end` that sample `s` covers;
 /// `cov` holds those rows.
-fn cover_band(plan: &Plan, s: &Dart, band: std::ops::Range<u32>, cov: &mut [u8]) {
+fn cover_band(plan: &Plan, s: &Dart, band: std::ops::Range<u32>, cov: &mut [u64]) {
     let one = 1i64 << POS_FRAC_BITS;
     let half = one / 2;
     let r = i64::from(reach(plan, s)) << (POS_FRAC_BITS - RADIUS_FRAC_BITS);
     let (cx, cy) = (i64::from(s.x), i64::from(s.y));
     let (y0, y1) = row_range(plan, s);
     let w = plan.width as usize;
+    // Off a periodic domain, only the band's own rows are visited.
+    let (y0, y1) = if plan.periodic {
+        (y0, y1)
+    } else {
+        (
+            y0.max(i64::from(band.start)),
+            y1.min(i64::from(band.end) - 1),
+        )
+    };
     for qy in y0..=y1 {
         let Some(y) = wrap(qy, plan.height, plan.periodic).filter(|y| band.contains(y)) else {
             continue;
         };
-        let row = &mut cov[(y - band.start) as usize * w..][..w];
+        let row = (y - band.start) as usize * w;
         let dy = (qy * one + half - cy).unsigned_abs();
         let dx_max = isqrt((r * r) as u64 - dy * dy - 1) as i64;
         let x0 = -(-(cx - dx_max - half)).div_euclid(one);
         let x1 = (cx + dx_max - half).div_euclid(one);
         if plan.policy == Policy::Prior {
-            fill_span(row, x0, x1, plan.periodic);
+            fill_span(cov, row, w, x0, x1, plan.periodic);
             continue;
         }
         for qx in x0..=x1 {
@@ -87,49 +134,53 @@ fn cover_band(plan: &Plan, s: &Dart, band: std::ops::Range<u32>, cov: &mut [u8])
                 .policy
                 .coverage_radius(s.radius, plan.radius_at(y * plan.width + x));
             if inside(dx, dy as u32, f) {
-                row[x as usize] = 1;
+                let p = row + x as usize;
+                cov[p / 64] |= 1 << (p % 64);
             }
         }
     }
 }
 
-/// Sets `row[x0..=x1]`, wrapping or clipping at the row's ends.
-fn fill_span(row: &mut [u8], x0: i64, x1: i64, periodic: bool) {
-    let n = row.len() as i64;
+/// Sets pixels `x0..=x1` of the `n`-pixel row starting at bit `row`,
+/// wrapping or clipping at the row's ends.
+fn fill_span(cov: &mut [u64], row: usize, n: usize, x0: i64, x1: i64, periodic: bool) {
+    let n = n as i64;
     if x0 > x1 {
         return;
     }
+    let mut set = |a: i64, b: i64| set_bits(cov, row + a as usize, row + b as usize);
     if !periodic {
         let (a, b) = (x0.max(0), x1.min(n - 1));
         if a <= b {
-            row[a as usize..=b as usize].fill(1);
+            set(a, b);
         }
         return;
     }
     if x1 - x0 + 1 >= n {
-        row.fill(1);
+        set(0, n - 1);
         return;
     }
     let (a, b) = (x0.rem_euclid(n), x1.rem_euclid(n));
     if a <= b {
-        row[a as usize..=b as usize].fill(1);
+        set(a, b);
     } else {
-        row[a as usize..].fill(1);
-        row[..=b as usize].fill(1);
+        set(a, n - 1);
+        set(0, b);
     }
 }
 
 /// Marks the pixels that the survivors cover. Each band of [`BAND_ROWS`] rows
 /// is one task: the map is the same for any thread count.
-pub fn cover(plan: &Plan, survivors: &[Dart], coverage: &mut [u8]) {
+pub fn cover(plan: &Plan, survivors: &[Dart], coverage: &mut [u64]) {
     let bands = plan.height.div_ceil(BAND_ROWS) as usize;
-    let mut buckets: Vec<Vec<u32>> = vec![Vec::new(); bands];
-    for (i, s) in survivors.iter().enumerate() {
+    // Copies, not indices: a band then reads its samples in sequence.
+    let mut buckets: Vec<Vec<Dart>> = vec![Vec::new(); bands];
+    for s in survivors {
         let (y0, y1) = row_range(plan, s);
         let mut add = |y: u32| {
             let b = &mut buckets[(y / BAND_ROWS) as usize];
-            if b.last() != Some(&(i as u32)) {
-                b.push(i as u32);
+            if b.last() != Some(s) {
+                b.push(*s);
             }
         };
         if plan.periodic {
@@ -141,15 +192,15 @@ pub fn cover(plan: &Plan, survivors: &[Dart], coverage: &mut [u8]) {
             (a / BAND_ROWS..=b / BAND_ROWS).for_each(|band| add(band * BAND_ROWS));
         }
     }
-    let band_px = (BAND_ROWS * plan.width) as usize;
+    let band_words = (BAND_ROWS * plan.width / 64) as usize;
     coverage
-        .par_chunks_mut(band_px)
+        .par_chunks_mut(band_words)
         .zip(buckets.par_iter())
         .enumerate()
         .for_each(|(b, (cov, list))| {
             let rows = b as u32 * BAND_ROWS..((b as u32 + 1) * BAND_ROWS).min(plan.height);
-            for &i in list {
-                cover_band(plan, &survivors[i as usize], rows.clone(), cov);
+            for s in list {
+                cover_band(plan, s, rows.clone(), cov);
             }
         });
 }
@@ -185,7 +236,7 @@ mod tests {
                 }
             })
             .collect();
-        let mut cov = vec![0u8; (w * h) as usize];
+        let mut cov = new_map(w * h);
         cover(&plan, &samples, &mut cov);
         let (px, py) = plan.periods();
         for p in 0..w * h {
@@ -196,7 +247,7 @@ mod tests {
             });
             assert_eq!(
                 want,
-                cov[p as usize] == 1,
+                is_covered(&cov, p),
                 "{policy:?} periodic {periodic} pixel {p}"
             );
         }

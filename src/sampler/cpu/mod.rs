@@ -26,7 +26,7 @@ pub fn sample(params: &Params, ctl: Control<'_>) -> Result<SampleSet> {
     let start = Instant::now();
     let plan = params.plan()?;
     let pixels = plan.pixels();
-    let mut coverage = vec![0u8; pixels as usize];
+    let mut coverage = cover::new_map(pixels);
     let mut empty = EmptyList::all(pixels, plan.width);
     let mut points = Vec::new();
     let mut stats = Stats {
@@ -77,7 +77,7 @@ pub fn sample(params: &Params, ctl: Control<'_>) -> Result<SampleSet> {
     }
     stats.seconds = start.elapsed().as_secs_f64();
     stats.bytes_per_pixel =
-        (coverage.len() + map_bytes + peak_bytes) as f64 / f64::from(pixels.max(1));
+        (8 * coverage.len() + map_bytes + peak_bytes) as f64 / f64::from(pixels.max(1));
     Ok(SampleSet::finish(
         (plan.width, plan.height),
         points,
