@@ -5,6 +5,7 @@
 
 mod fixtures;
 
+use std::f64::consts::FRAC_1_SQRT_2;
 use std::path::Path;
 use std::process::{Command, Output};
 
@@ -201,6 +202,69 @@ fn point_count_targeting_keeps_its_tolerance() {
     assert!(within(pts.len(), 2000), "{} dots", pts.len());
     assert!(pts.iter().all(|p| p[0] < 150.0), "a dot in the white half");
     assert_eq!(circles(&svg).len(), pts.len());
+}
+
+/// The smallest distance between two points on a `w`×`h` torus.
+fn wrapped_min_distance(pts: &[[f64; 3]], w: f64, h: f64) -> f64 {
+    let mut best = f64::INFINITY;
+    for (i, a) in pts.iter().enumerate() {
+        for b in &pts[i + 1..] {
+            let dx = (a[0] - b[0]).abs();
+            let dy = (a[1] - b[1]).abs();
+            best = best.min(dx.min(w - dx).hypot(dy.min(h - dy)));
+        }
+    }
+    best
+}
+
+#[test]
+fn periodic_stipple_keeps_its_spacing_across_the_seams() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = file(dir.path(), "grey.png");
+    halves_gray8(200, 120, 128, 128).save(&png).unwrap();
+    let (w, h) = (200.0, 120.0);
+    let mut closest = Vec::new();
+    for periodic in [true, false] {
+        let (csv, svg) = (file(dir.path(), "p.csv"), file(dir.path(), "p.svg"));
+        let mut args = vec![
+            "stipple",
+            s(&png),
+            "-o",
+            s(&svg),
+            "--points",
+            "600",
+            "--width",
+            "200",
+            "--save-points",
+            s(&csv),
+            "--backend",
+            "cpu",
+            "-q",
+        ];
+        if periodic {
+            args.push("--periodic");
+        }
+        ok(&args);
+        let pts = csv_points(&csv);
+        let r = pts[0][2];
+        assert!(
+            pts.iter().all(|p| p[2] == r),
+            "a grey image gives one radius"
+        );
+        closest.push((wrapped_min_distance(&pts, w, h), r));
+    }
+    // Sub-pixel darts keep pairs at least r − √2/2 px apart; across the
+    // seams only the periodic drawing promises it.
+    let (d, r) = closest[0];
+    assert!(
+        d >= r - FRAC_1_SQRT_2,
+        "periodic: closest wrapped pair {d:.3} px, r = {r} px"
+    );
+    let (d, r) = closest[1];
+    assert!(
+        d < r - 1.0,
+        "open domain: closest wrapped pair {d:.3} px, r = {r} px"
+    );
 }
 
 #[test]

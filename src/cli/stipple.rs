@@ -14,7 +14,7 @@ use pixelpie::sampler::{self, Params, Point, SampleSet};
 use pixelpie::stipple::{DotSize, raster, svg, tsp};
 
 use super::importance::{ImportanceOpts, RunOpts};
-use super::sample::{PolicyArg, progress_bar};
+use super::sample::{GpuPath, PolicyArg, progress_bar};
 
 /// The default number of dots.
 pub const DEFAULT_POINTS: usize = 10_000;
@@ -77,9 +77,17 @@ pub struct StippleArgs {
     /// Sub-pixel bits per axis of dart positions (0 = pixel centres, at most 7).
     #[arg(long, default_value_t = sampler::DEFAULT_SUBPIXEL_BITS)]
     subpixel_bits: u32,
+    /// Wrap distances around the domain, so that tiled copies of the drawing
+    /// keep the dot spacing across their seams.
+    #[arg(long)]
+    periodic: bool,
     /// Backend.
     #[arg(long, value_enum, default_value_t = BackendChoice::Auto)]
     backend: BackendChoice,
+    /// How the GPU rasterizes darts (S1): by measurement, the depth-tested
+    /// draw, or the compute pass.
+    #[arg(long, value_enum, default_value_t = GpuPath::Auto)]
+    gpu_path: GpuPath,
     /// No progress bar and no report on stderr.
     #[arg(long, short)]
     quiet: bool,
@@ -159,6 +167,9 @@ pub fn run(a: &StippleArgs) -> Result<()> {
         (None, Some(_)) => None,
         (None, None) => Some(DEFAULT_POINTS),
     };
+    if a.backend != BackendChoice::Cpu && a.gpu_path != GpuPath::Auto {
+        a.gpu_path.apply();
+    }
     let t0 = Instant::now();
     let prepared = a.importance_opts.prepare(
         &a.image,
@@ -176,7 +187,8 @@ pub fn run(a: &StippleArgs) -> Result<()> {
         base: Params::new(width, height)
             .with_policy(a.policy.into())
             .with_seed(a.seed)
-            .with_subpixel_bits(a.subpixel_bits),
+            .with_subpixel_bits(a.subpixel_bits)
+            .with_periodic(a.periodic),
         points,
         backend: a.backend,
         bar: &bar,
