@@ -21,9 +21,9 @@ struct Config {
     first: u32,         // 1 = every pixel is empty (the first iteration)
     words: u32,         // coverage words, ceil(width * height / 32)
     splat: u32,         // 1 = S1 rasterized by splat.wgsl into a key buffer
+    strip_y0: u32,      // the key buffer holds rows strip_y0 ..
+    strip_rows: u32,    // .. strip_y0 + strip_rows (all rows unless chunked)
     pad0: u32,
-    pad1: u32,
-    pad2: u32,
 }
 
 // Mirrors `sampler::cpu::throw::Dart`.

@@ -180,3 +180,54 @@ fn both_s1_paths_match_reference_implementation() {
         }
     }
 }
+
+#[test]
+fn a_chunked_key_buffer_matches_reference_implementation() {
+    use pixelpie::gpu::S1Path;
+    let Some(g) = gpu() else { return };
+    let (w, h) = (200, 150);
+    let map = Arc::new(RadiusMap::from_pixels(w, h, &step_radii(w, h)).unwrap());
+    let mut s = g.sampler.lock().unwrap();
+    s.set_path(Some(S1Path::Compute));
+    let mut run = |params: &Params, cap: Option<u32>| {
+        s.set_strip_cap(cap);
+        s.sample(&g.ctx.device, &g.ctx.queue, params, Control::default())
+            .expect("GPU")
+    };
+    // Strips of 1 row, of 7 (the last one partial) and of 64 rows.
+    let uniform = Params::new(w, h).with_radius(3.5).with_seed(5);
+    let whole = run(&uniform, None);
+    let reference = cpu::sample(&uniform, Control::default()).unwrap();
+    assert_eq!(whole.points, reference.points, "uniform, whole key buffer");
+    for cap in [1, 7, 64] {
+        let chunked = run(&uniform, Some(cap));
+        assert_eq!(
+            chunked.points, whole.points,
+            "uniform, strips of {cap} rows"
+        );
+        // The key buffer (4 B/px when whole) shrinks to the strip.
+        assert!(
+            chunked.stats.bytes_per_pixel < whole.stats.bytes_per_pixel - 3.0,
+            "strips of {cap} rows: {} B/px against {} whole",
+            chunked.stats.bytes_per_pixel,
+            whole.stats.bytes_per_pixel
+        );
+    }
+    for policy in Policy::ALL {
+        for periodic in [false, true] {
+            let params = Params::new(w, h)
+                .with_radius_map(map.clone())
+                .with_policy(policy)
+                .with_periodic(periodic)
+                .with_seed(21);
+            let on_gpu = run(&params, Some(7));
+            let on_cpu = cpu::sample(&params, Control::default()).unwrap();
+            assert_eq!(
+                on_gpu.points, on_cpu.points,
+                "strips of 7 rows, {policy:?} periodic {periodic}"
+            );
+        }
+    }
+    s.set_strip_cap(None);
+    s.set_path(None);
+}

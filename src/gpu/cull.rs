@@ -1,6 +1,6 @@
 //! Conflict removal (paper §3.2, step S2) on wgpu: a compute pass reads the
-//! depth map at each dart's pixel and flags the darts whose key won; the flags
-//! are scanned and the survivors gathered in dart order.
+//! depth map (or key buffer) at each dart's pixel and flags the darts whose
+//! key won; the flags are scanned and the survivors gathered in dart order.
 //! Shader: `shaders/cull.wgsl`; CPU mirror: `sampler::cpu::cull`.
 
 use super::util;
@@ -38,7 +38,7 @@ impl CullStage {
         }
     }
 
-    /// Flags the winners of `darts` darts.
+    /// Flags the winners of `darts` darts, and ends the flags with a 0.
     pub fn encode_cull(
         &self,
         pass: &mut wgpu::ComputePass<'_>,
@@ -47,7 +47,7 @@ impl CullStage {
     ) {
         pass.set_pipeline(&self.cull);
         pass.set_bind_group(0, group, &[]);
-        util::dispatch(pass, darts.div_ceil(256));
+        util::dispatch(pass, (darts + 1).div_ceil(256));
     }
 
     /// Writes the winners to the survivor buffer, in dart order.

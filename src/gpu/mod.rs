@@ -47,7 +47,12 @@ pub struct Config {
     first: u32,
     words: u32,
     splat: u32,
-    pad: [u32; 3],
+    /// The first row of the key buffer's strip (compute S1 path).
+    strip_y0: u32,
+    /// Rows of the strip: the domain's height unless the key buffer is
+    /// chunked.
+    strip_rows: u32,
+    pad: u32,
 }
 
 impl Config {
@@ -75,7 +80,9 @@ impl Config {
             first: 1,
             words: plan.pixels().div_ceil(32),
             splat: 0,
-            pad: [0; 3],
+            strip_y0: 0,
+            strip_rows: plan.height,
+            pad: 0,
         }
     }
 }
@@ -145,6 +152,8 @@ pub struct GpuSampler {
     path: Option<S1Path>,
     /// The path that measured faster on this device.
     measured: Option<S1Path>,
+    /// A cap on the rows per strip of the compute path's key buffer.
+    strip_cap: Option<u32>,
 }
 
 impl GpuSampler {
@@ -161,6 +170,7 @@ impl GpuSampler {
             adapter: adapter.into(),
             path: None,
             measured: None,
+            strip_cap: None,
         };
         let errors = [
             pollster::block_on(internal.pop()),
@@ -183,21 +193,18 @@ impl GpuSampler {
         self.path = path;
     }
 
-    /// The S1 path a run of `plan` takes on `device`: the caller's choice, or
-    /// the faster one measured (once) on a 512² calibration run; the raster
-    /// path when the key buffer would exceed the adapter's binding size.
-    fn path_for(
-        &mut self,
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
-        plan: &Plan,
-    ) -> Result<S1Path> {
-        let fits = 4 * u64::from(plan.pixels()) <= device.limits().max_storage_buffer_binding_size;
+    /// Caps the rows per strip of the compute path's key buffer, which is
+    /// otherwise chunked only beyond the adapter's largest storage binding:
+    /// for tests of the chunking on small domains. `None` lifts the cap.
+    pub fn set_strip_cap(&mut self, rows: Option<u32>) {
+        self.strip_cap = rows.map(|r| r.max(1));
+    }
+
+    /// The S1 path a run takes on `device`: the caller's choice, or the
+    /// faster one measured (once) on a 512² calibration run.
+    fn path_for(&mut self, device: &wgpu::Device, queue: &wgpu::Queue) -> Result<S1Path> {
         if let Some(p) = self.path {
             return Ok(p);
-        }
-        if !fits {
-            return Ok(S1Path::Raster);
         }
         if let Some(p) = self.measured {
             return Ok(p);
@@ -266,14 +273,14 @@ impl GpuSampler {
                 "radii above 32766 px exceed the GPU's row dispatch".into(),
             ));
         }
-        let path = self.path_for(device, queue, &plan)?;
+        let path = self.path_for(device, queue)?;
         let start = Instant::now();
         let cap = plan.batch.min(plan.pixels()).min(plan.layout.max_batch());
         let timestamps = device.features().contains(wgpu::Features::TIMESTAMP_QUERY);
         let fits = self
             .resources
             .as_ref()
-            .is_some_and(|r| r.fits(&plan, cap, path));
+            .is_some_and(|r| r.fits(&plan, cap, path, self.strip_cap));
         if !fits {
             self.resources = None;
             self.resources = Some(Resources::new(
@@ -287,6 +294,7 @@ impl GpuSampler {
                 cap,
                 timestamps,
                 path,
+                self.strip_cap,
             )?);
         }
         let Some(res) = self.resources.as_ref() else {
@@ -317,14 +325,13 @@ impl GpuSampler {
             let darts = plan.darts_for(config.empty);
             config.iteration_key = iteration_key(plan.seed_key, iteration);
             config.darts = darts;
-            queue.write_buffer(&res.config, 0, bytemuck::bytes_of(&config));
-            res.dart_scan.set_len(queue, darts, 0);
+            res.dart_scan.set_len(queue, darts + 1, 0);
             let step = res.iterate(
                 device,
                 queue,
                 (&self.throw, &self.cull, &self.cover, &self.compact),
                 &plan,
-                darts,
+                config,
                 timestamps,
             )?;
             stats.throw_seconds += step.seconds[0];

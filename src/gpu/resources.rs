@@ -8,7 +8,7 @@ use super::compact::{CompactStage, ScanChain};
 use super::cover::CoverStage;
 use super::cull::CullStage;
 use super::throw::ThrowStage;
-use super::util;
+use super::{Config, util};
 use crate::sampler::cpu::throw::Dart;
 use crate::sampler::{Error, Plan, Result};
 
@@ -52,6 +52,8 @@ pub struct Resources {
     narrow: bool,
     capacity: u32,
     path: S1Path,
+    /// Rows per strip of the key buffer (compute path; the height if whole).
+    strip_rows: u32,
     keys: wgpu::Buffer,
     splat_group: wgpu::BindGroup,
     /// The run's configuration (uniform).
@@ -75,7 +77,10 @@ pub struct Resources {
 }
 
 impl Resources {
-    /// Allocates everything a `plan` with batches of up to `capacity` darts needs.
+    /// Allocates everything a `plan` with batches of up to `capacity` darts
+    /// needs. The compute path's key buffer is cut into strips of rows when
+    /// the whole would exceed the adapter's largest storage binding, or when
+    /// `strip_cap` (rows; for tests) asks for it.
     #[expect(
         clippy::too_many_arguments,
         reason = "the four stages and the run's shape"
@@ -91,19 +96,23 @@ impl Resources {
         capacity: u32,
         timestamps: bool,
         path: S1Path,
+        strip_cap: Option<u32>,
     ) -> Result<Self> {
         use wgpu::BufferUsages as B;
         let (width, height) = (plan.width, plan.height);
         let words = plan.pixels().div_ceil(32);
         let max_binding = device.limits().max_storage_buffer_binding_size;
         let dart_bytes = u64::from(capacity) * DART_BYTES;
-        let key_bytes = 4 * u64::from(plan.pixels());
-        if path == S1Path::Compute && key_bytes > max_binding {
+        let row_bytes = 4 * u64::from(width);
+        let strip_rows = (max_binding / row_bytes)
+            .min(u64::from(height))
+            .min(u64::from(strip_cap.unwrap_or(u32::MAX))) as u32;
+        if path == S1Path::Compute && strip_rows == 0 {
             return Err(Error::Gpu(format!(
-                "the {width}x{height} key buffer exceeds the adapter's storage binding size"
+                "a {width}-pixel row of keys exceeds the adapter's storage binding size"
             )));
         }
-        if dart_bytes > max_binding || 4 * u64::from(words) > max_binding {
+        if dart_bytes + DART_BYTES > max_binding || 4 * u64::from(words) > max_binding {
             return Err(Error::Gpu(format!(
                 "the batch of {capacity} darts exceeds the adapter's storage binding size"
             )));
@@ -124,7 +133,8 @@ impl Resources {
         );
         let word_scan = ScanChain::new(device, compact, "word scan", words, Some(&coverage));
         word_scan.set_len(queue, words, plan.pixels());
-        let dart_scan = ScanChain::new(device, compact, "dart scan", capacity, None);
+        // One more flag than darts: the 0 that ends them (see cull.wgsl).
+        let dart_scan = ScanChain::new(device, compact, "dart scan", capacity + 1, None);
         let texture = |label, size: (u32, u32), format, usage| {
             device.create_texture(&wgpu::TextureDescriptor {
                 label: Some(label),
@@ -146,7 +156,11 @@ impl Resources {
         let keys = util::buffer_of(
             device,
             "splat keys",
-            if splat { key_bytes } else { 16 },
+            if splat {
+                row_bytes * u64::from(strip_rows)
+            } else {
+                16
+            },
             B::STORAGE | B::COPY_DST,
         );
         let depth = texture(
@@ -239,7 +253,13 @@ impl Resources {
         } else {
             0
         };
-        let bytes = (4 + map_bytes) * u64::from(width) * u64::from(height)
+        let s1_bytes = if splat {
+            keys.size()
+        } else {
+            4 * u64::from(width) * u64::from(height)
+        };
+        let bytes = s1_bytes
+            + map_bytes * u64::from(width) * u64::from(height)
             + 3 * dart_bytes
             + coverage.size()
             + word_scan.bytes()
@@ -251,6 +271,7 @@ impl Resources {
             narrow,
             capacity,
             path,
+            strip_rows: if splat { strip_rows } else { height },
             keys,
             splat_group,
             config,
@@ -272,7 +293,7 @@ impl Resources {
     }
 
     /// Whether these resources serve `plan` with batches of `capacity` darts.
-    pub fn fits(&self, plan: &Plan, capacity: u32, path: S1Path) -> bool {
+    pub fn fits(&self, plan: &Plan, capacity: u32, path: S1Path, strip_cap: Option<u32>) -> bool {
         (
             self.width,
             self.height,
@@ -286,6 +307,7 @@ impl Resources {
             narrow_radii(plan),
             path,
         ) && capacity <= self.capacity
+            && strip_cap.is_none_or(|cap| self.strip_rows <= cap)
     }
 
     /// Device memory held, in bytes.
@@ -335,18 +357,24 @@ impl Resources {
             })
     }
 
-    /// Encodes, runs and reads back one iteration of `darts` darts. Without
-    /// timestamp queries each stage is submitted and timed on its own.
+    /// Encodes, runs and reads back one iteration of `config.darts` darts.
+    /// Without timestamp queries each stage is submitted and timed on its own.
     pub fn iterate(
         &self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         stages: (&ThrowStage, &CullStage, &CoverStage, &CompactStage),
         plan: &Plan,
-        darts: u32,
+        config: Config,
         timestamps: bool,
     ) -> Result<Step> {
         let (throw, cull, cover, compact) = stages;
+        let darts = config.darts;
+        let mut config = config;
+        config.strip_y0 = 0;
+        config.strip_rows = self.strip_rows;
+        queue.write_buffer(&self.config, 0, bytemuck::bytes_of(&config));
+        let strips = self.height.div_ceil(self.strip_rows);
         let mut seconds = [0.0; 3];
         let mut clock = Instant::now();
         let mut lap = |encoder: &mut wgpu::CommandEncoder, stage: usize| {
@@ -391,18 +419,37 @@ impl Resources {
                     }),
             ),
             S1Path::Compute => {
-                encoder.clear_buffer(&self.keys, 0, None);
-                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some("S1 splat"),
-                    timestamp_writes: self.queries.as_ref().map(|(set, _)| {
-                        wgpu::ComputePassTimestampWrites {
-                            query_set: set,
-                            beginning_of_pass_write_index: None,
-                            end_of_pass_write_index: Some(1),
-                        }
-                    }),
-                });
-                throw.encode_splat(&mut pass, &self.splat_group, darts, plan.radius_range.1);
+                // A chunked key buffer takes one strip of rows per submission
+                // (the strip is in the uniform config), and culls the darts
+                // whose pixels lie in the strip while its keys are there.
+                for strip in 0..strips {
+                    if strip > 0 {
+                        let done = std::mem::replace(
+                            &mut encoder,
+                            device.create_command_encoder(&Default::default()),
+                        );
+                        queue.submit([done.finish()]);
+                        config.strip_y0 = strip * self.strip_rows;
+                        config.strip_rows = self.strip_rows.min(self.height - config.strip_y0);
+                        queue.write_buffer(&self.config, 0, bytemuck::bytes_of(&config));
+                    }
+                    encoder.clear_buffer(&self.keys, 0, None);
+                    let last = strip + 1 == strips;
+                    let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                        label: Some("S1 splat"),
+                        timestamp_writes: self.queries.as_ref().filter(|_| last).map(|(set, _)| {
+                            wgpu::ComputePassTimestampWrites {
+                                query_set: set,
+                                beginning_of_pass_write_index: None,
+                                end_of_pass_write_index: Some(1),
+                            }
+                        }),
+                    });
+                    throw.encode_splat(&mut pass, &self.splat_group, darts, plan.radius_range.1);
+                    if strips > 1 {
+                        cull.encode_cull(&mut pass, &self.cull_group, darts);
+                    }
+                }
             }
         }
         lap(&mut encoder, 0);
@@ -412,8 +459,10 @@ impl Resources {
                 label: Some("S2 cull"),
                 timestamp_writes: self.pass_writes(2),
             });
-            cull.encode_cull(&mut pass, &self.cull_group, darts);
-            self.dart_scan.encode_scan(&mut pass, compact, darts);
+            if strips == 1 {
+                cull.encode_cull(&mut pass, &self.cull_group, darts);
+            }
+            self.dart_scan.encode_scan(&mut pass, compact, darts + 1);
             cull.encode_gather(&mut pass, &self.cull_group, darts);
             cover.encode(&mut pass, &self.cover_group, darts, plan.radius_range.1);
         }
