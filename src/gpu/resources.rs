@@ -112,7 +112,7 @@ impl Resources {
                 "a {width}-pixel row of keys exceeds the adapter's storage binding size"
             )));
         }
-        if dart_bytes + DART_BYTES > max_binding || 4 * u64::from(words) > max_binding {
+        if dart_bytes > max_binding || 4 * u64::from(words) > max_binding {
             return Err(Error::Gpu(format!(
                 "the batch of {capacity} darts exceeds the adapter's storage binding size"
             )));
