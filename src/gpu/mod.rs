@@ -280,7 +280,7 @@ impl GpuSampler {
         let fits = self
             .resources
             .as_ref()
-            .is_some_and(|r| r.fits(&plan, cap, path, self.strip_cap));
+            .is_some_and(|r| r.fits(device, &plan, cap, path, self.strip_cap));
         if !fits {
             self.resources = None;
             self.resources = Some(Resources::new(

@@ -22,6 +22,20 @@ fn narrow_radii(plan: &Plan) -> bool {
     plan.radius_range.1 <= u32::from(u16::MAX)
 }
 
+/// Rows per strip of the key buffer for `path`: every row for the raster
+/// path (no key buffer) and wherever the whole buffer fits one storage
+/// binding; otherwise as many rows as fit, and never more than `cap`. 0 when
+/// not even one row fits.
+fn strip_rows(device: &wgpu::Device, plan: &Plan, path: S1Path, cap: Option<u32>) -> u32 {
+    if path == S1Path::Raster {
+        return plan.height;
+    }
+    let max_binding = device.limits().max_storage_buffer_binding_size;
+    (max_binding / (4 * u64::from(plan.width)))
+        .min(u64::from(plan.height))
+        .min(u64::from(cap.unwrap_or(u32::MAX))) as u32
+}
+
 /// What one iteration returns.
 pub struct Step {
     /// Empty pixels after the iteration.
@@ -103,11 +117,8 @@ impl Resources {
         let words = plan.pixels().div_ceil(32);
         let max_binding = device.limits().max_storage_buffer_binding_size;
         let dart_bytes = u64::from(capacity) * DART_BYTES;
-        let row_bytes = 4 * u64::from(width);
-        let strip_rows = (max_binding / row_bytes)
-            .min(u64::from(height))
-            .min(u64::from(strip_cap.unwrap_or(u32::MAX))) as u32;
-        if path == S1Path::Compute && strip_rows == 0 {
+        let strip_rows = strip_rows(device, plan, path, strip_cap);
+        if strip_rows == 0 {
             return Err(Error::Gpu(format!(
                 "a {width}-pixel row of keys exceeds the adapter's storage binding size"
             )));
@@ -157,7 +168,7 @@ impl Resources {
             device,
             "splat keys",
             if splat {
-                row_bytes * u64::from(strip_rows)
+                4 * u64::from(width) * u64::from(strip_rows)
             } else {
                 16
             },
@@ -271,7 +282,7 @@ impl Resources {
             narrow,
             capacity,
             path,
-            strip_rows: if splat { strip_rows } else { height },
+            strip_rows,
             keys,
             splat_group,
             config,
@@ -292,8 +303,16 @@ impl Resources {
         })
     }
 
-    /// Whether these resources serve `plan` with batches of `capacity` darts.
-    pub fn fits(&self, plan: &Plan, capacity: u32, path: S1Path, strip_cap: Option<u32>) -> bool {
+    /// Whether these resources serve `plan` with batches of `capacity` darts,
+    /// with the strips that `strip_cap` asks for.
+    pub fn fits(
+        &self,
+        device: &wgpu::Device,
+        plan: &Plan,
+        capacity: u32,
+        path: S1Path,
+        strip_cap: Option<u32>,
+    ) -> bool {
         (
             self.width,
             self.height,
@@ -307,7 +326,7 @@ impl Resources {
             narrow_radii(plan),
             path,
         ) && capacity <= self.capacity
-            && strip_cap.is_none_or(|cap| self.strip_rows <= cap)
+            && self.strip_rows == strip_rows(device, plan, path, strip_cap)
     }
 
     /// Device memory held, in bytes.
