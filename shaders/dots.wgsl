@@ -9,8 +9,8 @@ struct View {
     scale: f32,
     pixels_per_point: f32,
     offset: vec2<f32>,
-    radius_scale: f32,   // dot radius = sample radius * radius_scale (image px)
-    fixed_radius: f32,   // when > 0, every dot has this radius (image px)
+    radius_scale: f32,   // dot radius = sample radius * radius_scale
+    drawn_scale: f32,    //            + calibrated radius * drawn_scale (image px)
     color: vec4<f32>,
 }
 
@@ -18,7 +18,7 @@ struct Dot {
     x: f32,
     y: f32,
     radius: f32,
-    pad: f32,
+    drawn: f32,
 }
 
 @group(0) @binding(0) var<uniform> view: View;
@@ -37,10 +37,7 @@ fn vs_dot(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -> VsO
         vec2<f32>(-1.0, 1.0), vec2<f32>(1.0, -1.0), vec2<f32>(1.0, 1.0),
     );
     let d = dots[i];
-    var r = d.radius * view.radius_scale;
-    if view.fixed_radius > 0.0 {
-        r = view.fixed_radius;
-    }
+    let r = d.radius * view.radius_scale + d.drawn * view.drawn_scale;
     // Radius on screen in physical pixels, at least half a pixel, plus one
     // pixel of margin for the anti-aliased edge.
     let r_px = max(r * view.scale * view.pixels_per_point, 0.5);

@@ -8,7 +8,7 @@ use std::path::Path;
 
 use fixtures::{decode_srgb, exr_rgba, exr_y, file, gray16, halves_gray8, rgb8, rgba8};
 use image::{DynamicImage, ImageBuffer, Rgb};
-use pixelpie::importance::{
+use pixelpie::importance::{ink, 
     Adjust, Error, ImportanceMap, Mapping, RadiusRange, Range, fit_size, load,
 };
 
@@ -278,7 +278,7 @@ fn adjustments_apply_levels_then_gamma_then_invert() {
 #[test]
 fn mappings_are_monotone_and_exact_at_both_ends() {
     let range = RadiusRange::new(2.5, 17.0).unwrap();
-    for mapping in [Mapping::Linear, Mapping::Tone] {
+    for mapping in [Mapping::Linear, Mapping::Tone, Mapping::ToneSized(0.4)] {
         assert_eq!(mapping.radius(0.0, range), 2.5);
         assert_eq!(mapping.radius(1.0, range), 17.0);
         let mut last = 0.0;
@@ -291,11 +291,14 @@ fn mappings_are_monotone_and_exact_at_both_ends() {
             last = r;
         }
     }
-    // Tone: 1/r² is affine in darkness, so equal darkness steps add equal density.
-    let inv_sq = |v: f32| 1.0 / f64::from(Mapping::Tone.radius(v, range)).powi(2);
-    let step = inv_sq(0.2) - inv_sq(0.4);
-    for v in [0.0f32, 0.3, 0.6] {
-        assert!(((inv_sq(v) - inv_sq(v + 0.2)) / step - 1.0).abs() < 1e-4);
+    // Tone: the black dots put down ink 1 − v on the disks of v, by the
+    // measured curve, wherever r stays inside the range.
+    for mapping in [Mapping::Tone, Mapping::ToneSized(0.4)] {
+        for v in [0.1f32, 0.3, 0.5, 0.7] {
+            let (r, rho) = (mapping.radius(v, range), mapping.dot_radius(v, range));
+            let k = ink::ink(f64::from(rho / r), f64::from(r));
+            assert!((k - f64::from(1.0 - v)).abs() < 2e-3, "{mapping:?} v {v}: ink {k}");
+        }
     }
     // Linear is the paper's ramp.
     assert_close(

@@ -22,8 +22,8 @@ pub struct ViewUniform {
     pub offset: [f32; 2],
     /// Dot radius per sample radius.
     pub radius_scale: f32,
-    /// A fixed dot radius in image pixels, or 0.
-    pub fixed_radius: f32,
+    /// Dot radius per calibrated (drawn) radius; the two add up.
+    pub drawn_scale: f32,
     /// Premultiplied later: straight RGBA.
     pub color: [f32; 4],
 }
@@ -38,8 +38,8 @@ pub struct DotInstance {
     pub y: f32,
     /// Sample radius in image pixels.
     pub radius: f32,
-    /// Padding.
-    pub pad: f32,
+    /// The calibrated dot radius in image pixels.
+    pub drawn: f32,
 }
 
 /// A layer of dots to draw: the instances (shared, uploaded when their

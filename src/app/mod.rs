@@ -59,6 +59,7 @@ pub struct PixelPieApp {
     pending: Option<Instant>,
     last_key: Option<settings::SamplingKey>,
     progress: Option<Progress>,
+    relaxed: Option<u32>,
     dots_generation: u64,
     dot_instances: Arc<Vec<dots::DotInstance>>,
     view: view::ViewState,
@@ -95,6 +96,7 @@ impl PixelPieApp {
             pending: None,
             last_key: None,
             progress: None,
+            relaxed: None,
             dots_generation: 0,
             dot_instances: Arc::new(Vec::new()),
             view: view::ViewState::default(),
@@ -150,6 +152,7 @@ impl PixelPieApp {
         let Some(src) = &self.source else { return };
         self.next_job += 1;
         self.progress = None;
+        self.relaxed = None;
         self.worker.submit(Job {
             id: self.next_job,
             map: src.map.clone(),
@@ -162,6 +165,8 @@ impl PixelPieApp {
             match reply {
                 Reply::Progress(id, p) if id == self.next_job => self.progress = Some(p),
                 Reply::Progress(..) => {}
+                Reply::Relaxed(id, done) if id == self.next_job => self.relaxed = Some(done),
+                Reply::Relaxed(..) => {}
                 Reply::Done(id, result) => {
                     self.done_job = self.done_job.max(id);
                     if id != self.next_job {
@@ -175,11 +180,12 @@ impl PixelPieApp {
                                     .set
                                     .points
                                     .iter()
-                                    .map(|p| dots::DotInstance {
+                                    .zip(&outcome.calibrated)
+                                    .map(|(p, &c)| dots::DotInstance {
                                         x: p.x,
                                         y: p.y,
                                         radius: p.radius,
-                                        pad: 0.0,
+                                        drawn: c,
                                     })
                                     .collect(),
                             );

@@ -5,7 +5,20 @@ use std::path::PathBuf;
 use serde::{Deserialize, Serialize};
 
 use crate::backend::BackendChoice;
+use crate::importance::Tones;
 use crate::sampler::Policy;
+
+/// How the dots are sized.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum DotMode {
+    /// All dots alike, calibrated to the tones.
+    #[default]
+    Fixed,
+    /// Small dots in light areas, larger in dark ones, calibrated.
+    Sized,
+    /// A fraction of each sample's radius (does not reproduce tones).
+    Proportional,
+}
 
 /// What is drawn behind the dots.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -35,6 +48,8 @@ pub struct Settings {
     pub r_max: f32,
     /// Tone mapping (true) or the paper's linear ramp.
     pub tone: bool,
+    /// The grey the drawing reproduces.
+    pub tones: Tones,
     /// The disk policy.
     pub policy: Policy,
     /// Gamma applied after the levels.
@@ -55,13 +70,16 @@ pub struct Settings {
     pub periodic: bool,
     /// The backend.
     pub backend: BackendChoice,
-    /// Dot radius as a fraction of the sample radius.
+    /// How the dots are sized.
+    pub dot_mode: DotMode,
+    /// Dot radius as a fraction of the sample radius (proportional dots).
     pub dot_scale: f32,
-    /// Draw every dot the same size, `fixed_factor` × the smallest sample
-    /// radius (with tone mapping, equal dots reproduce the tones).
-    pub fixed_dots: bool,
-    /// The fixed dot radius as a fraction of the smallest sample radius.
-    pub fixed_factor: f32,
+    /// Dot radius as a fraction of the calibrated radius (fixed and sized dots).
+    pub dot_factor: f32,
+    /// The lightest dots' radius as a fraction of the darkest's (sized dots).
+    pub dot_ratio: f32,
+    /// Weighted Lloyd relaxation steps after sampling.
+    pub relax: u32,
     /// Dot colour.
     pub dot_color: [u8; 3],
     /// What is drawn behind the dots.
@@ -79,6 +97,7 @@ impl Default for Settings {
             r_min: 1.5,
             r_max: 12.0,
             tone: true,
+            tones: Tones::Display,
             policy: Policy::Smaller,
             gamma: 1.0,
             black: 0.0,
@@ -89,9 +108,11 @@ impl Default for Settings {
             seed: 1,
             periodic: false,
             backend: BackendChoice::Auto,
+            dot_mode: DotMode::Fixed,
             dot_scale: 0.35,
-            fixed_dots: true,
-            fixed_factor: crate::stipple::FIXED_DOT_FACTOR,
+            dot_factor: 1.0,
+            dot_ratio: 0.4,
+            relax: 0,
             dot_color: [20, 20, 20],
             background: Background::Paper,
             show_coverage: false,
@@ -106,6 +127,9 @@ pub struct SamplingKey {
     points: u32,
     range: (u32, u32),
     tone: bool,
+    tones: Tones,
+    sized: Option<u32>,
+    relax: u32,
     policy: Policy,
     levels: (u32, u32, u32, u32),
     invert: bool,
@@ -124,6 +148,9 @@ impl Settings {
             points: self.points,
             range: (self.r_min.to_bits(), self.r_max.to_bits()),
             tone: self.tone,
+            tones: self.tones,
+            sized: (self.dot_mode == DotMode::Sized).then_some(self.dot_ratio.to_bits()),
+            relax: self.relax,
             policy: self.policy,
             levels: (
                 self.gamma.to_bits(),

@@ -6,8 +6,9 @@ use egui::{Color32, Rect, Sense, Vec2};
 
 use super::PixelPieApp;
 use super::dots::{DotLayer, ViewUniform};
-use super::settings::Background;
+use super::settings::{Background, DotMode};
 use crate::backend::BackendChoice;
+use crate::importance::Tones;
 use crate::sampler::Policy;
 use crate::stipple::{DotSize, raster, svg};
 
@@ -92,8 +93,21 @@ impl PixelPieApp {
         egui::ComboBox::from_label("Mapping")
             .selected_text(if s.tone { "Tone" } else { "Linear" })
             .show_ui(ui, |ui| {
-                ui.selectable_value(&mut s.tone, true, "Tone");
-                ui.selectable_value(&mut s.tone, false, "Linear");
+                ui.selectable_value(&mut s.tone, true, "Tone")
+                    .on_hover_text("Calibrated: the drawing's ink equals the picture's darkness.");
+                ui.selectable_value(&mut s.tone, false, "Linear")
+                    .on_hover_text("The paper's ramp r_min + (r_max − r_min)·v.");
+            });
+        egui::ComboBox::from_label("Tones")
+            .selected_text(match s.tones {
+                Tones::Display => "Display grey",
+                Tones::Linear => "Linear light",
+            })
+            .show_ui(ui, |ui| {
+                ui.selectable_value(&mut s.tones, Tones::Display, "Display grey")
+                    .on_hover_text("Reproduce the grey a viewer sees (sRGB values).");
+                ui.selectable_value(&mut s.tones, Tones::Linear, "Linear light")
+                    .on_hover_text("Reproduce luminance: mid tones come out darker.");
             });
         egui::ComboBox::from_label("Policy")
             .selected_text(format!("{:?}", s.policy))
@@ -134,12 +148,30 @@ impl PixelPieApp {
         ));
         ui.separator();
         let s = &mut self.settings;
-        ui.checkbox(&mut s.fixed_dots, "Fixed dot size");
-        if s.fixed_dots {
-            ui.add(egui::Slider::new(&mut s.fixed_factor, 0.05..=1.5).text("Dot size (× r min)"));
-        } else {
-            ui.add(egui::Slider::new(&mut s.dot_scale, 0.05..=1.0).text("Dot size"));
+        egui::ComboBox::from_label("Dots")
+            .selected_text(format!("{:?}", s.dot_mode))
+            .show_ui(ui, |ui| {
+                ui.selectable_value(&mut s.dot_mode, DotMode::Fixed, "Fixed")
+                    .on_hover_text("All dots alike; their density follows the tones.");
+                ui.selectable_value(&mut s.dot_mode, DotMode::Sized, "Sized")
+                    .on_hover_text("Small dots in light areas, larger in dark ones.");
+                ui.selectable_value(&mut s.dot_mode, DotMode::Proportional, "Proportional")
+                    .on_hover_text("A fraction of each sample's disk: a texture, not tones.");
+            });
+        match s.dot_mode {
+            DotMode::Fixed | DotMode::Sized => {
+                ui.add(egui::Slider::new(&mut s.dot_factor, 0.3..=2.0).text("Dot size (× calibrated)"))
+                    .on_hover_text("1 reproduces the picture's tones; more darkens, less lightens.");
+            }
+            DotMode::Proportional => {
+                ui.add(egui::Slider::new(&mut s.dot_scale, 0.05..=1.0).text("Dot size (× disk)"));
+            }
         }
+        if s.dot_mode == DotMode::Sized {
+            ui.add(egui::Slider::new(&mut s.dot_ratio, 0.1..=1.0).text("Lightest / darkest dot"));
+        }
+        ui.add(egui::Slider::new(&mut s.relax, 0..=30).text("Relax (Lloyd steps)"))
+            .on_hover_text("Weighted Voronoi relaxation after sampling: more even spacing.");
         ui.horizontal(|ui| {
             ui.label("Dot colour");
             ui.color_edit_button_srgb(&mut s.dot_color);
@@ -164,13 +196,17 @@ impl PixelPieApp {
         if self.busy() {
             ui.horizontal(|ui| {
                 ui.spinner();
-                match &self.progress {
-                    Some(p) => ui.label(format!(
+                match (&self.progress, self.relaxed) {
+                    (_, Some(done)) => ui.label(format!(
+                        "relaxing: {done} of {} steps",
+                        self.settings.relax
+                    )),
+                    (Some(p), None) => ui.label(format!(
                         "iteration {}, {:.0}% covered",
                         p.iteration,
                         100.0 - 100.0 * p.empty_pixels as f64 / p.pixels.max(1) as f64
                     )),
-                    None => ui.label("sampling…"),
+                    (None, None) => ui.label("sampling…"),
                 };
             });
         }
@@ -221,12 +257,24 @@ impl PixelPieApp {
     /// How big the dots are drawn and exported.
     pub fn dot_size(&self) -> DotSize {
         let s = &self.settings;
-        if s.fixed_dots {
-            let r_min = self.outcome.as_ref().map_or(1.0, |o| o.min_radius);
-            DotSize::Fixed(s.fixed_factor * r_min)
-        } else {
-            DotSize::Proportional(s.dot_scale)
+        match s.dot_mode {
+            DotMode::Fixed | DotMode::Sized => DotSize::Calibrated(s.dot_factor),
+            DotMode::Proportional => DotSize::Proportional(s.dot_scale),
         }
+    }
+
+    /// The dots as drawn: the view's and the exports'.
+    pub fn drawn_dots(&self) -> Vec<crate::stipple::Dot> {
+        let Some(o) = &self.outcome else {
+            return Vec::new();
+        };
+        let size = self.dot_size();
+        o.set
+            .points
+            .iter()
+            .zip(&o.calibrated)
+            .map(|(p, &c)| size.dots(std::slice::from_ref(p), |_| c)[0])
+            .collect()
     }
 
     /// Writes the current stipple with the CLI's writers, picked by extension.
@@ -234,7 +282,7 @@ impl PixelPieApp {
         let Some(o) = &self.outcome else {
             anyhow::bail!("nothing to export yet");
         };
-        let dots = self.dot_size().dots(&o.set.points);
+        let dots = self.drawn_dots();
         let domain = (o.set.width, o.set.height);
         match path.extension().and_then(|e| e.to_str()) {
             Some("svg") => crate::io::write_atomic(path, |w| {
@@ -315,10 +363,13 @@ impl PixelPieApp {
             scale: self.view.zoom,
             pixels_per_point: ui.ctx().pixels_per_point(),
             offset: [self.view.pan.x, self.view.pan.y],
-            radius_scale: if s.fixed_dots { 0.0 } else { s.dot_scale },
-            fixed_radius: match self.dot_size() {
-                DotSize::Fixed(r) => r,
-                DotSize::Proportional(_) => 0.0,
+            radius_scale: match self.dot_size() {
+                DotSize::Proportional(f) => f,
+                DotSize::Fixed(_) | DotSize::Calibrated(_) => 0.0,
+            },
+            drawn_scale: match self.dot_size() {
+                DotSize::Calibrated(f) => f,
+                DotSize::Fixed(_) | DotSize::Proportional(_) => 0.0,
             },
             color: [
                 f32::from(r) / 255.0,
@@ -334,7 +385,7 @@ impl PixelPieApp {
                 generation: self.dots_generation,
                 view: ViewUniform {
                     radius_scale: 1.0,
-                    fixed_radius: 0.0,
+                    drawn_scale: 0.0,
                     color: [0.2, 0.45, 0.9, 0.18],
                     ..base
                 },
@@ -359,11 +410,8 @@ impl PixelPieApp {
                     (layer.view.color[3] * 255.0) as u8,
                 );
                 for d in layer.dots.iter() {
-                    let radius = if layer.view.fixed_radius > 0.0 {
-                        layer.view.fixed_radius
-                    } else {
-                        d.radius * layer.view.radius_scale
-                    };
+                    let radius =
+                        d.radius * layer.view.radius_scale + d.drawn * layer.view.drawn_scale;
                     let c = rect.min + self.view.pan + Vec2::new(d.x, d.y) * self.view.zoom;
                     painter.circle_filled(c, (radius * self.view.zoom).max(0.5), color);
                 }

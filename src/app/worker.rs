@@ -7,10 +7,11 @@ use std::sync::{Arc, Mutex};
 
 use egui_wgpu::wgpu;
 
-use super::settings::Settings;
+use super::settings::{DotMode, Settings};
 use crate::backend::BackendChoice;
 use crate::gpu::GpuSampler;
 use crate::importance::{Adjust, ImportanceMap, Mapping, Prepared, RadiusRange};
+use crate::stipple::relax::RelaxOptions;
 use crate::sampler::{self, Control, Params, Progress, SampleSet};
 
 /// A sampling request.
@@ -29,8 +30,8 @@ pub struct Outcome {
     pub set: SampleSet,
     /// Sampler runs made (count targeting makes several).
     pub runs: usize,
-    /// The smallest sample radius (fixed dots are sized from it).
-    pub min_radius: f32,
+    /// Each point's calibrated dot radius (its tone's), in px.
+    pub calibrated: Vec<f32>,
     /// A note for the status line, such as a fallback to the CPU.
     pub note: Option<String>,
 }
@@ -39,6 +40,8 @@ pub struct Outcome {
 pub enum Reply {
     /// An iteration finished.
     Progress(u64, Progress),
+    /// This many relaxation steps are done.
+    Relaxed(u64, u32),
     /// A job ended.
     Done(u64, Result<Outcome, String>),
 }
@@ -151,7 +154,11 @@ fn run(
             progress: Some(&progress),
             cancel: Some(&cancel),
         };
-        let result = compute(&job, &gpu, ctl);
+        let relaxed = |done: u32| {
+            let _ = replies.send(Reply::Relaxed(id, done));
+            repaint.request_repaint();
+        };
+        let result = compute(&job, &gpu, ctl, &relaxed);
         if matches!(&result, Err(e) if e == "cancelled") {
             continue;
         }
@@ -161,7 +168,12 @@ fn run(
 }
 
 /// Samples a job's stipple on the chosen backend.
-fn compute(job: &Job, gpu: &Mutex<Option<GpuState>>, ctl: Control<'_>) -> Result<Outcome, String> {
+fn compute(
+    job: &Job,
+    gpu: &Mutex<Option<GpuState>>,
+    ctl: Control<'_>,
+    relaxed: &dyn Fn(u32),
+) -> Result<Outcome, String> {
     let s = &job.settings;
     let adjust = Adjust {
         black: s.black,
@@ -170,11 +182,15 @@ fn compute(job: &Job, gpu: &Mutex<Option<GpuState>>, ctl: Control<'_>) -> Result
         invert: s.invert,
     };
     let prepared = Prepared {
-        map: job.map.adjusted(&adjust).map_err(|e| e.to_string())?,
-        mapping: if s.tone {
-            Mapping::Tone
-        } else {
-            Mapping::Linear
+        map: job
+            .map
+            .toned(s.tones)
+            .adjusted(&adjust)
+            .map_err(|e| e.to_string())?,
+        mapping: match (s.tone, s.dot_mode) {
+            (false, _) => Mapping::Linear,
+            (true, DotMode::Sized) => Mapping::ToneSized(s.dot_ratio.clamp(0.05, 1.0)),
+            (true, _) => Mapping::Tone,
         },
         range: RadiusRange::new(s.r_min, s.r_max).map_err(|e| e.to_string())?,
         cutoff: (s.cutoff < 1.0).then_some(s.cutoff),
@@ -197,19 +213,29 @@ fn compute(job: &Job, gpu: &Mutex<Option<GpuState>>, ctl: Control<'_>) -> Result
             fitted.set.points.len()
         ));
     }
-    let min_radius = fitted
-        .set
+    let mut set = fitted.set;
+    if s.relax > 0 {
+        let options = RelaxOptions {
+            iterations: s.relax,
+            periodic: s.periodic,
+        };
+        set.points = crate::stipple::relax_points(&prepared, fitted.range, &set.points, options, |done| {
+            relaxed(done);
+            !ctl.cancel.is_some_and(|c| c.load(std::sync::atomic::Ordering::Relaxed))
+        })
+        .map_err(|e| e.to_string())?;
+        if ctl.cancel.is_some_and(|c| c.load(std::sync::atomic::Ordering::Relaxed)) {
+            return Err("cancelled".into());
+        }
+    }
+    let calibrated = set
         .points
         .iter()
-        .map(|p| p.radius)
-        .fold(f32::INFINITY, f32::min);
+        .map(|p| prepared.dot_radius(p, fitted.range))
+        .collect();
     Ok(Outcome {
-        min_radius: if min_radius.is_finite() {
-            min_radius
-        } else {
-            1.0
-        },
-        set: fitted.set,
+        calibrated,
+        set,
         runs: fitted.runs,
         note,
     })

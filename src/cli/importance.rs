@@ -9,7 +9,7 @@ use indicatif::ProgressBar;
 use serde::Serialize;
 
 use pixelpie::backend::BackendChoice;
-use pixelpie::importance::{Adjust, ImportanceMap, Mapping, Prepared, RadiusRange};
+use pixelpie::importance::{Adjust, ImportanceMap, Mapping, Prepared, RadiusRange, Tones};
 use pixelpie::sampler::{Params, SampleSet};
 
 use super::sample::run_with_progress;
@@ -23,7 +23,7 @@ pub const DEFAULT_RADIUS_RATIO: f32 = 8.0;
 pub enum MappingArg {
     /// r = r_min + (r_max − r_min)·v (paper §3.4).
     Linear,
-    /// Dot density proportional to darkness (reproduces tones).
+    /// Calibrated: the stipple's ink equals the darkness (reproduces tones).
     Tone,
 }
 
@@ -36,9 +36,34 @@ impl From<MappingArg> for Mapping {
     }
 }
 
+/// Which grey the drawing reproduces, on the command line.
+#[derive(Clone, Copy, Debug, Default, clap::ValueEnum, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum TonesArg {
+    /// The display grey: the sRGB-encoded value a viewer sees, as StippleGen
+    /// and the stippling literature target (mid grey gets half of black's ink).
+    #[default]
+    Display,
+    /// Linear light: the photo's luminance (mid grey sRGB 0.5 is 21% light,
+    /// so it gets 79% of black's ink and looks dark).
+    Linear,
+}
+
+impl From<TonesArg> for Tones {
+    fn from(t: TonesArg) -> Self {
+        match t {
+            TonesArg::Display => Self::Display,
+            TonesArg::Linear => Self::Linear,
+        }
+    }
+}
+
 /// Options that turn an image into a radius map.
 #[derive(Args, Debug, Clone, Serialize)]
 pub struct ImportanceOpts {
+    /// The grey the drawing reproduces (levels and gamma apply to it).
+    #[arg(long, value_enum, default_value_t = TonesArg::Display, requires = "importance")]
+    pub tones: TonesArg,
     /// Importance-to-radius mapping [default: tone for stipple, linear for sample].
     #[arg(long, value_enum, requires = "importance")]
     pub mapping: Option<MappingArg>,
@@ -93,7 +118,10 @@ impl ImportanceOpts {
         // The library's errors name the file.
         let map = ImportanceMap::open(path, self.hdr_white)?;
         let (w, h) = size(map.width(), map.height());
-        let map = map.resized(w, h)?.adjusted(&adjust)?;
+        let map = map
+            .resized(w, h)?
+            .toned(self.tones.into())
+            .adjusted(&adjust)?;
         let range = match (self.min_radius, self.max_radius) {
             (Some(lo), Some(hi)) => RadiusRange::new(lo, hi)?,
             (Some(lo), None) => RadiusRange::new(lo, lo * DEFAULT_RADIUS_RATIO)?,
@@ -130,7 +158,7 @@ pub struct RunOpts<'a> {
 /// the points that survive the white cutoff and the radius range used.
 pub fn sample(prepared: &Prepared, o: &RunOpts<'_>) -> Result<(SampleSet, RadiusRange)> {
     let fitted = prepared.sample(&o.base, o.points, |params| {
-        run_with_progress(params, o.backend, o.bar, o.quiet, o.verbose)
+        run_with_progress(params, o.backend, o.bar, o.verbose)
     })?;
     let got = fitted.set.points.len();
     if o.verbose {

@@ -158,7 +158,6 @@ pub fn run_with_progress(
     params: &Params,
     choice: BackendChoice,
     bar: &ProgressBar,
-    quiet: bool,
     verbose: bool,
 ) -> Result<SampleSet> {
     let progress = |p: Progress| {
@@ -171,8 +170,9 @@ pub fn run_with_progress(
     };
     let set = backend::sample(params, choice, ctl, &mut |n| {
         let show = match n {
-            Notice::Adapter(_) => verbose,
-            Notice::Fallback(_) => !quiet,
+            // Sampling on the CPU is the normal course without a GPU: a
+            // working run prints nothing unless asked.
+            Notice::Adapter(_) | Notice::Fallback(_) => verbose,
         };
         if show {
             bar.suspend(|| eprintln!("{n}"));
@@ -285,7 +285,6 @@ pub fn run(a: &SampleArgs) -> Result<()> {
             &make(f64::from(a.radius.unwrap_or(1.0)))?,
             a.backend,
             &bar,
-            a.quiet,
             a.verbose,
         )?,
         Some(n) => {
@@ -296,7 +295,7 @@ pub fn run(a: &SampleArgs) -> Result<()> {
                 None => (expected / n.max(1) as f64).sqrt(),
             };
             let (_, set, runs) = count::fit_scale(n, initial, |s| {
-                let set = run_with_progress(&make(s)?, a.backend, &bar, a.quiet, a.verbose)?;
+                let set = run_with_progress(&make(s)?, a.backend, &bar, a.verbose)?;
                 Ok((set.points.len(), set))
             })?;
             if a.verbose {

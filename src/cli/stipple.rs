@@ -8,17 +8,19 @@ use clap::Args;
 use serde::Serialize;
 
 use pixelpie::backend::BackendChoice;
-use pixelpie::importance::{Mapping, fit_size};
+use pixelpie::importance::{Mapping, Prepared, RadiusRange, fit_size};
 use pixelpie::io;
 use pixelpie::sampler::{self, Params, Point, SampleSet};
-use pixelpie::stipple::{DotSize, raster, svg, tsp};
+use pixelpie::stipple::{DotSize, raster, relax, svg, tsp};
 
 use super::importance::{ImportanceOpts, RunOpts};
 use super::sample::{GpuPath, PolicyArg, progress_bar};
 
 /// The default number of dots.
 pub const DEFAULT_POINTS: usize = 10_000;
-pub use pixelpie::stipple::FIXED_DOT_FACTOR;
+/// The white dots' radius as a fraction of the black dots' (`--dot sized`),
+/// StippleGen's default minimum and maximum dot sizes (2 and 5).
+pub const DEFAULT_DOT_RATIO: f32 = 0.4;
 /// The default domain's longer side is at least this many pixels.
 pub const MIN_DOMAIN_SIDE: u32 = 1024;
 
@@ -43,18 +45,32 @@ pub struct StippleArgs {
     height: Option<u32>,
     #[command(flatten)]
     importance_opts: ImportanceOpts,
-    /// Dot size: fixed (the same for all dots; reproduces tones with the tone
-    /// mapping) or proportional to the sample's radius.
+    /// Dot size. fixed: all dots alike; sized: small dots in light areas,
+    /// larger ones in dark areas (StippleGen's min/max dot size). Both are
+    /// calibrated: once blurred, the ink equals the grey of the picture.
+    /// proportional: dot radius = factor × the sample's radius; it covers the
+    /// same fraction everywhere, so it does NOT reproduce tones (a texture).
     #[arg(long, value_enum, default_value_t = DotArg::Fixed)]
     dot: DotArg,
-    /// Dot radius factor: × the smallest sample radius (fixed) or × each
-    /// sample's radius (proportional); 0.5 makes the closest dots touch
-    /// [default: 0.7 fixed, so that black reaches about 87% ink; 0.5 proportional].
+    /// Dot radius factor: × the calibrated radius (fixed, sized: 1
+    /// reproduces the tones, more darkens, less lightens) or × each sample's
+    /// radius (proportional; 0.5 makes the closest dots touch) [default: 1
+    /// fixed/sized, 0.5 proportional].
     #[arg(long)]
     dot_factor: Option<f32>,
-    /// Fixed dot radius in domain px (overrides --dot and --dot-factor).
-    #[arg(long)]
+    /// With --dot sized: the lightest dots' radius as a fraction of the
+    /// darkest dots' (0..1].
+    #[arg(long, default_value_t = DEFAULT_DOT_RATIO)]
+    dot_ratio: f32,
+    /// Radius in domain px of the darkest dots; the sample radii follow from
+    /// it, so the dot count does too (instead of --points).
+    #[arg(long, conflicts_with_all = ["points", "min_radius"])]
     dot_radius: Option<f32>,
+    /// Weighted Lloyd (Voronoi) relaxation steps after sampling: moves each
+    /// dot to the centroid of its Voronoi cell, weighted to keep the
+    /// calibrated density. A few steps make the spacing more even.
+    #[arg(long, default_value_t = 0)]
+    relax: u32,
     /// Drawing order: as sampled, or a short pen-plotter path (2-opt).
     #[arg(long, value_enum, default_value_t = OrderArg::None)]
     order: OrderArg,
@@ -97,12 +113,14 @@ pub struct StippleArgs {
 }
 
 /// Dot sizing on the command line.
-#[derive(Clone, Copy, Debug, clap::ValueEnum, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum DotArg {
-    /// All dots the same size.
+    /// All dots the same size (calibrated).
     Fixed,
-    /// Dot radius proportional to the sample's radius.
+    /// Dots sized by tone, small in light areas (calibrated).
+    Sized,
+    /// Dot radius proportional to the sample's radius (does not reproduce tones).
     Proportional,
 }
 
@@ -162,25 +180,47 @@ pub fn run(a: &StippleArgs) -> Result<()> {
     if format == Drawing::Png && a.width_mm.is_some() {
         bail!("--width-mm applies to SVG output; use --scale to size a PNG");
     }
+    if !(a.dot_ratio.is_finite() && a.dot_ratio > 0.0 && a.dot_ratio <= 1.0) {
+        bail!("--dot-ratio {} must be in (0, 1]", a.dot_ratio);
+    }
+    if let Some(r) = a.dot_radius
+        && !(r.is_finite() && r > 0.0)
+    {
+        bail!("--dot-radius {r} must be a positive number");
+    }
+    // The dots' own radius sets the sample radii, or the count does.
+    let by_dot = a.dot_radius.is_some();
     let points = match (a.points, a.importance_opts.min_radius) {
         (Some(n), _) => Some(n),
+        _ if by_dot => None,
         (None, Some(_)) => None,
         (None, None) => Some(DEFAULT_POINTS),
     };
     if a.backend != BackendChoice::Cpu && a.gpu_path != GpuPath::Auto {
         a.gpu_path.apply();
     }
+    let mapping = match a.dot {
+        DotArg::Sized => Mapping::ToneSized(a.dot_ratio),
+        DotArg::Fixed | DotArg::Proportional => Mapping::Tone,
+    };
     let t0 = Instant::now();
-    let prepared = a.importance_opts.prepare(
+    let mut prepared = a.importance_opts.prepare(
         &a.image,
         |w, h| match (a.width, a.height) {
             (None, None) => default_domain(w, h, points.unwrap_or(DEFAULT_POINTS)),
             (wd, hd) => fit_size((w, h), wd, hd),
         },
-        Mapping::Tone,
-        points.is_some(),
+        mapping,
+        points.is_some() || by_dot,
     )?;
     let (width, height) = (prepared.map.width(), prepared.map.height());
+    if let Some(rho) = a.dot_radius {
+        let ratio = a.importance_opts.max_radius.map_or(
+            super::importance::DEFAULT_RADIUS_RATIO,
+            |hi| hi / Mapping::range_for_dot(rho, 1.0).map_or(hi, |r| r.min),
+        );
+        prepared.range = Mapping::range_for_dot(rho, ratio.max(1.0))?;
+    }
     let t_load = t0.elapsed().as_secs_f64();
     let bar = progress_bar(a.quiet);
     let opts = RunOpts {
@@ -195,22 +235,23 @@ pub fn run(a: &StippleArgs) -> Result<()> {
         quiet: a.quiet,
         verbose: a.verbose,
     };
-    let (set, range) = super::importance::sample(&prepared, &opts)?;
+    let (mut set, range) = super::importance::sample(&prepared, &opts)?;
     bar.finish_and_clear();
     let t_sample = t0.elapsed().as_secs_f64() - t_load;
-    let size = match (a.dot_radius, a.dot) {
-        (Some(r), _) => DotSize::Fixed(r),
-        (None, DotArg::Fixed) => {
-            DotSize::Fixed(a.dot_factor.unwrap_or(FIXED_DOT_FACTOR) * range.min)
-        }
-        (None, DotArg::Proportional) => DotSize::Proportional(a.dot_factor.unwrap_or(0.5)),
+    if a.relax > 0 {
+        set.points = relax_points(&prepared, range, &set.points, a)?;
+    }
+    let t_relax = t0.elapsed().as_secs_f64() - t_load - t_sample;
+    let size = match a.dot {
+        DotArg::Fixed | DotArg::Sized => DotSize::Calibrated(a.dot_factor.unwrap_or(1.0)),
+        DotArg::Proportional => DotSize::Proportional(a.dot_factor.unwrap_or(0.5)),
     };
     size.validate()?;
     let points = match a.order {
         OrderArg::None => set.points.clone(),
         OrderArg::Tsp => order_tsp(&set.points, a.quiet),
     };
-    let dots = size.dots(&points);
+    let dots = size.dots(&points, |p| prepared.dot_radius(p, range));
     match format {
         Drawing::Svg => {
             let opts = match a.width_mm {
@@ -235,20 +276,46 @@ pub fn run(a: &StippleArgs) -> Result<()> {
         io::write_points(path, &out, a)?;
     }
     if a.verbose {
+        let (lo, hi) = dots.iter().fold((f32::INFINITY, 0.0f32), |(lo, hi), d| {
+            (lo.min(d.radius), hi.max(d.radius))
+        });
         eprintln!(
-            "{} dots on a {width}x{height} domain, radii {:.2}..{:.2} px, {}; \
-             load {t_load:.3} s, sampling {t_sample:.3} s, total {:.3} s",
+            "{} dots on a {width}x{height} domain, sample radii {:.2}..{:.2} px, dot radii \
+             {lo:.2}..{hi:.2} px; load {t_load:.3} s, sampling {t_sample:.3} s, relax \
+             {t_relax:.3} s, total {:.3} s",
             dots.len(),
             range.min,
             range.max,
-            match size {
-                DotSize::Fixed(r) => format!("dot radius {r:.2} px"),
-                DotSize::Proportional(f) => format!("dot radius {f} x sample radius"),
-            },
             t0.elapsed().as_secs_f64()
         );
     }
     Ok(())
+}
+
+/// `--relax`: weighted Lloyd steps with a progress bar
+/// ([`pixelpie::stipple::relax_points`]).
+fn relax_points(
+    prepared: &Prepared,
+    range: RadiusRange,
+    points: &[Point],
+    a: &StippleArgs,
+) -> Result<Vec<Point>> {
+    let bar = progress_bar(a.quiet);
+    bar.set_length(u64::from(a.relax));
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{spinner} relaxing [{bar:30}] {pos}/{len}")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    let options = relax::RelaxOptions {
+        iterations: a.relax,
+        periodic: a.periodic,
+    };
+    let moved = pixelpie::stipple::relax_points(prepared, range, points, options, |done| {
+        bar.set_position(u64::from(done));
+        true
+    })?;
+    bar.finish_and_clear();
+    Ok(moved)
 }
 
 /// Orders `points` for a pen plotter and reports the pen travel on stderr.

@@ -36,6 +36,13 @@ pub struct Fitted {
 }
 
 impl Prepared {
+    /// The calibrated dot radius at `p` for the radius range `range`
+    /// ([`Mapping::dot_radius`] of the value at `p`'s pixel).
+    #[must_use]
+    pub fn dot_radius(&self, p: &crate::sampler::Point, range: RadiusRange) -> f32 {
+        self.mapping.dot_radius(self.map.value_at(p.x, p.y), range)
+    }
+
     /// `base` (domain, policy, seed…) with the map's radii at `scale`.
     pub fn params(&self, base: &Params, scale: f64) -> Result<Params> {
         let radii = self.map.radii(self.mapping, self.range.scaled(scale));

@@ -114,6 +114,16 @@ pub fn srgb_to_linear(c: f32) -> f32 {
     }
 }
 
+/// The sRGB transfer function: linear value in [0, 1] to encoded.
+#[must_use]
+pub fn linear_to_srgb(v: f32) -> f32 {
+    if v <= 0.003_130_8 {
+        12.92 * v
+    } else {
+        1.055 * v.powf(1.0 / 2.4) - 0.055
+    }
+}
+
 fn load_image(path: &Path) -> Result<Luminance> {
     let decode = |e: &dyn std::fmt::Display| Error::Decode {
         path: path.to_owned(),

@@ -15,19 +15,25 @@
 //!    a few specular highlights do not leave the rest of the picture black.
 //!    Alpha composites over white paper: transparent pixels need no dots.
 //! 3. [`ImportanceMap::resized`] resamples the linear values (triangle filter).
-//! 4. [`Adjust`]: black and white levels, then gamma, then invert.
-//! 5. [`Mapping`] turns the value v (0 = black = most important) into a radius
+//! 4. [`ImportanceMap::toned`] picks the grey the drawing reproduces
+//!    ([`Tones`]): by default the display grey, the sRGB-encoded value a
+//!    viewer sees (what StippleGen targets and the stippling literature
+//!    compares against); or linear light.
+//! 5. [`Adjust`]: black and white levels, then gamma, then invert.
+//! 6. [`Mapping`] turns the value v (0 = black = most important) into a radius
 //!    between r_min and r_max; [`ImportanceMap::keeps`] applies the white
 //!    cutoff (no dots where v is above it).
 
 mod fit;
+pub mod ink;
+mod ink_table;
 mod load;
 mod mapping;
 
 use std::path::{Path, PathBuf};
 
 pub use fit::{Fitted, Prepared};
-pub use load::{Luminance, Range, load, srgb_to_linear};
+pub use load::{Luminance, Range, linear_to_srgb, load, srgb_to_linear};
 pub use mapping::{Mapping, RadiusRange};
 
 use crate::sampler::{Point, RSA_DENSITY};
@@ -91,6 +97,19 @@ pub enum Error {
 
 /// The result type of this module.
 pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+/// Which grey a drawing reproduces.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Tones {
+    /// The display grey: the sRGB-encoded value a viewer sees. Mid grey
+    /// (sRGB 0.5) gets half the ink of black.
+    #[default]
+    Display,
+    /// Linear light (luminance): sRGB 0.5 is 21% light, so it gets 79% of
+    /// black's ink.
+    Linear,
+}
 
 /// Tone adjustments, applied in this order: levels, gamma, invert.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
@@ -285,6 +304,31 @@ impl ImportanceMap {
         })
     }
 
+    /// The map's values as the grey `tones` asks for: the loaded values are
+    /// linear light; [`Tones::Display`] sRGB-encodes them.
+    ///
+    /// ```
+    /// use pixelpie::importance::{ImportanceMap, Tones};
+    /// let m = ImportanceMap::from_values(1, 1, vec![0.214]).unwrap();
+    /// assert!((m.toned(Tones::Display).value(0, 0) - 0.5).abs() < 1e-3);
+    /// assert_eq!(m.toned(Tones::Linear), m);
+    /// ```
+    #[must_use]
+    pub fn toned(&self, tones: Tones) -> Self {
+        match tones {
+            Tones::Linear => self.clone(),
+            Tones::Display => Self {
+                width: self.width,
+                height: self.height,
+                values: self
+                    .values
+                    .iter()
+                    .map(|&v| linear_to_srgb(v).clamp(0.0, 1.0))
+                    .collect(),
+            },
+        }
+    }
+
     /// The map with `adjust` applied to every value.
     pub fn adjusted(&self, adjust: &Adjust) -> Result<Self> {
         adjust.validate()?;
@@ -305,9 +349,26 @@ impl ImportanceMap {
     /// ```
     #[must_use]
     pub fn radii(&self, mapping: Mapping, range: RadiusRange) -> Vec<f32> {
+        if mapping == Mapping::Linear {
+            return self
+                .values
+                .iter()
+                .map(|&v| mapping.radius(v, range))
+                .collect();
+        }
+        // The calibrated mappings invert a curve: tabulate them once.
+        const STEPS: usize = 4096;
+        let lut: Vec<f32> = (0..=STEPS)
+            .map(|i| mapping.radius(i as f32 / STEPS as f32, range))
+            .collect();
         self.values
             .iter()
-            .map(|&v| mapping.radius(v, range))
+            .map(|&v| {
+                let x = v.clamp(0.0, 1.0) * STEPS as f32;
+                let i = (x as usize).min(STEPS - 1);
+                let f = x - i as f32;
+                lut[i] + f * (lut[i + 1] - lut[i])
+            })
             .collect()
     }
 

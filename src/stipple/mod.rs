@@ -6,9 +6,12 @@
 //! in [`crate::sampler`].
 
 pub mod raster;
+pub mod read;
+pub mod relax;
 pub mod svg;
 pub mod tsp;
 
+use crate::importance::{Prepared, RadiusRange};
 use crate::sampler::Point;
 
 /// What can go wrong while drawing.
@@ -29,13 +32,6 @@ pub enum Error {
 /// The result type of this module.
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
-/// The default fixed dot radius as a fraction of the smallest sample radius:
-/// dots of 0.7 × r_min cover about 87% of a black area's paper (a maximal set
-/// of radius r_min covers 53% with dots of r_min/2). With the tone mapping
-/// the ink then follows the darkness within ±0.08 from 15% to 85% grey
-/// (`tests/stipple.rs`, `tone_mapping_with_default_dots_reproduces_a_ramp`).
-pub const FIXED_DOT_FACTOR: f32 = 0.7;
-
 /// One dot of the drawing: centre and drawn radius in pixels.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Dot {
@@ -49,9 +45,12 @@ pub struct Dot {
 
 /// How big each dot is drawn.
 ///
-/// With [`crate::importance::Mapping::Tone`], equal dots make the ink
-/// coverage follow the dot density, hence the tone; dots proportional to
-/// the sample radius would cover the same fraction everywhere.
+/// The calibrated tone mappings ([`crate::importance::Mapping::Tone`] and
+/// `ToneSized`) give each tone its dot radius
+/// ([`crate::importance::Mapping::dot_radius`]); [`DotSize::Calibrated`]
+/// draws those, and the ink then equals the darkness. Dots proportional to
+/// the sample radius cover the same fraction everywhere: they do not
+/// reproduce tones.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum DotSize {
@@ -60,12 +59,15 @@ pub enum DotSize {
     Proportional(f32),
     /// The same drawn radius, in pixels, for every dot.
     Fixed(f32),
+    /// Drawn radius = factor × the dot's calibrated radius (1 reproduces the
+    /// tones; above darkens, below lightens).
+    Calibrated(f32),
 }
 
 impl DotSize {
     /// Checks that the factor or radius is a positive number.
     pub fn validate(self) -> Result<()> {
-        let (Self::Proportional(v) | Self::Fixed(v)) = self;
+        let (Self::Proportional(v) | Self::Fixed(v) | Self::Calibrated(v)) = self;
         if v.is_finite() && v > 0.0 {
             Ok(())
         } else {
@@ -75,17 +77,20 @@ impl DotSize {
         }
     }
 
-    /// The dots of `points`, in their order.
+    /// The dots of `points`, in their order; `calibrated` gives a point's
+    /// calibrated dot radius (used by [`DotSize::Calibrated`] only).
     ///
     /// ```
     /// use pixelpie::sampler::Point;
     /// use pixelpie::stipple::DotSize;
     /// let p = [Point { x: 1.0, y: 2.0, radius: 4.0 }];
-    /// assert_eq!(DotSize::Proportional(0.5).dots(&p)[0].radius, 2.0);
-    /// assert_eq!(DotSize::Fixed(1.5).dots(&p)[0].radius, 1.5);
+    /// let cal = |_: &Point| 3.0;
+    /// assert_eq!(DotSize::Proportional(0.5).dots(&p, cal)[0].radius, 2.0);
+    /// assert_eq!(DotSize::Fixed(1.5).dots(&p, cal)[0].radius, 1.5);
+    /// assert_eq!(DotSize::Calibrated(0.5).dots(&p, cal)[0].radius, 1.5);
     /// ```
     #[must_use]
-    pub fn dots(self, points: &[Point]) -> Vec<Dot> {
+    pub fn dots(self, points: &[Point], calibrated: impl Fn(&Point) -> f32) -> Vec<Dot> {
         points
             .iter()
             .map(|p| Dot {
@@ -94,8 +99,58 @@ impl DotSize {
                 radius: match self {
                     Self::Proportional(f) => f * p.radius,
                     Self::Fixed(r) => r,
+                    Self::Calibrated(f) => f * calibrated(p),
                 },
             })
             .collect()
     }
+}
+
+/// The points of a stipple of `prepared` after `iterations` weighted Lloyd
+/// steps ([`relax`]). A pixel weighs 1/r⁴ for its sample radius r (zero
+/// where the white cutoff removes dots): a centroidal Voronoi tessellation
+/// puts points at a density of √weight (Gersho's conjecture, which Lloyd's
+/// method follows), so the relaxation evens the spacing while it keeps the
+/// calibrated density, hence the tones. Each point's radius becomes the
+/// sample radius of its new pixel. `progress` as in [`relax::relax`].
+pub fn relax_points(
+    prepared: &Prepared,
+    range: RadiusRange,
+    points: &[Point],
+    options: relax::RelaxOptions,
+    progress: impl FnMut(u32) -> bool,
+) -> Result<Vec<Point>> {
+    let radii = prepared.map.radii(prepared.mapping, range);
+    let weights: Vec<f32> = radii
+        .iter()
+        .zip(prepared.map.values())
+        .map(|(&r, &v)| {
+            if prepared.cutoff.is_some_and(|c| v > c) {
+                0.0
+            } else {
+                (1.0 / f64::from(r).powi(4)) as f32
+            }
+        })
+        .collect();
+    let (w, h) = (prepared.map.width(), prepared.map.height());
+    let density = relax::Density {
+        width: w,
+        height: h,
+        weights: &weights,
+    };
+    relax::check(&density).map_err(Error::InvalidParameter)?;
+    let xy: Vec<[f32; 2]> = points.iter().map(|p| [p.x, p.y]).collect();
+    let moved = relax::relax(&xy, &density, options, progress);
+    Ok(moved
+        .iter()
+        .map(|&[x, y]| {
+            let px = (x.max(0.0) as u32).min(w - 1);
+            let py = (y.max(0.0) as u32).min(h - 1);
+            Point {
+                x,
+                y,
+                radius: radii[(py * w + px) as usize],
+            }
+        })
+        .collect())
 }

@@ -3,9 +3,10 @@
 //! A pixel's coverage by a dot is approximated by clamp(R + ½ − d, 0, 1),
 //! d the distance from the pixel centre to the dot's centre (and at most the
 //! dot's area for dots thinner than a pixel). Overlapping dots combine as
-//! independent inks, paper = Π (1 − coverage). The paper's reflectance is
-//! linear light, so it is sRGB-encoded on output: a pixel half covered
-//! reads 188, not 128, and the picture's tones match the ink coverage.
+//! independent inks, paper = Π (1 − coverage). The grey written is the
+//! paper fraction itself, as a display value: a pixel half covered reads
+//! 128, as browsers and plotter previews blend a drawing's edges, so that a
+//! blurred drawing's display grey is 1 − its ink ([`mean_ink`]).
 
 use std::io::Write;
 
@@ -62,26 +63,15 @@ pub fn render(dots: &[Dot], domain: (u32, u32), scale: f32) -> Result<GrayImage>
             }
         }
     }
-    let lut: Vec<u8> = (0..=4096)
-        .map(|i| (255.0 * linear_to_srgb(i as f32 / 4096.0)).round() as u8)
-        .collect();
     let pixels = paper
         .iter()
-        .map(|&p| lut[(p.clamp(0.0, 1.0) * 4096.0).round() as usize])
+        .map(|&p| (255.0 * p.clamp(0.0, 1.0)).round() as u8)
         .collect();
     GrayImage::from_raw(w, h, pixels)
         .ok_or_else(|| Error::Encode("pixel buffer of the wrong size".into()))
 }
 
-/// The sRGB transfer function: linear value in [0, 1] to encoded.
-#[must_use]
-pub fn linear_to_srgb(v: f32) -> f32 {
-    if v <= 0.003_130_8 {
-        12.92 * v
-    } else {
-        1.055 * v.powf(1.0 / 2.4) - 0.055
-    }
-}
+pub use crate::importance::linear_to_srgb;
 
 /// Encodes `img` as PNG into `w`.
 pub fn write_png(w: &mut dyn Write, img: &GrayImage) -> Result<()> {
@@ -95,8 +85,8 @@ pub fn write_png(w: &mut dyn Write, img: &GrayImage) -> Result<()> {
         .map_err(|e| Error::Encode(e.to_string()))
 }
 
-/// The mean ink coverage (0 = white, 1 = black) of a region of `img`, in
-/// linear light: a check that a drawing reproduces a tone.
+/// The mean ink coverage (0 = white, 1 = black) of a region of `img`: one
+/// minus its mean display grey, the check that a drawing reproduces a tone.
 ///
 /// ```
 /// use pixelpie::stipple::raster;
@@ -110,7 +100,7 @@ pub fn mean_ink(img: &GrayImage, x0: u32, y0: u32, x1: u32, y1: u32) -> f64 {
     for y in y0..y1.min(img.height()) {
         for x in x0..x1.min(img.width()) {
             let Luma([g]) = *img.get_pixel(x, y);
-            sum += 1.0 - f64::from(crate::importance::srgb_to_linear(f32::from(g) / 255.0));
+            sum += 1.0 - f64::from(g) / 255.0;
             n += 1;
         }
     }
