@@ -7,12 +7,47 @@ use std::process::ExitCode;
 use clap::Parser;
 
 fn main() -> ExitCode {
-    let args = cli::Cli::parse();
+    quiet_device_select();
+    let args = match cli::Cli::try_parse() {
+        Ok(args) => args,
+        Err(e) if !e.use_stderr() => {
+            // --help and --version.
+            let _ = e.print();
+            return ExitCode::SUCCESS;
+        }
+        Err(e) => {
+            // clap's first line names the argument and the problem; the
+            // rest is usage advice. Bad input gets one line.
+            let text = e.to_string();
+            let line = text.lines().next().unwrap_or("error: invalid arguments");
+            eprintln!("{line}");
+            return ExitCode::from(2);
+        }
+    };
     match cli::run(args) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e:#}");
             ExitCode::FAILURE
+        }
+    }
+}
+
+/// Mesa's Vulkan device-selection layer probes for a Wayland display, and
+/// without `XDG_RUNTIME_DIR` (servers, containers, CI) libwayland prints two
+/// `error:` lines on every run that touches the GPU, though nothing failed.
+/// Without `XDG_RUNTIME_DIR` there is no Wayland session to find, and the
+/// layer only reorders the adapters, which wgpu ranks itself: turn it off
+/// through its own switch (`NODEVICE_SELECT`, in its manifest).
+fn quiet_device_select() {
+    if std::env::var_os("XDG_RUNTIME_DIR").is_none() && std::env::var_os("NODEVICE_SELECT").is_none() {
+        #[expect(
+            unsafe_code,
+            reason = "set_var is unsafe in edition 2024; main has started no thread yet"
+        )]
+        // SAFETY: no other thread exists yet to read the environment.
+        unsafe {
+            std::env::set_var("NODEVICE_SELECT", "1");
         }
     }
 }

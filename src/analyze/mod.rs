@@ -8,6 +8,7 @@
 
 pub mod angles;
 pub mod csv;
+pub mod fidelity;
 pub mod metrics;
 pub mod plots;
 pub mod spectrum;

@@ -12,9 +12,9 @@ use crate::sampler::Policy;
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub enum DotMode {
     /// All dots alike, calibrated to the tones.
-    #[default]
     Fixed,
     /// Small dots in light areas, larger in dark ones, calibrated.
+    #[default]
     Sized,
     /// A fraction of each sample's radius (does not reproduce tones).
     Proportional,
@@ -108,10 +108,10 @@ impl Default for Settings {
             seed: 1,
             periodic: false,
             backend: BackendChoice::Auto,
-            dot_mode: DotMode::Fixed,
+            dot_mode: DotMode::Sized,
             dot_scale: 0.35,
             dot_factor: 1.0,
-            dot_ratio: 0.4,
+            dot_ratio: 0.3,
             relax: 0,
             dot_color: [20, 20, 20],
             background: Background::Paper,

@@ -299,7 +299,7 @@ impl PixelPieApp {
             Some("png") => {
                 let img = raster::render(&dots, domain, 1.0)?;
                 crate::io::write_atomic(path, |w| {
-                    raster::write_png(w, &img)?;
+                    raster::write_png(w, &img, dots.len())?;
                     Ok(())
                 })
             }

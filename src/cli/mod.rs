@@ -2,6 +2,7 @@
 
 mod analyze;
 mod bench;
+mod fidelity;
 mod importance;
 mod sample;
 mod stipple;
@@ -25,6 +26,8 @@ enum Command {
     Stipple(stipple::StippleArgs),
     /// Measures a point set (CSV): distances, coverage, angles; --plots draws spectra.
     Analyze(analyze::AnalyzeArgs),
+    /// Measures how closely a drawing reproduces its photo: blurred PSNR and SSIM.
+    Fidelity(fidelity::FidelityArgs),
     /// Prints the paper's Table 1 for the GPU and CPU backends.
     Bench(bench::BenchArgs),
     /// Opens the interactive stippling app (the default without a command).
@@ -42,5 +45,6 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Stipple(a) => stipple::run(&a),
         Command::Analyze(a) => analyze::run(&a),
         Command::Bench(a) => bench::run(&a),
+        Command::Fidelity(a) => fidelity::run(&a),
     }
 }

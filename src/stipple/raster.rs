@@ -10,7 +10,7 @@
 
 use std::io::Write;
 
-use image::{GrayImage, ImageEncoder, Luma};
+use image::{GrayImage, Luma};
 
 use super::{Dot, Error, Result};
 
@@ -73,16 +73,48 @@ pub fn render(dots: &[Dot], domain: (u32, u32), scale: f32) -> Result<GrayImage>
 
 pub use crate::importance::linear_to_srgb;
 
-/// Encodes `img` as PNG into `w`.
-pub fn write_png(w: &mut dyn Write, img: &GrayImage) -> Result<()> {
-    image::codecs::png::PngEncoder::new(w)
-        .write_image(
-            img.as_raw(),
-            img.width(),
-            img.height(),
-            image::ExtendedColorType::L8,
-        )
-        .map_err(|e| Error::Encode(e.to_string()))
+/// The PNG text keyword that marks our drawings and holds their dot count.
+pub const DOTS_KEYWORD: &str = "pixelpie:dots";
+
+/// Encodes `img` as an 8-bit grey PNG into `w`, with text chunks naming
+/// the software and the drawing's number of `dots` ([`DOTS_KEYWORD`]), so
+/// that [`read_png_dots`] recognises our drawings.
+pub fn write_png(w: &mut dyn Write, img: &GrayImage, dots: usize) -> Result<()> {
+    let encode = |e: png::EncodingError| Error::Encode(e.to_string());
+    let mut enc = png::Encoder::new(w, img.width(), img.height());
+    enc.set_color(png::ColorType::Grayscale);
+    enc.set_depth(png::BitDepth::Eight);
+    enc.add_text_chunk("Software".into(), "pixelpie".into())
+        .map_err(encode)?;
+    enc.add_text_chunk(DOTS_KEYWORD.into(), dots.to_string())
+        .map_err(encode)?;
+    let mut writer = enc.write_header().map_err(encode)?;
+    writer.write_image_data(img.as_raw()).map_err(encode)?;
+    writer.finish().map_err(encode)
+}
+
+/// The dot count of a PNG drawing we wrote ([`write_png`]), or `None` for
+/// any other PNG (or bytes that are not a PNG).
+///
+/// ```
+/// use pixelpie::stipple::{Dot, raster};
+/// let img = raster::render(&[Dot { x: 4.0, y: 4.0, radius: 2.0 }], (8, 8), 1.0).unwrap();
+/// let mut bytes = Vec::new();
+/// raster::write_png(&mut bytes, &img, 1).unwrap();
+/// assert_eq!(raster::read_png_dots(&bytes), Some(1));
+/// assert_eq!(raster::read_png_dots(b"not a png"), None);
+/// ```
+#[must_use]
+pub fn read_png_dots(bytes: &[u8]) -> Option<usize> {
+    let reader = png::Decoder::new(std::io::Cursor::new(bytes))
+        .read_info()
+        .ok()?;
+    reader
+        .info()
+        .uncompressed_latin1_text
+        .iter()
+        .find(|t| t.keyword == DOTS_KEYWORD)
+        .and_then(|t| t.text.trim().parse().ok())
 }
 
 /// The mean ink coverage (0 = white, 1 = black) of a region of `img`: one

@@ -1,0 +1,223 @@
+//! The drawings side by side: PixelPie's default stipple, PixelPie with
+//! `--relax`, weighted Voronoi stippling from a random start (Secord 2002,
+//! StippleGen's method: 30 Lloyd iterations) and i.i.d. random dots, at the
+//! same dot count, measured as `pixelpie fidelity` measures (blurred PSNR
+//! and SSIM on display grey, σ = the mean dot spacing).
+//!
+//! ```text
+//! cargo run --release --example stipple_bench -- [--points N] [PHOTO...]
+//! ```
+//!
+//! Every row is scored with its own best constant dot radius (a sweep), as
+//! the comparison asks; PixelPie's rows also show the calibrated default
+//! (no sweep: what `pixelpie stipple` draws). Seconds are the placement's
+//! time from the loaded photo (sampling and count fitting, relaxation),
+//! not the scoring's.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use anyhow::Result;
+use pixelpie::analyze::fidelity::{self, Grey};
+use pixelpie::importance::{
+    Adjust, ImportanceMap, Mapping, Prepared, RadiusRange, Tones, linear_to_srgb,
+};
+use pixelpie::sampler::{Params, Point, Policy, cpu};
+use pixelpie::stipple::{Dot, raster, relax};
+
+/// `pixelpie stipple`'s default `--dot-ratio`.
+const DEFAULT_DOT_RATIO: f32 = 0.3;
+
+/// The default domain's longer side, as `pixelpie stipple` picks it.
+fn domain(w: u32, h: u32, n: usize) -> (u32, u32) {
+    let side = 1024f64.max(10.0 * (n as f64).sqrt()).ceil();
+    let s = side / f64::from(w.max(h));
+    (
+        (f64::from(w) * s).round() as u32,
+        (f64::from(h) * s).round() as u32,
+    )
+}
+
+struct Row {
+    name: &'static str,
+    seconds: f64,
+    points: Vec<[f32; 2]>,
+    calibrated: Option<Vec<f32>>,
+}
+
+fn main() -> Result<()> {
+    let mut args: Vec<String> = std::env::args().skip(1).collect();
+    let mut n = 10_000usize;
+    if let Some(i) = args.iter().position(|a| a == "--points") {
+        n = args.get(i + 1).map_or(Ok(n), |s| s.parse())?;
+        args.drain(i..(i + 2).min(args.len()));
+    }
+    let photos: Vec<PathBuf> = if args.is_empty() {
+        vec!["assets/default.png".into(), "assets/rocket.jpg".into()]
+    } else {
+        args.iter().map(PathBuf::from).collect()
+    };
+    println!("| photo | drawing | dots | PSNR dB | SSIM | seconds | dot radius (domain px) |");
+    println!("|---|---|---|---|---|---|---|");
+    for path in &photos {
+        let photo_map = ImportanceMap::open(path, None)?;
+        let (pw, ph) = (photo_map.width(), photo_map.height());
+        let photo = Grey {
+            width: pw,
+            height: ph,
+            values: photo_map.values().iter().map(|&v| linear_to_srgb(v)).collect(),
+        };
+        let (w, h) = domain(pw, ph, n);
+        let map = photo_map
+            .resized(w, h)?
+            .toned(Tones::Display)
+            .adjusted(&Adjust::default())?;
+        let sized = Mapping::ToneSized(DEFAULT_DOT_RATIO);
+        let darkness: Vec<f32> = map.values().iter().map(|v| 1.0 - v).collect();
+        let density = relax::Density {
+            width: w,
+            height: h,
+            weights: &darkness,
+        };
+        let rows = [
+            pixelpie_row("PixelPie default (sized dots)", &map, n, sized, 0)?,
+            pixelpie_row("PixelPie --dot fixed", &map, n, Mapping::Tone, 0)?,
+            pixelpie_row("PixelPie --relax 10", &map, n, sized, 10)?,
+            voronoi_row(&density, n),
+            random_row(&density, n),
+        ];
+        let sigma = (f64::from(pw) * f64::from(ph) / n as f64).sqrt();
+        let scale = f64::from(pw) / f64::from(w);
+        let name = path.file_name().map_or_else(String::new, |f| f.to_string_lossy().into());
+        for row in &rows {
+            let score = |dots: &[Dot]| -> Result<fidelity::Fidelity> {
+                let scaled: Vec<Dot> = dots
+                    .iter()
+                    .map(|d| Dot {
+                        x: (f64::from(d.x) * scale) as f32,
+                        y: (f64::from(d.y) * scale) as f32,
+                        radius: (f64::from(d.radius) * scale) as f32,
+                    })
+                    .collect();
+                let img = raster::render(&scaled, (pw, ph), 1.0)?;
+                let drawing = Grey {
+                    width: pw,
+                    height: ph,
+                    values: img.as_raw().iter().map(|&g| f32::from(g) / 255.0).collect(),
+                };
+                fidelity::compare(&photo, &drawing, sigma).map_err(anyhow::Error::msg)
+            };
+            if let Some(cal) = &row.calibrated {
+                let dots: Vec<Dot> = row
+                    .points
+                    .iter()
+                    .zip(cal)
+                    .map(|(p, &r)| Dot { x: p[0], y: p[1], radius: r })
+                    .collect();
+                let f = score(&dots)?;
+                println!(
+                    "| {name} | {} (calibrated dots) | {} | {:.2} | {:.3} | {:.3} | {:.2} |",
+                    row.name,
+                    row.points.len(),
+                    f.psnr,
+                    f.ssim,
+                    row.seconds,
+                    cal.iter().sum::<f32>() / cal.len().max(1) as f32
+                );
+            }
+            // The best constant radius: a sweep around the radius at which
+            // the dots' total area equals the photo's total darkness.
+            let ink: f64 = darkness.iter().map(|&d| f64::from(d)).sum();
+            let base = (ink / std::f64::consts::PI / row.points.len().max(1) as f64).sqrt();
+            let mut best = (f64::NEG_INFINITY, 0.0, 0.0);
+            for i in 0..13 {
+                let r = base * (0.7 + 0.05 * f64::from(i));
+                let dots: Vec<Dot> = row
+                    .points
+                    .iter()
+                    .map(|p| Dot { x: p[0], y: p[1], radius: r as f32 })
+                    .collect();
+                let f = score(&dots)?;
+                if f.psnr > best.0 {
+                    best = (f.psnr, f.ssim, r);
+                }
+            }
+            println!(
+                "| {name} | {} (best constant dots) | {} | {:.2} | {:.3} | {:.3} | {:.2} |",
+                row.name,
+                row.points.len(),
+                best.0,
+                best.1,
+                row.seconds,
+                best.2
+            );
+        }
+    }
+    Ok(())
+}
+
+/// `pixelpie stipple`'s placement: calibrated tone mapping, count fitting,
+/// then `relax` Lloyd steps.
+fn pixelpie_row(
+    name: &'static str,
+    map: &ImportanceMap,
+    n: usize,
+    mapping: Mapping,
+    relax_steps: u32,
+) -> Result<Row> {
+    let t = Instant::now();
+    let prepared = Prepared {
+        map: map.clone(),
+        mapping,
+        range: RadiusRange::new(1.0, 8.0)?,
+        cutoff: None,
+    };
+    let base = Params::new(map.width(), map.height()).with_policy(Policy::Smaller);
+    let fitted = prepared.sample(&base, Some(n), |p| Ok(cpu::sample(p, Default::default())?))?;
+    let mut points: Vec<Point> = fitted.set.points;
+    if relax_steps > 0 {
+        let options = relax::RelaxOptions {
+            iterations: relax_steps,
+            periodic: false,
+        };
+        points = pixelpie::stipple::relax_points(&prepared, fitted.range, &points, options, |_| true)?;
+    }
+    let seconds = t.elapsed().as_secs_f64();
+    let calibrated = points.iter().map(|p| prepared.dot_radius(p, fitted.range)).collect();
+    Ok(Row {
+        name,
+        seconds,
+        points: points.iter().map(|p| [p.x, p.y]).collect(),
+        calibrated: Some(calibrated),
+    })
+}
+
+/// Weighted Voronoi stippling: 30 Lloyd iterations on the darkness from
+/// random points drawn by the darkness.
+fn voronoi_row(density: &relax::Density<'_>, n: usize) -> Row {
+    let t = Instant::now();
+    let start = relax::random_start(n, density, 7);
+    let options = relax::RelaxOptions {
+        iterations: 30,
+        periodic: false,
+    };
+    let points = relax::relax(&start, density, options, |_| true);
+    Row {
+        name: "weighted Voronoi (30 Lloyd steps from random)",
+        seconds: t.elapsed().as_secs_f64(),
+        points,
+        calibrated: None,
+    }
+}
+
+/// i.i.d. random dots drawn by the darkness.
+fn random_row(density: &relax::Density<'_>, n: usize) -> Row {
+    let t = Instant::now();
+    let points = relax::random_start(n, density, 7);
+    Row {
+        name: "i.i.d. random",
+        seconds: t.elapsed().as_secs_f64(),
+        points,
+        calibrated: None,
+    }
+}
