@@ -71,7 +71,10 @@ fn main() -> anyhow::Result<()> {
             .collect();
         eprintln!(
             "r = {r}: {sets} sets of {side}², {points} points, coverage density {:.4}",
-            points as f64 * std::f64::consts::PI * r * r / 4.0 / f64::from(side).powi(2) / sets as f64
+            points as f64 * std::f64::consts::PI * r * r
+                / 4.0
+                / f64::from(side).powi(2)
+                / sets as f64
         );
         println!("    // r = {r} px");
         println!("    [{}],", row.join(", "));

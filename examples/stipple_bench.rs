@@ -65,7 +65,11 @@ fn main() -> Result<()> {
         let photo = Grey {
             width: pw,
             height: ph,
-            values: photo_map.values().iter().map(|&v| linear_to_srgb(v)).collect(),
+            values: photo_map
+                .values()
+                .iter()
+                .map(|&v| linear_to_srgb(v))
+                .collect(),
         };
         let (w, h) = domain(pw, ph, n);
         let map = photo_map
@@ -88,7 +92,9 @@ fn main() -> Result<()> {
         ];
         let sigma = (f64::from(pw) * f64::from(ph) / n as f64).sqrt();
         let scale = f64::from(pw) / f64::from(w);
-        let name = path.file_name().map_or_else(String::new, |f| f.to_string_lossy().into());
+        let name = path
+            .file_name()
+            .map_or_else(String::new, |f| f.to_string_lossy().into());
         for row in &rows {
             let score = |dots: &[Dot]| -> Result<fidelity::Fidelity> {
                 let scaled: Vec<Dot> = dots
@@ -112,7 +118,11 @@ fn main() -> Result<()> {
                     .points
                     .iter()
                     .zip(cal)
-                    .map(|(p, &r)| Dot { x: p[0], y: p[1], radius: r })
+                    .map(|(p, &r)| Dot {
+                        x: p[0],
+                        y: p[1],
+                        radius: r,
+                    })
                     .collect();
                 let f = score(&dots)?;
                 println!(
@@ -135,7 +145,11 @@ fn main() -> Result<()> {
                 let dots: Vec<Dot> = row
                     .points
                     .iter()
-                    .map(|p| Dot { x: p[0], y: p[1], radius: r as f32 })
+                    .map(|p| Dot {
+                        x: p[0],
+                        y: p[1],
+                        radius: r as f32,
+                    })
                     .collect();
                 let f = score(&dots)?;
                 if f.psnr > best.0 {
@@ -180,10 +194,14 @@ fn pixelpie_row(
             iterations: relax_steps,
             periodic: false,
         };
-        points = pixelpie::stipple::relax_points(&prepared, fitted.range, &points, options, |_| true)?;
+        points =
+            pixelpie::stipple::relax_points(&prepared, fitted.range, &points, options, |_| true)?;
     }
     let seconds = t.elapsed().as_secs_f64();
-    let calibrated = points.iter().map(|p| prepared.dot_radius(p, fitted.range)).collect();
+    let calibrated = points
+        .iter()
+        .map(|p| prepared.dot_radius(p, fitted.range))
+        .collect();
     Ok(Row {
         name,
         seconds,

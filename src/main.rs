@@ -40,7 +40,9 @@ fn main() -> ExitCode {
 /// layer only reorders the adapters, which wgpu ranks itself: turn it off
 /// through its own switch (`NODEVICE_SELECT`, in its manifest).
 fn quiet_device_select() {
-    if std::env::var_os("XDG_RUNTIME_DIR").is_none() && std::env::var_os("NODEVICE_SELECT").is_none() {
+    if std::env::var_os("XDG_RUNTIME_DIR").is_none()
+        && std::env::var_os("NODEVICE_SELECT").is_none()
+    {
         #[expect(
             unsafe_code,
             reason = "set_var is unsafe in edition 2024; main has started no thread yet"

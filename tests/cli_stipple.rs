@@ -111,8 +111,34 @@ fn default_stipple_of_the_bundled_photo_just_works() {
         c.iter()
             .all(|d| (0.0..1024.0).contains(&d[0]) && (0.0..1024.0).contains(&d[1]))
     );
-    // Fixed dots by default: one radius for all.
-    assert!(c.iter().all(|d| d[2] == c[0][2]));
+    // Dots sized by tone by default: from 0.3 of the largest up to it.
+    let (lo, hi) = c.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), d| {
+        (lo.min(d[2]), hi.max(d[2]))
+    });
+    assert!(
+        lo >= 0.3 * hi - 1e-3 && lo < 0.6 * hi,
+        "dot radii {lo}..{hi}"
+    );
+    // On a server without XDG_RUNTIME_DIR, with the GPU probed (auto), a
+    // working export prints nothing.
+    let quiet = Command::new(env!("CARGO_BIN_EXE_pixelpie"))
+        .args([
+            "stipple",
+            &asset("default.png"),
+            "-o",
+            s(&svg),
+            "--points",
+            "500",
+        ])
+        .env_remove("XDG_RUNTIME_DIR")
+        .output()
+        .expect("run pixelpie");
+    assert!(quiet.status.success());
+    assert!(
+        quiet.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&quiet.stderr)
+    );
 
     let png = file(dir.path(), "out.png");
     ok(&[
@@ -550,4 +576,155 @@ fn analyze_prints_the_measures_and_writes_plots() {
         "{stderr}"
     );
     assert_eq!(stderr.lines().count(), 1);
+}
+
+fn fidelity(photo: &str, drawing: &Path, extra: &[&str]) -> serde_json::Value {
+    let mut args = vec!["fidelity", photo, s(drawing)];
+    args.extend_from_slice(extra);
+    let out = ok(&args);
+    serde_json::from_slice(&out.stdout).expect("fidelity prints JSON")
+}
+
+#[test]
+fn fidelity_measures_our_drawings_and_ranks_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let photo = asset("default.png");
+    let (svg, png) = (d.join("a.svg"), d.join("a.png"));
+    ok(&["stipple", &photo, "-o", s(&svg), "--quiet"]);
+    ok(&["stipple", &photo, "-o", s(&png), "--quiet"]);
+    let from_svg = fidelity(&photo, &svg, &[]);
+    let from_png = fidelity(&photo, &png, &[]);
+    // The same drawing read from either format, mean spacing as σ.
+    assert_eq!(from_svg["dots"], from_png["dots"]);
+    let n = from_svg["dots"].as_f64().unwrap();
+    assert!((from_svg["sigma"].as_f64().unwrap() - (512.0 * 512.0 / n).sqrt()).abs() < 1e-9);
+    let (p_svg, p_png) = (
+        from_svg["psnr"].as_f64().unwrap(),
+        from_png["psnr"].as_f64().unwrap(),
+    );
+    assert!((p_svg - p_png).abs() < 1.0, "svg {p_svg} vs png {p_png}");
+    // The calibrated default reads like the photo; the old linear-light
+    // target with proportional dots does much worse.
+    assert!(
+        p_svg > 24.0 && from_svg["ssim"].as_f64().unwrap() > 0.8,
+        "{from_svg}"
+    );
+    let bad = d.join("b.svg");
+    ok(&[
+        "stipple",
+        &photo,
+        "-o",
+        s(&bad),
+        "--quiet",
+        "--tones",
+        "linear",
+        "--dot",
+        "proportional",
+    ]);
+    let worse = fidelity(&photo, &bad, &[]);
+    assert!(worse["psnr"].as_f64().unwrap() < p_svg - 5.0, "{worse}");
+    // A larger blur forgives more.
+    let blurred = fidelity(&photo, &svg, &["--sigma", "20"]);
+    assert!(blurred["psnr"].as_f64().unwrap() > p_svg);
+}
+
+#[test]
+fn new_options_refuse_bad_input_cleanly() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let photo = asset("default.png");
+    let out = d.join("out.svg");
+    let o = s(&out);
+    let cases: &[(&[&str], &str)] = &[
+        (&["stipple", &photo, "-o", o, "--relax", "NaN"], "relax NaN"),
+        (
+            &["stipple", &photo, "-o", o, "--relax", "-3"],
+            "negative relax",
+        ),
+        (
+            &[
+                "stipple",
+                &photo,
+                "-o",
+                o,
+                "--width-mm",
+                "200",
+                "--pen-mm",
+                "-0.3",
+            ],
+            "negative pen",
+        ),
+        (
+            &[
+                "stipple",
+                &photo,
+                "-o",
+                o,
+                "--width-mm",
+                "200",
+                "--pen-mm",
+                "NaN",
+            ],
+            "NaN pen",
+        ),
+        (
+            &["stipple", &photo, "-o", o, "--pen-mm", "0.3"],
+            "pen without page size",
+        ),
+        (
+            &["stipple", &photo, "-o", o, "--dot-ratio", "0"],
+            "zero dot ratio",
+        ),
+        (
+            &["stipple", &photo, "-o", o, "--dot-radius", "NaN"],
+            "NaN dot radius",
+        ),
+        (
+            &["stipple", &photo, "-o", o, "--tones", "gamma"],
+            "unknown tones",
+        ),
+    ];
+    for (args, why) in cases {
+        assert_fails(args, &out, why);
+    }
+    // fidelity: a drawing not ours, a photo of another aspect, bad σ.
+    let drawing = d.join("a.svg");
+    ok(&["stipple", &photo, "-o", s(&drawing), "--quiet"]);
+    let foreign = d.join("foreign.svg");
+    std::fs::write(
+        &foreign,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 10 10"><circle cx="5" cy="5" r="1"/></svg>"#,
+    )
+    .unwrap();
+    let other_png = d.join("plain.png");
+    fixtures::halves_gray8(64, 64, 10, 250)
+        .save(&other_png)
+        .unwrap();
+    let wide = d.join("wide.png");
+    fixtures::halves_gray8(300, 100, 10, 250)
+        .save(&wide)
+        .unwrap();
+    let none = d.join("none.json");
+    let missing = d.join("missing.svg");
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (vec!["fidelity", &photo, s(&foreign)], "foreign svg"),
+        (vec!["fidelity", &photo, s(&other_png)], "foreign png"),
+        (
+            vec!["fidelity", s(&wide), s(&drawing)],
+            "photo of another aspect",
+        ),
+        (
+            vec!["fidelity", &photo, s(&drawing), "--sigma", "NaN"],
+            "NaN sigma",
+        ),
+        (
+            vec!["fidelity", &photo, s(&drawing), "--sigma", "-1"],
+            "negative sigma",
+        ),
+        (vec!["fidelity", &photo, s(&missing)], "missing drawing"),
+    ];
+    for (args, why) in &cases {
+        assert_fails(args, &none, why);
+    }
 }

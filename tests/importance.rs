@@ -8,8 +8,8 @@ use std::path::Path;
 
 use fixtures::{decode_srgb, exr_rgba, exr_y, file, gray16, halves_gray8, rgb8, rgba8};
 use image::{DynamicImage, ImageBuffer, Rgb};
-use pixelpie::importance::{ink, 
-    Adjust, Error, ImportanceMap, Mapping, RadiusRange, Range, fit_size, load,
+use pixelpie::importance::{
+    Adjust, Error, ImportanceMap, Mapping, RadiusRange, Range, fit_size, ink, load,
 };
 
 const LUMA: [f64; 3] = [0.2126, 0.7152, 0.0722];
@@ -297,7 +297,10 @@ fn mappings_are_monotone_and_exact_at_both_ends() {
         for v in [0.1f32, 0.3, 0.5, 0.7] {
             let (r, rho) = (mapping.radius(v, range), mapping.dot_radius(v, range));
             let k = ink::ink(f64::from(rho / r), f64::from(r));
-            assert!((k - f64::from(1.0 - v)).abs() < 2e-3, "{mapping:?} v {v}: ink {k}");
+            assert!(
+                (k - f64::from(1.0 - v)).abs() < 2e-3,
+                "{mapping:?} v {v}: ink {k}"
+            );
         }
     }
     // Linear is the paper's ramp.

@@ -208,9 +208,16 @@ fn calibrated_dots_reproduce_a_ramp_within_four_percent() {
             worst = worst.max((grey - target).abs());
         }
         eprintln!("{mapping:?}, r_min {r_min}: worst error {worst:.3}");
-        assert!(worst < 0.04, "{mapping:?}, r_min {r_min}: worst error {worst:.3}: {greys:.2?}");
+        assert!(
+            worst < 0.04,
+            "{mapping:?}, r_min {r_min}: worst error {worst:.3}: {greys:.2?}"
+        );
         // Black is black: the darkest bands reach 95% ink.
-        assert!(greys[0].1 < 0.05, "{mapping:?}: black band grey {:.3}", greys[0].1);
+        assert!(
+            greys[0].1 < 0.05,
+            "{mapping:?}: black band grey {:.3}",
+            greys[0].1
+        );
     }
 }
 

@@ -160,8 +160,10 @@ impl PixelPieApp {
             });
         match s.dot_mode {
             DotMode::Fixed | DotMode::Sized => {
-                ui.add(egui::Slider::new(&mut s.dot_factor, 0.3..=2.0).text("Dot size (× calibrated)"))
-                    .on_hover_text("1 reproduces the picture's tones; more darkens, less lightens.");
+                ui.add(
+                    egui::Slider::new(&mut s.dot_factor, 0.3..=2.0).text("Dot size (× calibrated)"),
+                )
+                .on_hover_text("1 reproduces the picture's tones; more darkens, less lightens.");
             }
             DotMode::Proportional => {
                 ui.add(egui::Slider::new(&mut s.dot_scale, 0.05..=1.0).text("Dot size (× disk)"));
@@ -197,10 +199,9 @@ impl PixelPieApp {
             ui.horizontal(|ui| {
                 ui.spinner();
                 match (&self.progress, self.relaxed) {
-                    (_, Some(done)) => ui.label(format!(
-                        "relaxing: {done} of {} steps",
-                        self.settings.relax
-                    )),
+                    (_, Some(done)) => {
+                        ui.label(format!("relaxing: {done} of {} steps", self.settings.relax))
+                    }
                     (Some(p), None) => ui.label(format!(
                         "iteration {}, {:.0}% covered",
                         p.iteration,

@@ -11,8 +11,8 @@ use super::settings::{DotMode, Settings};
 use crate::backend::BackendChoice;
 use crate::gpu::GpuSampler;
 use crate::importance::{Adjust, ImportanceMap, Mapping, Prepared, RadiusRange};
-use crate::stipple::relax::RelaxOptions;
 use crate::sampler::{self, Control, Params, Progress, SampleSet};
+use crate::stipple::relax::RelaxOptions;
 
 /// A sampling request.
 pub struct Job {
@@ -219,12 +219,17 @@ fn compute(
             iterations: s.relax,
             periodic: s.periodic,
         };
-        set.points = crate::stipple::relax_points(&prepared, fitted.range, &set.points, options, |done| {
-            relaxed(done);
-            !ctl.cancel.is_some_and(|c| c.load(std::sync::atomic::Ordering::Relaxed))
-        })
-        .map_err(|e| e.to_string())?;
-        if ctl.cancel.is_some_and(|c| c.load(std::sync::atomic::Ordering::Relaxed)) {
+        set.points =
+            crate::stipple::relax_points(&prepared, fitted.range, &set.points, options, |done| {
+                relaxed(done);
+                !ctl.cancel
+                    .is_some_and(|c| c.load(std::sync::atomic::Ordering::Relaxed))
+            })
+            .map_err(|e| e.to_string())?;
+        if ctl
+            .cancel
+            .is_some_and(|c| c.load(std::sync::atomic::Ordering::Relaxed))
+        {
             return Err("cancelled".into());
         }
     }

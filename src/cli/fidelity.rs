@@ -109,7 +109,11 @@ fn load_drawing(path: &Path, (w, h): (u32, u32)) -> Result<(Grey, usize)> {
         }
         _ => bail!("unknown drawing extension of '{name}': use .svg or .png"),
     };
-    let values = grey.as_raw().iter().map(|&g| f32::from(g) / 255.0).collect();
+    let values = grey
+        .as_raw()
+        .iter()
+        .map(|&g| f32::from(g) / 255.0)
+        .collect();
     Ok((
         Grey {
             width: w,

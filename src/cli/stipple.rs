@@ -216,10 +216,12 @@ pub fn run(a: &StippleArgs) -> Result<()> {
     )?;
     let (width, height) = (prepared.map.width(), prepared.map.height());
     if let Some(rho) = a.dot_radius {
-        let ratio = a.importance_opts.max_radius.map_or(
-            super::importance::DEFAULT_RADIUS_RATIO,
-            |hi| hi / Mapping::range_for_dot(rho, 1.0).map_or(hi, |r| r.min),
-        );
+        let ratio = a
+            .importance_opts
+            .max_radius
+            .map_or(super::importance::DEFAULT_RADIUS_RATIO, |hi| {
+                hi / Mapping::range_for_dot(rho, 1.0).map_or(hi, |r| r.min)
+            });
         prepared.range = Mapping::range_for_dot(rho, ratio.max(1.0))?;
     }
     let t_load = t0.elapsed().as_secs_f64();

@@ -115,6 +115,7 @@ struct Document {
     view_box: Option<Result<ViewBox, String>>,
     /// Whether our comment has been seen.
     ours: bool,
+    /// The dots read so far, in viewBox units.
     dots: Vec<Dot>,
     /// The first dot that could not be read; reported only for our files.
     bad_dot: Option<String>,
