@@ -182,10 +182,10 @@ impl PixelPieApp {
                                     .iter()
                                     .zip(&outcome.calibrated)
                                     .map(|(p, &c)| dots::DotInstance {
-                                        x: p.x,
-                                        y: p.y,
-                                        radius: p.radius,
-                                        drawn: c,
+                                        x: p.x / outcome.scale,
+                                        y: p.y / outcome.scale,
+                                        radius: p.radius / outcome.scale,
+                                        drawn: c / outcome.scale,
                                     })
                                     .collect(),
                             );

@@ -93,7 +93,7 @@ impl Default for Settings {
         Self {
             image: None,
             use_count: true,
-            points: 8000,
+            points: 10_000,
             r_min: 1.5,
             r_max: 12.0,
             tone: true,

@@ -30,8 +30,11 @@ pub struct Outcome {
     pub set: SampleSet,
     /// Sampler runs made (count targeting makes several).
     pub runs: usize,
-    /// Each point's calibrated dot radius (its tone's), in px.
+    /// Each point's calibrated dot radius (its tone's), in domain px.
     pub calibrated: Vec<f32>,
+    /// Domain pixels per image pixel: the sampling domain is the image
+    /// enlarged to a longer side of 1024 px or more.
+    pub scale: f32,
     /// A note for the status line, such as a fallback to the CPU.
     pub note: Option<String>,
 }
@@ -181,9 +184,26 @@ fn compute(
         gamma: s.gamma,
         invert: s.invert,
     };
+    // With a point count, sample on the domain `pixelpie stipple` would use
+    // (longer side at least 1024 px), so that the first view is the CLI's
+    // drawing and the dots stay well above the sampler's pixel resolution.
+    // A radius range is in image pixels.
+    let (w, h) = (job.map.width(), job.map.height());
+    let scale = if s.use_count {
+        let side = 1024f64.max(10.0 * f64::from(s.points).sqrt());
+        (side / f64::from(w.max(h))).max(1.0)
+    } else {
+        1.0
+    };
+    let (dw, dh) = (
+        ((f64::from(w) * scale).round() as u32).max(1),
+        ((f64::from(h) * scale).round() as u32).max(1),
+    );
     let prepared = Prepared {
         map: job
             .map
+            .resized(dw, dh)
+            .map_err(|e| e.to_string())?
             .toned(s.tones)
             .adjusted(&adjust)
             .map_err(|e| e.to_string())?,
@@ -239,6 +259,7 @@ fn compute(
         .map(|p| prepared.dot_radius(p, fitted.range))
         .collect();
     Ok(Outcome {
+        scale: (f64::from(dw) / f64::from(w)) as f32,
         calibrated,
         set,
         runs: fitted.runs,

@@ -1,22 +1,68 @@
-//! SVG output: one `<circle>` per dot, in drawing order, inside a viewBox in
-//! domain pixels. An optional physical size (millimetres) makes the file
-//! plot at that size in pen-plotter tools (Inkscape/AxiDraw, vpype).
+//! SVG output, in drawing order. By default one `<circle>` per dot inside a
+//! viewBox in domain pixels; an optional physical size (millimetres) makes
+//! the file plot at that size in pen-plotter tools (Inkscape/AxiDraw, vpype).
+//!
+//! With a pen width ([`SvgOptions::pen_mm`]) each dot is instead drawn as a
+//! pen draws it: one stroked `<path>` per dot in an Inkscape layer, in a
+//! viewBox in millimetres. A dot no wider than the pen is one touch of the
+//! pen (a [`TOUCH_MM`]-long stroke: plotter tools drop zero-length paths); a
+//! bigger one is filled by an Archimedean spiral from its centre outward and
+//! one closing circle, so that the inked area is the dot's disk. Each path
+//! carries `data-dot="cx cy r"` (centre and radius in mm) so that the
+//! drawing can be read back ([`super::read`]).
 
+use std::f64::consts::{PI, TAU};
+use std::fmt::Write as _;
 use std::io::Write;
 
 use super::{Dot, Error, Result};
 
+/// Length in mm of the stroke that draws a dot no wider than the pen: long
+/// enough to survive three decimals, short enough to look like a dot.
+pub const TOUCH_MM: f64 = 0.01;
+
+/// The spiral's pitch (distance between turns) as a fraction of the pen
+/// width: below 1, neighbouring turns overlap and leave no gap.
+pub const PITCH: f64 = 0.8;
+
+/// The largest distance in mm between a pen path's polyline and the exact
+/// spiral or circle it follows (chord error).
+pub const CHORD_MM: f64 = 0.01;
+
+/// The thinnest pen in mm: the files' resolution (three decimals).
+pub const MIN_PEN_MM: f64 = 0.001;
+
 /// Options of the SVG writer.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SvgOptions {
-    /// The domain in pixels: the viewBox is `0 0 width height`.
+    /// The domain in pixels: the viewBox is `0 0 width height` (without a
+    /// pen; with one the viewBox is in mm).
     pub domain: (u32, u32),
     /// Width and height of the page in mm; `None` gives a size in px equal
     /// to the domain.
     pub size_mm: Option<(f64, f64)>,
+    /// The pen's width in mm: draw each dot as a pen stroke of this width
+    /// (needs `size_mm`); `None` draws filled circles.
+    pub pen_mm: Option<f64>,
 }
 
 impl SvgOptions {
+    /// Filled circles on a page sized in px like the domain.
+    ///
+    /// ```
+    /// use pixelpie::stipple::svg::SvgOptions;
+    /// let o = SvgOptions::new((400, 200));
+    /// assert_eq!((o.size_mm, o.pen_mm), (None, None));
+    /// ```
+    #[must_use]
+    pub fn new(domain: (u32, u32)) -> Self {
+        Self {
+            domain,
+            size_mm: None,
+            pen_mm: None,
+        }
+    }
+
     /// A page `width_mm` wide, its height following the domain's aspect.
     ///
     /// ```
@@ -34,20 +80,75 @@ impl SvgOptions {
         Ok(Self {
             domain,
             size_mm: Some((width_mm, h)),
+            pen_mm: None,
         })
+    }
+
+    /// These options drawing with a pen `pen_mm` wide. Err unless `pen_mm`
+    /// is a number of at least [`MIN_PEN_MM`] and the page has a size in mm.
+    ///
+    /// ```
+    /// use pixelpie::stipple::svg::SvgOptions;
+    /// let o = SvgOptions::with_width_mm((400, 200), 100.0).unwrap();
+    /// assert_eq!(o.with_pen_mm(0.3).unwrap().pen_mm, Some(0.3));
+    /// assert!(o.with_pen_mm(0.0).is_err());
+    /// assert!(SvgOptions::new((400, 200)).with_pen_mm(0.3).is_err());
+    /// ```
+    pub fn with_pen_mm(self, pen_mm: f64) -> Result<Self> {
+        let o = Self {
+            pen_mm: Some(pen_mm),
+            ..self
+        };
+        o.pen()?;
+        Ok(o)
+    }
+
+    /// The pen width and the page size in mm, if drawing with a pen; Err if
+    /// the pen width is not a positive number or the page has no size in mm.
+    fn pen(&self) -> Result<Option<(f64, (f64, f64))>> {
+        let Some(pen) = self.pen_mm else {
+            return Ok(None);
+        };
+        if !(pen.is_finite() && pen >= MIN_PEN_MM) {
+            return Err(Error::InvalidParameter(format!(
+                "pen width {pen} mm must be a number of at least {MIN_PEN_MM} mm"
+            )));
+        }
+        match self.size_mm {
+            Some(size) => Ok(Some((pen, size))),
+            None => Err(Error::InvalidParameter("--pen-mm needs --width-mm".into())),
+        }
     }
 }
 
-/// Writes `dots` as an SVG document.
+/// Writes `dots` as an SVG document, in their order. Err if the options'
+/// pen width is invalid (see [`SvgOptions::with_pen_mm`]), if drawing with a
+/// pen a dot is not finite, or if writing fails.
 ///
 /// ```
 /// use pixelpie::stipple::{Dot, svg};
 /// let mut out = Vec::new();
-/// let opts = svg::SvgOptions { domain: (10, 10), size_mm: None };
+/// let opts = svg::SvgOptions { domain: (10, 10), size_mm: None, pen_mm: None };
 /// svg::write(&mut out, &[Dot { x: 5.0, y: 5.0, radius: 1.0 }], &opts).unwrap();
 /// assert!(String::from_utf8(out).unwrap().contains(r#"<circle cx="5" cy="5" r="1"/>"#));
 /// ```
+///
+/// With a pen, on a page 100 mm wide (1 mm per domain pixel here):
+///
+/// ```
+/// use pixelpie::stipple::{Dot, svg};
+/// let opts = svg::SvgOptions::with_width_mm((100, 50), 100.0)?.with_pen_mm(0.5)?;
+/// let mut out = Vec::new();
+/// svg::write(&mut out, &[Dot { x: 10.0, y: 20.0, radius: 0.2 }], &opts)?;
+/// let text = String::from_utf8(out).unwrap();
+/// assert!(text.contains(r#"viewBox="0 0 100 50""#));
+/// assert!(text.contains(r#"<path d="M 10 20 L 10.01 20" data-dot="10 20 0.2"/>"#));
+/// # Ok::<(), pixelpie::stipple::Error>(())
+/// ```
 pub fn write(w: &mut dyn Write, dots: &[Dot], opts: &SvgOptions) -> Result<()> {
+    if let Some((pen, size)) = opts.pen()? {
+        return write_pen(w, dots, opts.domain, size, pen);
+    }
     let (dw, dh) = opts.domain;
     let (width, height) = match opts.size_mm {
         Some((a, b)) => (format!("{}mm", num(a)), format!("{}mm", num(b))),
@@ -74,9 +175,446 @@ pub fn write(w: &mut dyn Write, dots: &[Dot], opts: &SvgOptions) -> Result<()> {
     Ok(())
 }
 
+/// The pen-plotter document: a viewBox in mm, one Inkscape layer, one path
+/// per dot.
+fn write_pen(
+    w: &mut dyn Write,
+    dots: &[Dot],
+    domain: (u32, u32),
+    (width, height): (f64, f64),
+    pen: f64,
+) -> Result<()> {
+    if let Some((i, d)) = dots
+        .iter()
+        .enumerate()
+        .find(|(_, d)| !(d.x.is_finite() && d.y.is_finite() && d.radius.is_finite()))
+    {
+        return Err(Error::InvalidParameter(format!(
+            "dot {i} ({}, {}, radius {}) is not finite",
+            d.x, d.y, d.radius
+        )));
+    }
+    let scale = width / f64::from(domain.0.max(1));
+    let (width, height) = (num(width), num(height));
+    writeln!(w, r#"<?xml version="1.0" encoding="UTF-8"?>"#)?;
+    writeln!(
+        w,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" xmlns:inkscape="http://www.inkscape.org/namespaces/inkscape" version="1.1" width="{width}mm" height="{height}mm" viewBox="0 0 {width} {height}">"#
+    )?;
+    writeln!(w, "<!-- {} dots, made by pixelpie -->", dots.len())?;
+    writeln!(
+        w,
+        r#"<g inkscape:groupmode="layer" id="layer1" inkscape:label="1 stipple" fill="none" stroke="black" stroke-width="{}" stroke-linecap="round" stroke-linejoin="round">"#,
+        num(pen)
+    )?;
+    let mut line = String::new();
+    for d in dots {
+        let (cx, cy, r) = (
+            f64::from(d.x) * scale,
+            f64::from(d.y) * scale,
+            f64::from(d.radius) * scale,
+        );
+        line.clear();
+        line.push_str(r#"<path d=""#);
+        for (k, (x, y)) in pen_path(cx, cy, r, pen).into_iter().enumerate() {
+            let cmd = match k {
+                0 => "M ",
+                1 => " L ",
+                _ => " ",
+            };
+            let _ = write!(line, "{cmd}{} {}", num(x), num(y));
+        }
+        let _ = write!(line, r#"" data-dot="{} {} {}"/>"#, num(cx), num(cy), num(r));
+        writeln!(w, "{line}")?;
+    }
+    writeln!(w, "</g>")?;
+    writeln!(w, "</svg>")?;
+    Ok(())
+}
+
+/// The polyline a pen `pen` wide follows to ink the disk of centre
+/// (`cx`, `cy`) and radius `r` (all in mm), at least two points.
+///
+/// A disk no wider than the pen (2r ≤ pen, both rounded to 0.001 mm) is one
+/// touch: the centre and a point [`TOUCH_MM`] to its right. Otherwise the
+/// pen's centre runs an Archimedean spiral from the disk's centre out to
+/// radius R = r − pen/2 at a pitch ≤ [`PITCH`] × pen, then once round the
+/// circle of radius R: every point of the disk is then within pen/2 of the
+/// path and the path stays within R, so the ink is the disk (up to about
+/// [`CHORD_MM`] / 2 at its edge, where the circle is a polygon). R is at
+/// least [`TOUCH_MM`], so that a disk barely wider than the pen is still a
+/// visible loop; when R ≤ pen/2 the circle alone covers the disk and the
+/// spiral is left out.
+fn pen_path(cx: f64, cy: f64, r: f64, pen: f64) -> Vec<(f64, f64)> {
+    // Decided on the numbers as written (three decimals): a reader of the
+    // file finds a touch exactly where 2 × data-dot's r ≤ stroke-width.
+    if 2.0 * (r * 1000.0).round() <= (pen * 1000.0).round() {
+        return vec![(cx, cy), (cx + TOUCH_MM, cy)];
+    }
+    let big = (r - pen / 2.0).max(TOUCH_MM);
+    let turns = if big <= pen / 2.0 {
+        0.0
+    } else {
+        (big / (PITCH * pen)).ceil()
+    };
+    // The closing circle is a polygon whose vertices lie a little outside R
+    // and whose chords' midpoints lie as much inside: its edge strays at
+    // most about CHORD_MM / 2 either way, so the ink's edge does too.
+    let n = circle_segments(big);
+    let outer = 2.0 * big / (1.0 + (PI / f64::from(n)).cos());
+    let end = TAU * turns;
+    let mut pts = Vec::new();
+    if turns > 0.0 {
+        // ρ = aθ, θ in [0, end]: the pitch is 2πa = outer / turns.
+        let a = outer / end;
+        let mut theta = 0.0;
+        pts.push((cx, cy));
+        while theta < end {
+            let rho = a * theta;
+            // Chord error ≈ dθ² (ρ² + 2a²) / (8 √(ρ² + a²)), from the
+            // spiral's curvature at ρ.
+            let q = rho.hypot(a);
+            let step = (8.0 * CHORD_MM * q / (rho * rho + 2.0 * a * a))
+                .sqrt()
+                .min(PI / 8.0);
+            theta = (theta + step).min(end);
+            pts.push((cx + a * theta * theta.cos(), cy + a * theta * theta.sin()));
+        }
+    } else {
+        pts.push((cx + outer, cy));
+    }
+    for k in 1..=n {
+        let phi = end + TAU * f64::from(k) / f64::from(n);
+        pts.push((cx + outer * phi.cos(), cy + outer * phi.sin()));
+    }
+    pts
+}
+
+/// Segments of a polygon inscribed in a circle of radius `r` whose chords
+/// stay within [`CHORD_MM`] of the circle (at least 8).
+fn circle_segments(r: f64) -> u32 {
+    if r <= CHORD_MM {
+        return 8;
+    }
+    let n = (PI / (1.0 - CHORD_MM / r).acos()).ceil();
+    // About 700 for a radius of 1 m.
+    (n as u32).max(8)
+}
+
 /// A number with at most three decimals and no trailing zeros.
 fn num(v: f64) -> String {
     let s = format!("{v:.3}");
     let s = s.trim_end_matches('0').trim_end_matches('.');
     if s == "-0" { "0".into() } else { s.into() }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn render(dots: &[Dot], opts: &SvgOptions) -> String {
+        let mut out = Vec::new();
+        write(&mut out, dots, opts).expect("write");
+        String::from_utf8(out).expect("utf-8")
+    }
+
+    fn pen_opts(domain: (u32, u32), width_mm: f64, pen: f64) -> SvgOptions {
+        SvgOptions::with_width_mm(domain, width_mm)
+            .and_then(|o| o.with_pen_mm(pen))
+            .expect("valid options")
+    }
+
+    /// A path read back: the points of its `d`, and its `data-dot`.
+    type PenPath = (Vec<(f64, f64)>, [f64; 3]);
+
+    /// The paths of a pen drawing, in order.
+    fn paths(text: &str) -> Vec<PenPath> {
+        text.lines()
+            .filter(|l| l.starts_with("<path "))
+            .map(|l| {
+                let attr = |name: &str| {
+                    let start = l.find(&format!(" {name}=\"")).expect(name) + name.len() + 3;
+                    let len = l[start..].find('"').expect("closing quote");
+                    &l[start..start + len]
+                };
+                let nums: Vec<f64> = attr("d")
+                    .split_whitespace()
+                    .filter(|t| *t != "M" && *t != "L")
+                    .map(|t| t.parse().expect("number"))
+                    .collect();
+                assert!(attr("d").starts_with("M "));
+                assert_eq!(attr("d").matches('L').count(), 1);
+                let pts = nums.chunks(2).map(|c| (c[0], c[1])).collect();
+                let dot: Vec<f64> = attr("data-dot")
+                    .split(' ')
+                    .map(|t| t.parse().expect("number"))
+                    .collect();
+                (pts, [dot[0], dot[1], dot[2]])
+            })
+            .collect()
+    }
+
+    /// Distance from `p` to the segment `a`–`b`.
+    fn seg_dist(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
+        let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+        let len2 = dx * dx + dy * dy;
+        let t = if len2 > 0.0 {
+            (((p.0 - a.0) * dx + (p.1 - a.1) * dy) / len2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        (p.0 - a.0 - t * dx).hypot(p.1 - a.1 - t * dy)
+    }
+
+    fn poly_dist(p: (f64, f64), pts: &[(f64, f64)]) -> f64 {
+        pts.windows(2)
+            .map(|s| seg_dist(p, s[0], s[1]))
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    #[test]
+    fn without_a_pen_the_output_is_unchanged() {
+        let dots = [
+            Dot {
+                x: 1.5,
+                y: 2.25,
+                radius: 0.5,
+            },
+            Dot {
+                x: 3.0,
+                y: 4.0,
+                radius: 1.0 / 3.0,
+            },
+        ];
+        let expected = r#"<?xml version="1.0" encoding="UTF-8"?>
+<svg xmlns="http://www.w3.org/2000/svg" version="1.1" width="200mm" height="100mm" viewBox="0 0 20 10">
+<!-- 2 dots, made by pixelpie -->
+<g fill="black" stroke="none">
+<circle cx="1.5" cy="2.25" r="0.5"/>
+<circle cx="3" cy="4" r="0.333"/>
+</g>
+</svg>
+"#;
+        let opts = SvgOptions::with_width_mm((20, 10), 200.0).expect("valid");
+        assert_eq!(render(&dots, &opts), expected);
+        let px = render(&dots, &SvgOptions::new((20, 10)));
+        assert!(px.contains(r#"width="20px" height="10px" viewBox="0 0 20 10""#));
+    }
+
+    #[test]
+    fn pen_mode_has_one_layer_in_millimetres() {
+        let text = render(
+            &[Dot {
+                x: 50.0,
+                y: 25.0,
+                radius: 2.0,
+            }],
+            &pen_opts((100, 50), 200.0, 0.3),
+        );
+        for needle in [
+            r#"xmlns:inkscape="http://www.inkscape.org/namespaces/inkscape""#,
+            r#"width="200mm" height="100mm" viewBox="0 0 200 100""#,
+            "<!-- 1 dots, made by pixelpie -->",
+            r#"<g inkscape:groupmode="layer" id="layer1" inkscape:label="1 stipple" fill="none" stroke="black" stroke-width="0.3" stroke-linecap="round" stroke-linejoin="round">"#,
+            r#"data-dot="100 50 4""#,
+        ] {
+            assert!(text.contains(needle), "{needle} missing in\n{text}");
+        }
+        assert_eq!(text.matches("<g").count(), 1);
+        assert!(!text.contains("<circle"));
+        assert!(text.ends_with("</g>\n</svg>\n"));
+    }
+
+    #[test]
+    fn one_path_per_dot_in_order() {
+        let dots: Vec<Dot> = (0..50)
+            .map(|i| Dot {
+                x: (i * 7 % 100) as f32,
+                y: (i * 13 % 50) as f32,
+                radius: 0.05 * i as f32,
+            })
+            .collect();
+        let text = render(&dots, &pen_opts((100, 50), 100.0, 0.5));
+        let p = paths(&text);
+        assert_eq!(p.len(), dots.len());
+        assert_eq!(text.matches("<path").count(), dots.len());
+        assert_eq!(text.matches("data-dot=").count(), dots.len());
+        for ((pts, dot), d) in p.iter().zip(&dots) {
+            assert_eq!(
+                *dot,
+                [
+                    f64::from(d.x),
+                    f64::from(d.y),
+                    num(f64::from(d.radius)).parse().unwrap()
+                ]
+            );
+            assert!(pts.len() >= 2);
+            // Every path has some length, so that plotter tools keep it.
+            assert!(pts.iter().any(|q| *q != pts[0]), "{pts:?}");
+        }
+        // Touches up to 2r = 0.5 (i ≤ 5), spirals beyond.
+        assert!(p[..=5].iter().all(|(pts, _)| pts.len() == 2));
+        assert!(p[6..].iter().all(|(pts, _)| pts.len() > 8));
+    }
+
+    #[test]
+    fn a_dot_no_wider_than_the_pen_is_one_touch() {
+        // 2 mm per px: r = 0.15 mm, as wide as the pen.
+        let text = render(
+            &[Dot {
+                x: 3.0,
+                y: 4.0,
+                radius: 0.075,
+            }],
+            &pen_opts((10, 10), 20.0, 0.3),
+        );
+        assert!(
+            text.contains(r#"<path d="M 6 8 L 6.01 8" data-dot="6 8 0.15"/>"#),
+            "{text}"
+        );
+    }
+
+    #[test]
+    fn a_big_dot_is_inked_exactly() {
+        // (radius, pen) in mm: barely wider than the pen (R clamped to
+        // TOUCH_MM), circle only (R ≤ pen/2), one turn, many turns.
+        for (r, pen) in [
+            (0.151, 0.3),
+            (0.2, 0.3),
+            (0.29, 0.3),
+            (0.45, 0.3),
+            (1.087, 0.3),
+            (3.0, 0.3),
+            (2.0, 1.0),
+            (1.0, 0.05),
+        ] {
+            let (cx, cy) = (10.0, 20.0);
+            // 1 mm per px.
+            let text = render(
+                &[Dot {
+                    x: cx as f32,
+                    y: cy as f32,
+                    radius: r as f32,
+                }],
+                &pen_opts((100, 100), 100.0, pen),
+            );
+            let p = paths(&text);
+            let pts = &p[0].0;
+            assert!(pts.len() > 2, "r {r} pen {pen}");
+            // The ink stays inside the disk (up to the clamp and rounding).
+            let inner = (r - pen / 2.0).max(TOUCH_MM) + CHORD_MM / 2.0 + 0.001;
+            for q in pts {
+                let d = (q.0 - cx).hypot(q.1 - cy);
+                assert!(d <= inner, "r {r} pen {pen}: vertex at {d} > {inner}");
+            }
+            // Every point of the disk is within pen/2 of the path.
+            let margin = CHORD_MM / 2.0 + 0.002;
+            let n = 60;
+            let step = 2.0 * r / f64::from(n);
+            let mut checked = 0;
+            for i in 0..=n {
+                for j in 0..=n {
+                    let q = (cx - r + step * f64::from(i), cy - r + step * f64::from(j));
+                    if (q.0 - cx).hypot(q.1 - cy) > r - margin {
+                        continue;
+                    }
+                    checked += 1;
+                    let d = poly_dist(q, pts);
+                    assert!(
+                        d <= pen / 2.0,
+                        "r {r} pen {pen}: {q:?} is {d} from the path"
+                    );
+                }
+            }
+            assert!(checked > 2000);
+        }
+    }
+
+    #[test]
+    fn pen_paths_start_at_the_centre() {
+        let text = render(
+            &[Dot {
+                x: 10.0,
+                y: 10.0,
+                radius: 2.0,
+            }],
+            &pen_opts((20, 20), 20.0, 0.3),
+        );
+        let p = paths(&text);
+        assert_eq!(p[0].0[0], (10.0, 10.0));
+        // The spiral ends on the closing circle of radius r - pen/2.
+        let last = *p[0].0.last().unwrap();
+        assert!(((last.0 - 10.0).hypot(last.1 - 10.0) - 1.85).abs() < CHORD_MM);
+    }
+
+    #[test]
+    fn invalid_pen_widths_are_refused() {
+        let page = SvgOptions::with_width_mm((100, 50), 100.0).expect("valid");
+        for bad in [0.0, -0.3, 4e-4, f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            let e = page.with_pen_mm(bad).expect_err("refused").to_string();
+            assert!(e.contains(&format!("{bad}")), "{e}");
+            assert!(!e.contains('\n'));
+            // Set directly, the writer refuses it too.
+            let opts = SvgOptions {
+                pen_mm: Some(bad),
+                ..page
+            };
+            assert!(write(&mut Vec::new(), &[], &opts).is_err());
+        }
+        let e = SvgOptions::new((100, 50))
+            .with_pen_mm(0.3)
+            .expect_err("needs a page size")
+            .to_string();
+        assert!(e.contains("--pen-mm needs --width-mm"), "{e}");
+        let opts = SvgOptions {
+            pen_mm: Some(0.3),
+            ..SvgOptions::new((100, 50))
+        };
+        assert!(write(&mut Vec::new(), &[], &opts).is_err());
+        let nan = Dot {
+            x: 1.0,
+            y: f32::NAN,
+            radius: 1.0,
+        };
+        let mut out = Vec::new();
+        let e = write(&mut out, &[nan], &page.with_pen_mm(0.3).expect("valid"));
+        assert!(e.expect_err("not finite").to_string().contains("dot 0"));
+        assert!(out.is_empty(), "nothing written before the error");
+        assert_eq!(page.with_pen_mm(1e-3).expect("valid").pen_mm, Some(1e-3));
+    }
+
+    #[test]
+    fn pen_drawings_read_back() {
+        let dots = [
+            Dot {
+                x: 10.0,
+                y: 20.0,
+                radius: 0.1,
+            },
+            Dot {
+                x: 30.0,
+                y: 5.0,
+                radius: 3.0,
+            },
+        ];
+        // 0.5 mm per px.
+        let text = render(&dots, &pen_opts((40, 30), 20.0, 0.4));
+        let drawing = super::super::read::read_svg(&text).expect("ours");
+        assert_eq!((drawing.view_width, drawing.view_height), (20.0, 15.0));
+        assert_eq!(
+            drawing.dots,
+            [
+                Dot {
+                    x: 5.0,
+                    y: 10.0,
+                    radius: 0.05
+                },
+                Dot {
+                    x: 15.0,
+                    y: 2.5,
+                    radius: 1.5
+                },
+            ]
+        );
+    }
 }
