@@ -287,14 +287,7 @@ impl PixelPieApp {
         let domain = (o.set.width, o.set.height);
         match path.extension().and_then(|e| e.to_str()) {
             Some("svg") => crate::io::write_atomic(path, |w| {
-                svg::write(
-                    w,
-                    &dots,
-                    &svg::SvgOptions {
-                        domain,
-                        size_mm: None,
-                    },
-                )?;
+                svg::write(w, &dots, &svg::SvgOptions::new(domain))?;
                 Ok(())
             }),
             Some("png") => {

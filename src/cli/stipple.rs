@@ -81,6 +81,13 @@ pub struct StippleArgs {
     /// SVG page width in millimetres (height follows the aspect) [default: px].
     #[arg(long)]
     width_mm: Option<f64>,
+    /// Pen width in mm (needs --width-mm): each dot is drawn as a pen draws
+    /// it, in mm, on one Inkscape layer: a dot no wider than the pen is one
+    /// pen touch (a two-point path), a bigger one a spiral filled at pen
+    /// pitch. Without --points, --dot-radius or --min-radius the darkest
+    /// dots are one pen wide, so that the tones are calibrated for the pen.
+    #[arg(long)]
+    pen_mm: Option<f64>,
     /// Also write the dots' centres and radii (.csv or .json), in drawing order.
     #[arg(long)]
     save_points: Option<PathBuf>,
@@ -178,8 +185,16 @@ pub fn run(a: &StippleArgs) -> Result<()> {
     if format == Drawing::Svg && a.scale != 1.0 {
         bail!("--scale applies to PNG output; use --width-mm to size an SVG");
     }
-    if format == Drawing::Png && a.width_mm.is_some() {
-        bail!("--width-mm applies to SVG output; use --scale to size a PNG");
+    if format == Drawing::Png && (a.width_mm.is_some() || a.pen_mm.is_some()) {
+        bail!("--width-mm and --pen-mm apply to SVG output; use --scale to size a PNG");
+    }
+    if let Some(pen) = a.pen_mm {
+        if !(pen.is_finite() && pen > 0.0) {
+            bail!("--pen-mm {pen} must be a positive number");
+        }
+        if a.width_mm.is_none() {
+            bail!("--pen-mm needs --width-mm: the page size turns pixels into millimetres");
+        }
     }
     if !(a.dot_ratio.is_finite() && a.dot_ratio > 0.0 && a.dot_ratio <= 1.0) {
         bail!("--dot-ratio {} must be in (0, 1]", a.dot_ratio);
@@ -189,8 +204,11 @@ pub fn run(a: &StippleArgs) -> Result<()> {
     {
         bail!("--dot-radius {r} must be a positive number");
     }
-    // The dots' own radius sets the sample radii, or the count does.
-    let by_dot = a.dot_radius.is_some();
+    // The dots' own radius sets the sample radii, or the count does; a pen
+    // alone sets the darkest dots to its width.
+    let pen_sized =
+        a.pen_mm.is_some() && a.points.is_none() && a.importance_opts.min_radius.is_none();
+    let by_dot = a.dot_radius.is_some() || pen_sized;
     let points = match (a.points, a.importance_opts.min_radius) {
         (Some(n), _) => Some(n),
         _ if by_dot => None,
@@ -215,7 +233,13 @@ pub fn run(a: &StippleArgs) -> Result<()> {
         points.is_some() || by_dot,
     )?;
     let (width, height) = (prepared.map.width(), prepared.map.height());
-    if let Some(rho) = a.dot_radius {
+    let pen_dot = match (a.pen_mm, a.width_mm) {
+        (Some(pen), Some(mm)) if pen_sized && a.dot_radius.is_none() => {
+            Some((pen / 2.0 * f64::from(width) / mm) as f32)
+        }
+        _ => None,
+    };
+    if let Some(rho) = a.dot_radius.or(pen_dot) {
         let ratio = a
             .importance_opts
             .max_radius
@@ -257,13 +281,13 @@ pub fn run(a: &StippleArgs) -> Result<()> {
     let dots = size.dots(&points, |p| prepared.dot_radius(p, range));
     match format {
         Drawing::Svg => {
-            let opts = match a.width_mm {
+            let mut opts = match a.width_mm {
                 Some(mm) => svg::SvgOptions::with_width_mm((width, height), mm)?,
-                None => svg::SvgOptions {
-                    domain: (width, height),
-                    size_mm: None,
-                },
+                None => svg::SvgOptions::new((width, height)),
             };
+            if let Some(pen) = a.pen_mm {
+                opts = opts.with_pen_mm(pen)?;
+            }
             io::write_atomic(&a.output, |w| Ok(svg::write(w, &dots, &opts)?))?;
         }
         Drawing::Png => {
