@@ -8,9 +8,10 @@
 //! cargo run --release --example stipple_bench -- [--points N] [PHOTO...]
 //! ```
 //!
-//! Every row is scored with its own best constant dot radius (a sweep), as
-//! the comparison asks; PixelPie's rows also show the calibrated default
-//! (no sweep: what `pixelpie stipple` draws). Seconds are the placement's
+//! Every row of equal dots is scored with its own best constant dot radius
+//! (a sweep), as the comparison asks; PixelPie's rows also show the
+//! calibrated dots (no sweep: what `pixelpie stipple` draws), and rows of
+//! dots sized by tone only those. Seconds are the placement's
 //! time from the loaded photo (sampling and count fitting, relaxation),
 //! not the scoring's.
 
@@ -43,6 +44,7 @@ struct Row {
     seconds: f64,
     points: Vec<[f32; 2]>,
     calibrated: Option<Vec<f32>>,
+    sized: bool,
 }
 
 fn main() -> Result<()> {
@@ -135,6 +137,10 @@ fn main() -> Result<()> {
                     cal.iter().sum::<f32>() / cal.len().max(1) as f32
                 );
             }
+            if row.sized {
+                // Dots sized by tone: a constant radius would undo the mode.
+                continue;
+            }
             // The best constant radius: a sweep around the radius at which
             // the dots' total area equals the photo's total darkness.
             let ink: f64 = darkness.iter().map(|&d| f64::from(d)).sum();
@@ -207,6 +213,7 @@ fn pixelpie_row(
         seconds,
         points: points.iter().map(|p| [p.x, p.y]).collect(),
         calibrated: Some(calibrated),
+        sized: matches!(mapping, Mapping::ToneSized(_)),
     })
 }
 
@@ -225,6 +232,7 @@ fn voronoi_row(density: &relax::Density<'_>, n: usize) -> Row {
         seconds: t.elapsed().as_secs_f64(),
         points,
         calibrated: None,
+        sized: false,
     }
 }
 
@@ -237,5 +245,6 @@ fn random_row(density: &relax::Density<'_>, n: usize) -> Row {
         seconds: t.elapsed().as_secs_f64(),
         points,
         calibrated: None,
+        sized: false,
     }
 }

@@ -51,8 +51,10 @@ pub struct StippleArgs {
     /// calibrated: once blurred, the ink equals the grey of the picture.
     /// proportional: dot radius = factor × the sample's radius; it covers the
     /// same fraction everywhere, so it does NOT reproduce tones (a texture).
-    #[arg(long, value_enum, default_value_t = DotArg::Sized)]
-    dot: DotArg,
+    /// [default: sized; fixed with --pen-mm, since dots narrower than the
+    /// pen cannot be drawn]
+    #[arg(long, value_enum)]
+    dot: Option<DotArg>,
     /// Dot radius factor: × the calibrated radius (fixed, sized: 1
     /// reproduces the tones, more darkens, less lightens) or × each sample's
     /// radius (proportional; 0.5 makes the closest dots touch) [default: 1
@@ -218,7 +220,12 @@ pub fn run(a: &StippleArgs) -> Result<()> {
     if a.backend != BackendChoice::Cpu && a.gpu_path != GpuPath::Auto {
         a.gpu_path.apply();
     }
-    let mapping = match a.dot {
+    let dot = a.dot.unwrap_or(if a.pen_mm.is_some() {
+        DotArg::Fixed
+    } else {
+        DotArg::Sized
+    });
+    let mapping = match dot {
         DotArg::Sized => Mapping::ToneSized(a.dot_ratio),
         DotArg::Fixed | DotArg::Proportional => Mapping::Tone,
     };
@@ -269,7 +276,7 @@ pub fn run(a: &StippleArgs) -> Result<()> {
         set.points = relax_points(&prepared, range, &set.points, a)?;
     }
     let t_relax = t0.elapsed().as_secs_f64() - t_load - t_sample;
-    let size = match a.dot {
+    let size = match dot {
         DotArg::Fixed | DotArg::Sized => DotSize::Calibrated(a.dot_factor.unwrap_or(1.0)),
         DotArg::Proportional => DotSize::Proportional(a.dot_factor.unwrap_or(0.5)),
     };
