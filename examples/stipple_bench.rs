@@ -93,21 +93,13 @@ fn main() -> Result<()> {
             random_row(&density, n),
         ];
         let sigma = (f64::from(pw) * f64::from(ph) / n as f64).sqrt();
-        let scale = f64::from(pw) / f64::from(w);
         let name = path
             .file_name()
             .map_or_else(String::new, |f| f.to_string_lossy().into());
         for row in &rows {
             let score = |dots: &[Dot]| -> Result<fidelity::Fidelity> {
-                let scaled: Vec<Dot> = dots
-                    .iter()
-                    .map(|d| Dot {
-                        x: (f64::from(d.x) * scale) as f32,
-                        y: (f64::from(d.y) * scale) as f32,
-                        radius: (f64::from(d.radius) * scale) as f32,
-                    })
-                    .collect();
-                let img = raster::render(&scaled, (pw, ph), 1.0)?;
+                let view = (f64::from(w), f64::from(h));
+                let img = raster::render_view(dots, view, (pw, ph))?;
                 let drawing = Grey {
                     width: pw,
                     height: ph,

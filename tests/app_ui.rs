@@ -98,8 +98,13 @@ fn a_dropped_file_replaces_the_map() {
     let src = app.source.as_ref().unwrap();
     assert_eq!((src.map.width(), src.map.height()), (90, 60));
     assert_eq!(src.path, second);
-    let set = &app.outcome.as_ref().unwrap().set;
-    assert!(set.points.iter().all(|p| p.x < 90.0 && p.y < 60.0));
+    // Sampled on the image enlarged to the CLI's 1024 px domain.
+    let outcome = app.outcome.as_ref().unwrap();
+    let set = &outcome.set;
+    assert_eq!((set.width, set.height), (1024, 683));
+    assert!((outcome.scale - 1024.0 / 90.0).abs() < 1e-4);
+    let (dw, dh) = (set.width as f32, set.height as f32);
+    assert!(set.points.iter().all(|p| p.x < dw && p.y < dh));
     // A bad file shows an error and keeps the map.
     let bad = dir.path().join("bad.png");
     std::fs::write(&bad, b"not a png").unwrap();

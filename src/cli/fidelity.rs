@@ -11,7 +11,7 @@ use serde::Serialize;
 
 use pixelpie::analyze::fidelity::{self, Grey};
 use pixelpie::importance::{ImportanceMap, linear_to_srgb};
-use pixelpie::stipple::{Dot, raster, read};
+use pixelpie::stipple::{raster, read};
 
 /// Arguments of `pixelpie fidelity`.
 #[derive(Args, Debug)]
@@ -78,17 +78,7 @@ fn load_drawing(path: &Path, (w, h): (u32, u32)) -> Result<(Grey, usize)> {
                 .map_err(|e| anyhow::anyhow!("cannot read drawing '{name}': {e}"))?;
             let view = (d.view_width, d.view_height);
             check_aspect(&name, view, (w, h))?;
-            let (sx, sy) = (f64::from(w) / view.0, f64::from(h) / view.1);
-            let scaled: Vec<Dot> = d
-                .dots
-                .iter()
-                .map(|p| Dot {
-                    x: (f64::from(p.x) * sx) as f32,
-                    y: (f64::from(p.y) * sy) as f32,
-                    radius: (f64::from(p.radius) * sx) as f32,
-                })
-                .collect();
-            let img = raster::render(&scaled, (w, h), 1.0)?;
+            let img = raster::render_view(&d.dots, view, (w, h))?;
             (img, d.dots.len())
         }
         Some("png") => {

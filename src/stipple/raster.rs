@@ -73,6 +73,29 @@ pub fn render(dots: &[Dot], domain: (u32, u32), scale: f32) -> Result<GrayImage>
 
 pub use crate::importance::linear_to_srgb;
 
+/// Draws `dots`, given in the units of a `view` (width, height: an SVG
+/// viewBox, a sampling domain), stretched onto a `size` image: the drawing
+/// at a photo's resolution.
+///
+/// ```
+/// use pixelpie::stipple::{Dot, raster};
+/// let dot = Dot { x: 50.0, y: 50.0, radius: 20.0 };
+/// let img = raster::render_view(&[dot], (100.0, 100.0), (10, 10)).unwrap();
+/// assert_eq!(img.get_pixel(5, 5).0[0], 0);
+/// ```
+pub fn render_view(dots: &[Dot], view: (f64, f64), size: (u32, u32)) -> Result<GrayImage> {
+    let (sx, sy) = (f64::from(size.0) / view.0, f64::from(size.1) / view.1);
+    let scaled: Vec<Dot> = dots
+        .iter()
+        .map(|d| Dot {
+            x: (f64::from(d.x) * sx) as f32,
+            y: (f64::from(d.y) * sy) as f32,
+            radius: (f64::from(d.radius) * sx) as f32,
+        })
+        .collect();
+    render(&scaled, size, 1.0)
+}
+
 /// The PNG text keyword that marks our drawings and holds their dot count.
 pub const DOTS_KEYWORD: &str = "pixelpie:dots";
 
