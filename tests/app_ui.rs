@@ -187,3 +187,33 @@ fn the_canvas_renders_dots_and_backgrounds() {
         "the photo background changed nothing"
     );
 }
+
+#[test]
+fn relaxation_runs_on_the_worker_and_can_be_cancelled() {
+    let dir = tempfile::tempdir().unwrap();
+    let first = dir.path().join("a.png");
+    gradient_png(&first, 200, 150);
+    let mut h = harness(&first);
+    settle(&mut h);
+    let before = h.state().outcome.as_ref().unwrap().set.points.clone();
+    // A long relaxation, then Cancel: the worker stops, the drawing stays.
+    h.state_mut().settings.points = 60_000;
+    h.state_mut().settings.relax = 30;
+    let start = Instant::now();
+    while !h.state().busy() {
+        h.step();
+        assert!(start.elapsed() < Duration::from_secs(10), "no job started");
+    }
+    h.state_mut().cancel_job();
+    h.run_steps(3);
+    assert!(!h.state().busy());
+    assert_eq!(h.state().status, "cancelled");
+    assert_eq!(h.state().outcome.as_ref().unwrap().set.points, before);
+    // A short relaxation finishes, with the count asked for.
+    h.state_mut().settings.points = 2000;
+    h.state_mut().settings.relax = 3;
+    h.step();
+    settle(&mut h);
+    let relaxed = &h.state().outcome.as_ref().unwrap().set.points;
+    assert!((1900..=2100).contains(&relaxed.len()), "{}", relaxed.len());
+}

@@ -144,6 +144,17 @@ impl PixelPieApp {
         self.pending.is_some() || self.done_job < self.next_job
     }
 
+    /// Stops the queued or running job (sampling or relaxation) and keeps
+    /// the last finished drawing; the next settings change samples again.
+    pub fn cancel_job(&mut self) {
+        self.worker.cancel();
+        self.pending = None;
+        self.done_job = self.next_job;
+        self.progress = None;
+        self.relaxed = None;
+        self.status = "cancelled".into();
+    }
+
     fn request_sample(&mut self) {
         self.pending = Some(Instant::now());
     }

@@ -195,6 +195,7 @@ impl PixelPieApp {
     }
 
     fn stats_ui(&mut self, ui: &mut egui::Ui) {
+        let mut cancel = false;
         if self.busy() {
             ui.horizontal(|ui| {
                 ui.spinner();
@@ -209,7 +210,17 @@ impl PixelPieApp {
                     )),
                     (None, None) => ui.label("sampling…"),
                 };
+                if ui
+                    .button("Cancel")
+                    .on_hover_text("Stop this sampling or relaxation; keep the last drawing.")
+                    .clicked()
+                {
+                    cancel = true;
+                }
             });
+        }
+        if cancel {
+            self.cancel_job();
         }
         if let Some(o) = &self.outcome {
             let st = &o.set.stats;

@@ -117,6 +117,11 @@ impl Worker {
         }
     }
 
+    /// Cancels the job in flight (it sends no reply).
+    pub fn cancel(&self) {
+        self.cancel.store(true, Ordering::Relaxed);
+    }
+
     /// Replies received so far.
     pub fn poll(&self) -> Vec<Reply> {
         self.replies.try_iter().collect()
