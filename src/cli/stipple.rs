@@ -247,13 +247,12 @@ pub fn run(a: &StippleArgs) -> Result<()> {
         _ => None,
     };
     if let Some(rho) = a.dot_radius.or(pen_dot) {
-        let ratio = a
+        let min = Mapping::range_for_dot(rho, 1.0)?.min;
+        let max = a
             .importance_opts
             .max_radius
-            .map_or(super::importance::DEFAULT_RADIUS_RATIO, |hi| {
-                hi / Mapping::range_for_dot(rho, 1.0).map_or(hi, |r| r.min)
-            });
-        prepared.range = Mapping::range_for_dot(rho, ratio.max(1.0))?;
+            .unwrap_or(min * super::importance::DEFAULT_RADIUS_RATIO);
+        prepared.range = RadiusRange::new(min, max.max(min))?;
     }
     let t_load = t0.elapsed().as_secs_f64();
     let bar = progress_bar(a.quiet);
