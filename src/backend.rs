@@ -122,23 +122,81 @@ impl std::fmt::Display for Notice {
     }
 }
 
-/// Runs `params` on the chosen backend; `notice` hears which one.
+/// A GPU as the fallback policy sees it: the CLI's [`SharedGpu`], or the
+/// app's sampler on egui's device.
+pub trait GpuRun {
+    /// The adapter's name.
+    fn adapter(&self) -> String;
+    /// Whether the adapter is a software rasterizer (such as lavapipe).
+    fn is_software(&self) -> bool;
+    /// Runs the sampler on this GPU.
+    fn sample(&mut self, params: &Params, ctl: Control<'_>) -> sampler::Result<SampleSet>;
+}
+
+impl GpuRun for &SharedGpu {
+    fn adapter(&self) -> String {
+        SharedGpu::adapter(self).to_owned()
+    }
+
+    fn is_software(&self) -> bool {
+        SharedGpu::is_software(self)
+    }
+
+    fn sample(&mut self, params: &Params, ctl: Control<'_>) -> sampler::Result<SampleSet> {
+        SharedGpu::sample(self, params, ctl)
+    }
+}
+
+/// Runs `params` on the chosen backend; `notice` hears which one. The GPU is
+/// opened only when the choice may use it.
 pub fn sample(
     params: &Params,
     choice: BackendChoice,
     ctl: Control<'_>,
     notice: &mut dyn FnMut(Notice),
 ) -> sampler::Result<SampleSet> {
+    let wants_gpu = choice != BackendChoice::Cpu && !params.exact;
+    let mut gpu = if wants_gpu {
+        SharedGpu::get()
+    } else {
+        Err("not asked for".into())
+    };
+    let runner = gpu.as_mut().map(|g| g as &mut dyn GpuRun).map_err(|e| e.clone());
+    sample_with(params, choice, runner, ctl, notice)
+}
+
+/// The fallback policy, the same for the CLI and the app:
+///
+/// * `cpu` runs the CPU backend;
+/// * `gpu` runs the GPU and reports its errors; exact mode, whose refinement
+///   runs on the CPU only, is refused;
+/// * `auto` runs the GPU when there is a hardware adapter, and the CPU when
+///   there is none, when the adapter is a software rasterizer (slower than
+///   the CPU backend itself), when the GPU fails during the run, or in exact
+///   mode; `notice` hears why.
+pub fn sample_with(
+    params: &Params,
+    choice: BackendChoice,
+    gpu: Result<&mut dyn GpuRun, String>,
+    ctl: Control<'_>,
+    notice: &mut dyn FnMut(Notice),
+) -> sampler::Result<SampleSet> {
     match choice {
         BackendChoice::Cpu => sampler::cpu::sample(params, ctl),
+        BackendChoice::Gpu if params.exact => Err(Error::InvalidParameter(
+            "exact mode runs on the CPU backend; choose --backend cpu or auto".into(),
+        )),
         BackendChoice::Gpu => {
-            let gpu = SharedGpu::get().map_err(Error::Gpu)?;
-            notice(Notice::Adapter(gpu.adapter().to_owned()));
+            let gpu = gpu.map_err(Error::Gpu)?;
+            notice(Notice::Adapter(gpu.adapter()));
             gpu.sample(params, ctl)
         }
-        BackendChoice::Auto => match SharedGpu::get() {
+        BackendChoice::Auto if params.exact => {
+            notice(Notice::Fallback("exact mode runs on the CPU".into()));
+            sampler::cpu::sample(params, ctl)
+        }
+        BackendChoice::Auto => match gpu {
             Ok(gpu) if gpu.is_software() => {
-                // A software rasterizer is slower than the CPU backend itself.
                 notice(Notice::Fallback(format!(
                     "'{}' is a software rasterizer",
                     gpu.adapter()
@@ -146,8 +204,14 @@ pub fn sample(
                 sampler::cpu::sample(params, ctl)
             }
             Ok(gpu) => {
-                notice(Notice::Adapter(gpu.adapter().to_owned()));
-                gpu.sample(params, ctl)
+                notice(Notice::Adapter(gpu.adapter()));
+                match gpu.sample(params, ctl) {
+                    Err(Error::Gpu(e)) => {
+                        notice(Notice::Fallback(format!("the GPU failed: {e}")));
+                        sampler::cpu::sample(params, ctl)
+                    }
+                    other => other,
+                }
             }
             Err(e) => {
                 notice(Notice::Fallback(e));

@@ -232,9 +232,9 @@ impl PixelPieApp {
             ));
             ui.label(format!(
                 "S1 {:.1} ms, S2 {:.1} ms, PP {:.1} ms, total {:.1} ms",
-                st.throw_seconds * 1e3,
-                st.cull_seconds * 1e3,
-                st.compact_seconds * 1e3,
+                st.stages.get("throw") * 1e3,
+                st.stages.get("cull") * 1e3,
+                st.stages.get("compact") * 1e3,
                 st.seconds * 1e3
             ));
             ui.label(format!("{} on {}", st.backend, st.device));

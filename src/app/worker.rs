@@ -272,6 +272,22 @@ fn compute(
     })
 }
 
+impl crate::backend::GpuRun for GpuState {
+    fn adapter(&self) -> String {
+        self.sampler.adapter().to_owned()
+    }
+
+    fn is_software(&self) -> bool {
+        self.software
+    }
+
+    fn sample(&mut self, params: &Params, ctl: Control<'_>) -> sampler::Result<SampleSet> {
+        self.sampler.sample(&self.device, &self.queue, params, ctl)
+    }
+}
+
+/// Samples under the CLI's fallback policy ([`crate::backend::sample_with`]),
+/// on the window's device; a fallback becomes the status line's note.
 fn sample(
     params: &Params,
     choice: BackendChoice,
@@ -279,30 +295,16 @@ fn sample(
     ctl: Control<'_>,
     note: &mut Option<String>,
 ) -> sampler::Result<SampleSet> {
-    if choice == BackendChoice::Cpu {
-        return sampler::cpu::sample(params, ctl);
-    }
     let mut guard = gpu
         .lock()
-        .map_err(|_| sampler::Error::Gpu("poisoned".into()))?;
-    match guard.as_mut() {
-        Some(g) if g.software && choice == BackendChoice::Auto => {
-            *note = Some("software adapter: sampled on the CPU, which is faster".into());
-            sampler::cpu::sample(params, ctl)
+        .map_err(|_| sampler::Error::Gpu("the GPU state was poisoned".into()))?;
+    let runner = match guard.as_mut() {
+        Some(g) => Ok(g as &mut dyn crate::backend::GpuRun),
+        None => Err("no GPU device in this window".to_owned()),
+    };
+    crate::backend::sample_with(params, choice, runner, ctl, &mut |n| {
+        if let crate::backend::Notice::Fallback(_) = n {
+            *note = Some(format!("{n}"));
         }
-        Some(g) => match g.sampler.sample(&g.device, &g.queue, params, ctl) {
-            Err(sampler::Error::Gpu(e)) if choice == BackendChoice::Auto => {
-                *note = Some(format!("GPU failed ({e}); sampled on the CPU"));
-                sampler::cpu::sample(params, ctl)
-            }
-            other => other,
-        },
-        None if choice == BackendChoice::Gpu => {
-            Err(sampler::Error::Gpu("no GPU device in this window".into()))
-        }
-        None => {
-            *note = Some("no GPU device: sampled on the CPU".into());
-            sampler::cpu::sample(params, ctl)
-        }
-    }
+    })
 }

@@ -57,6 +57,11 @@ pub struct SampleArgs {
     /// Wrap distances and disks around the domain (tileable output).
     #[arg(long)]
     periodic: bool,
+    /// Exact mode: the disk condition between the samples themselves with no
+    /// sub-pixel slack, maximal in the continuous domain, at the RSA density
+    /// (runs on the CPU).
+    #[arg(long)]
+    exact: bool,
     /// Backend.
     #[arg(long, value_enum, default_value_t = BackendChoice::Auto)]
     backend: BackendChoice,
@@ -198,6 +203,7 @@ fn base_params(a: &SampleArgs, width: u32, height: u32) -> Params {
         .with_seed(a.seed)
         .with_subpixel_bits(a.subpixel_bits)
         .with_periodic(a.periodic)
+        .with_exact(a.exact)
         .with_max_iterations(a.max_iterations);
     match a.batch {
         Some(b) => base.with_batch(b),

@@ -107,6 +107,10 @@ pub struct StippleArgs {
     /// keep the dot spacing across their seams.
     #[arg(long)]
     periodic: bool,
+    /// Exact mode: dots exactly the disk distance apart with no gaps between
+    /// them (runs on the CPU).
+    #[arg(long)]
+    exact: bool,
     /// Backend.
     #[arg(long, value_enum, default_value_t = BackendChoice::Auto)]
     backend: BackendChoice,
@@ -261,7 +265,8 @@ pub fn run(a: &StippleArgs) -> Result<()> {
             .with_policy(a.policy.into())
             .with_seed(a.seed)
             .with_subpixel_bits(a.subpixel_bits)
-            .with_periodic(a.periodic),
+            .with_periodic(a.periodic)
+            .with_exact(a.exact),
         points,
         backend: a.backend,
         bar: &bar,

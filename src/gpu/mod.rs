@@ -18,13 +18,12 @@ mod resources;
 pub mod throw;
 pub mod util;
 
-use std::time::Instant;
-
 pub use resources::{Resources, S1Path};
 
-use crate::sampler::cpu::throw::Dart;
+use crate::sampler::Dart;
 use crate::sampler::fixed::iteration_key;
-use crate::sampler::{Control, Error, Params, Plan, Progress, Result, SampleSet, Stats};
+use crate::sampler::run::{self, StageTimes, Step, Stepper};
+use crate::sampler::{Control, Error, Params, Plan, Result, SampleSet, Stats};
 
 /// The run's configuration. Mirrors `struct Config` in `shaders/common.wgsl`.
 #[repr(C)]
@@ -274,7 +273,6 @@ impl GpuSampler {
             ));
         }
         let path = self.path_for(device, queue)?;
-        let start = Instant::now();
         let cap = plan.batch.min(plan.pixels()).min(plan.layout.max_batch());
         let timestamps = device.features().contains(wgpu::Features::TIMESTAMP_QUERY);
         let fits = self
@@ -307,7 +305,7 @@ impl GpuSampler {
         encoder.clear_buffer(&res.coverage, 0, None);
         queue.submit([encoder.finish()]);
 
-        let mut stats = Stats {
+        let stats = Stats {
             backend: format!(
                 "gpu-{}",
                 match path {
@@ -319,44 +317,69 @@ impl GpuSampler {
             gpu_timestamps: timestamps,
             ..Stats::default()
         };
-        let mut points = Vec::new();
-        let mut iteration = 0;
-        while config.empty > 0 && iteration < plan.max_iterations {
-            let darts = plan.darts_for(config.empty);
-            config.iteration_key = iteration_key(plan.seed_key, iteration);
-            config.darts = darts;
-            res.dart_scan.set_len(queue, darts + 1, 0);
-            let step = res.iterate(
-                device,
-                queue,
-                (&self.throw, &self.cull, &self.cover, &self.compact),
-                &plan,
-                config,
-                timestamps,
-            )?;
-            stats.throw_seconds += step.seconds[0];
-            stats.cull_seconds += step.seconds[1];
-            stats.compact_seconds += step.seconds[2];
-            points.extend(step.survivors.iter().map(Dart::point));
-            config.empty = step.empty;
-            config.first = 0;
-            iteration += 1;
-            ctl.step(Progress {
-                iteration,
-                points: points.len(),
-                empty_pixels: u64::from(config.empty),
-                pixels: u64::from(plan.pixels()),
-            })?;
+        let mut stepper = GpuStepper {
+            device,
+            queue,
+            stages: (&self.throw, &self.cull, &self.cover, &self.compact),
+            res,
+            plan: &plan,
+            config,
+            timestamps,
+        };
+        run::run(&plan, &mut stepper, stats, ctl)
+    }
+}
+
+/// One GPU run between iterations: the device, the stages, the buffers and
+/// the configuration that the next iteration uploads.
+struct GpuStepper<'a> {
+    device: &'a wgpu::Device,
+    queue: &'a wgpu::Queue,
+    stages: (
+        &'a throw::ThrowStage,
+        &'a cull::CullStage,
+        &'a cover::CoverStage,
+        &'a compact::CompactStage,
+    ),
+    res: &'a Resources,
+    plan: &'a Plan,
+    config: Config,
+    timestamps: bool,
+}
+
+impl Stepper for GpuStepper<'_> {
+    fn empty(&self) -> u64 {
+        u64::from(self.config.empty)
+    }
+
+    fn step(&mut self, iteration: u32, darts: u32) -> Result<Step> {
+        self.config.iteration_key = iteration_key(self.plan.seed_key, iteration);
+        self.config.darts = darts;
+        self.res.dart_scan.set_len(self.queue, darts + 1, 0);
+        let it = self.res.iterate(
+            self.device,
+            self.queue,
+            self.stages,
+            self.plan,
+            self.config,
+            self.timestamps,
+        )?;
+        self.config.empty = it.empty;
+        self.config.first = 0;
+        let mut stages = StageTimes::default();
+        for (name, s) in resources::STAGES.iter().zip(it.seconds) {
+            stages.add(name, s);
         }
-        stats.seconds = start.elapsed().as_secs_f64();
-        stats.bytes_per_pixel = res.bytes() as f64 / f64::from(plan.pixels());
-        Ok(SampleSet::finish(
-            (plan.width, plan.height),
-            points,
-            iteration,
-            config.empty == 0,
-            stats,
-        ))
+        Ok(Step {
+            empty: u64::from(it.empty),
+            accepted: it.survivors.iter().map(Dart::point).collect(),
+            stages,
+            finished: false,
+        })
+    }
+
+    fn bytes(&self) -> usize {
+        usize::try_from(self.res.bytes()).unwrap_or(usize::MAX)
     }
 }
 
@@ -366,6 +389,6 @@ mod tests {
     fn structs_shared_with_wgsl_have_their_wgsl_size() {
         // `struct Config` in common.wgsl: 20 u32; `struct Dart`: 4 u32.
         assert_eq!(std::mem::size_of::<super::Config>(), 80);
-        assert_eq!(std::mem::size_of::<crate::sampler::cpu::throw::Dart>(), 16);
+        assert_eq!(std::mem::size_of::<crate::sampler::Dart>(), 16);
     }
 }

@@ -9,7 +9,7 @@ use super::cover::CoverStage;
 use super::cull::CullStage;
 use super::throw::ThrowStage;
 use super::{Config, util};
-use crate::sampler::cpu::throw::Dart;
+use crate::sampler::Dart;
 use crate::sampler::{Error, Plan, Result};
 
 /// Bytes of the read-back header: empty count, survivor count, padding and
@@ -36,8 +36,11 @@ fn strip_rows(device: &wgpu::Device, plan: &Plan, path: S1Path, cap: Option<u32>
         .min(u64::from(cap.unwrap_or(u32::MAX))) as u32
 }
 
+/// The names of the stages whose seconds [`Iteration::seconds`] holds.
+pub const STAGES: [&str; 3] = ["throw", "cull", "compact"];
+
 /// What one iteration returns.
-pub struct Step {
+pub struct Iteration {
     /// Empty pixels after the iteration.
     pub empty: u32,
     /// Survivors in dart order.
@@ -386,7 +389,7 @@ impl Resources {
         plan: &Plan,
         config: Config,
         timestamps: bool,
-    ) -> Result<Step> {
+    ) -> Result<Iteration> {
         let (throw, cull, cover, compact) = stages;
         let darts = config.darts;
         let mut config = config;
@@ -538,7 +541,7 @@ impl Resources {
             let survivors: &[Dart] = bytemuck::cast_slice(
                 &view[HEADER as usize..(HEADER + u64::from(count) * DART_BYTES) as usize],
             );
-            Step {
+            Iteration {
                 empty,
                 survivors: survivors.to_vec(),
                 seconds,

@@ -38,13 +38,16 @@
 //!   0.547 / (π r²/4), RSA's saturation density (paper §5.1).
 
 pub mod cpu;
+pub mod exact;
 pub mod fixed;
 mod output;
 mod params;
+pub mod run;
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
 pub use output::{Point, SampleSet, Stats};
+pub use run::{Dart, StageTimes, Step, Stepper};
 pub use params::{
     DEFAULT_MAX_ITERATIONS, DEFAULT_SUBPIXEL_BITS, KeyLayout, MAX_PIXELS, Params, Plan, Policy,
     RSA_DENSITY, Radius, RadiusMap,
@@ -100,19 +103,24 @@ pub struct Progress {
 pub struct Control<'a> {
     /// Called after every iteration.
     pub progress: Option<&'a (dyn Fn(Progress) + Sync)>,
-    /// Checked before every iteration; when set the run ends with [`Error::Cancelled`].
+    /// Checked before every iteration, the first included; when set the run
+    /// ends with [`Error::Cancelled`].
     pub cancel: Option<&'a AtomicBool>,
 }
 
 impl Control<'_> {
-    /// Reports progress and checks for cancellation.
-    pub fn step(&self, p: Progress) -> Result<()> {
-        if let Some(f) = self.progress {
-            f(p);
-        }
+    /// [`Error::Cancelled`] when the cancel flag is set.
+    pub fn check(&self) -> Result<()> {
         if self.cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
             return Err(Error::Cancelled);
         }
         Ok(())
+    }
+
+    /// Reports progress.
+    pub fn report(&self, p: Progress) {
+        if let Some(f) = self.progress {
+            f(p);
+        }
     }
 }

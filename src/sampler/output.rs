@@ -28,12 +28,10 @@ pub struct Stats {
     pub device: String,
     /// Wall-clock seconds of the whole run.
     pub seconds: f64,
-    /// Seconds in dart throwing (the paper's S1).
-    pub throw_seconds: f64,
-    /// Seconds in conflict removal and coverage (S2).
-    pub cull_seconds: f64,
-    /// Seconds in post-processing: compaction of the empty-pixel list (PP).
-    pub compact_seconds: f64,
+    /// Seconds per stage: `throw` (the paper's S1), `cull` (S2: conflict
+    /// removal and coverage), `compact` (PP), and in exact mode `refine`.
+    #[serde(flatten)]
+    pub stages: super::StageTimes,
     /// Peak working memory divided by the number of pixels.
     pub bytes_per_pixel: f64,
     /// Whether stage timings come from GPU timestamp queries.

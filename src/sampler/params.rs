@@ -205,6 +205,9 @@ pub struct Params {
     pub periodic: bool,
     /// The most iterations before the run stops without being maximal.
     pub max_iterations: u32,
+    /// Exact mode: the disk condition between dart centres with no slack,
+    /// maximal in the continuous domain, unbiased (see [`crate::sampler::exact`]).
+    pub exact: bool,
 }
 
 /// The default number of sub-pixel bits (8×8 dart positions per pixel).
@@ -226,6 +229,7 @@ impl Params {
             batch: None,
             periodic: false,
             max_iterations: DEFAULT_MAX_ITERATIONS,
+            exact: false,
         }
     }
 
@@ -282,6 +286,13 @@ impl Params {
     #[must_use]
     pub fn with_max_iterations(mut self, n: u32) -> Self {
         self.max_iterations = n;
+        self
+    }
+
+    /// Turns exact mode on or off ([`crate::sampler::exact`]).
+    #[must_use]
+    pub fn with_exact(mut self, exact: bool) -> Self {
+        self.exact = exact;
         self
     }
 
@@ -377,6 +388,8 @@ pub struct Plan {
     pub map: Option<Arc<RadiusMap>>,
     /// The expected number of points at RSA saturation density.
     pub expected_points: f64,
+    /// Exact mode.
+    pub exact: bool,
 }
 
 impl Plan {
@@ -474,6 +487,7 @@ impl Plan {
             radius_range,
             map,
             expected_points,
+            exact: p.exact,
         })
     }
 

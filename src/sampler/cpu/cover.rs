@@ -10,9 +10,8 @@
 
 use rayon::prelude::*;
 
-use super::throw::Dart;
 use crate::sampler::fixed::{POS_FRAC_BITS, RADIUS_FRAC_BITS, inside};
-use crate::sampler::{Plan, Policy};
+use crate::sampler::{Dart, Plan, Policy};
 
 /// The largest distance (1/64 px) at which sample `s` can cover a pixel.
 #[must_use]
@@ -24,7 +23,7 @@ pub fn reach(plan: &Plan, s: &Dart) -> u32 {
 }
 
 /// The largest `d >= 0` with `d * d <= m`.
-fn isqrt(m: u64) -> u64 {
+pub(crate) fn isqrt(m: u64) -> u64 {
     // m < 2^62, so the signed conversions (one instruction each) are exact
     // enough for the corrections below to finish in a step or two.
     let mut d = (m as i64 as f64).sqrt() as i64 as u64;

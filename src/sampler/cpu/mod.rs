@@ -2,6 +2,9 @@
 //! stage, [`throw`] (S1), [`cull`] and [`cover`] (S2), [`compact`] (PP), each
 //! the mirror of the WGSL shader of the same name. Parallel with rayon and
 //! deterministic for any number of threads.
+//!
+//! [`CpuStepper`] runs one iteration; the loop itself is
+//! [`crate::sampler::run::run`], shared with the GPU backend.
 
 pub mod compact;
 pub mod cover;
@@ -12,10 +15,10 @@ use std::time::Instant;
 
 use compact::EmptyList;
 
-use super::{Control, Params, Progress, Result, SampleSet, Stats};
-use throw::Dart;
+use super::run::{self, StageTimes, Step, Stepper};
+use super::{Control, Dart, Params, Plan, Result, SampleSet, Stats};
 
-/// Runs the sampler on the CPU.
+/// Runs the sampler on the CPU (the exact mode's refinement included).
 ///
 /// ```
 /// use pixelpie::sampler::{Params, Control, cpu};
@@ -23,66 +26,88 @@ use throw::Dart;
 /// assert!(set.maximal && !set.points.is_empty());
 /// ```
 pub fn sample(params: &Params, ctl: Control<'_>) -> Result<SampleSet> {
-    let start = Instant::now();
     let plan = params.plan()?;
-    let pixels = plan.pixels();
-    let mut coverage = cover::new_map(pixels);
-    let mut empty = EmptyList::all(pixels, plan.width);
-    let mut points = Vec::new();
-    let mut stats = Stats {
+    let stats = Stats {
         backend: "cpu".into(),
         device: format!("{} threads", rayon::current_num_threads()),
         ..Stats::default()
     };
-    let map_bytes = plan.map.as_ref().map_or(0, |m| 4 * m.radii_fx().len());
-    let mut peak_bytes = 0usize;
-    let mut iteration = 0;
-    // Buffers reused by every iteration.
-    let (mut darts, mut survivors) = (Vec::new(), Vec::new());
-    let mut grid = throw::DartGrid::default();
-    let mut culler = cull::Culler::default();
-    while !empty.is_empty() && iteration < plan.max_iterations {
-        let t0 = Instant::now();
-        throw::throw(
-            &plan,
-            iteration,
-            plan.darts_for(empty.len()),
-            &empty,
-            &mut darts,
-        );
-        grid.rebuild(&plan, &darts);
-        let t1 = Instant::now();
-        culler.survivors(&plan, &darts, &grid, &mut survivors);
-        cover::cover(&plan, &survivors, &mut coverage);
-        let t2 = Instant::now();
-        empty.compact(&coverage);
-        let t3 = Instant::now();
-        peak_bytes = peak_bytes.max(
-            empty.bytes()
-                + grid.bytes()
-                + culler.bytes()
-                + 16 * (darts.capacity() + survivors.capacity()),
-        );
-        stats.throw_seconds += (t1 - t0).as_secs_f64();
-        stats.cull_seconds += (t2 - t1).as_secs_f64();
-        stats.compact_seconds += (t3 - t2).as_secs_f64();
-        points.extend(survivors.iter().map(Dart::point));
-        iteration += 1;
-        ctl.step(Progress {
-            iteration,
-            points: points.len(),
-            empty_pixels: u64::from(empty.len()),
-            pixels: u64::from(pixels),
-        })?;
+    if plan.exact {
+        let mut stepper = super::exact::ExactStepper::new(&plan);
+        return run::run(&plan, &mut stepper, stats, ctl);
     }
-    stats.seconds = start.elapsed().as_secs_f64();
-    stats.bytes_per_pixel =
-        (8 * coverage.len() + map_bytes + peak_bytes) as f64 / f64::from(pixels.max(1));
-    Ok(SampleSet::finish(
-        (plan.width, plan.height),
-        points,
-        iteration,
-        empty.is_empty(),
-        stats,
-    ))
+    let mut stepper = CpuStepper::new(&plan);
+    run::run(&plan, &mut stepper, stats, ctl)
+}
+
+/// The pixel pass on the CPU: the state between iterations and the buffers
+/// that every iteration reuses (fresh memory costs page faults).
+pub struct CpuStepper<'p> {
+    plan: &'p Plan,
+    coverage: Vec<u64>,
+    empty: EmptyList,
+    darts: Vec<Dart>,
+    survivors: Vec<Dart>,
+    grid: throw::DartGrid,
+    culler: cull::Culler,
+    peak_bytes: usize,
+}
+
+impl<'p> CpuStepper<'p> {
+    /// A run of `plan` with every pixel empty.
+    #[must_use]
+    pub fn new(plan: &'p Plan) -> Self {
+        let pixels = plan.pixels();
+        Self {
+            plan,
+            coverage: cover::new_map(pixels),
+            empty: EmptyList::all(pixels, plan.width),
+            darts: Vec::new(),
+            survivors: Vec::new(),
+            grid: throw::DartGrid::default(),
+            culler: cull::Culler::default(),
+            peak_bytes: 0,
+        }
+    }
+}
+
+impl Stepper for CpuStepper<'_> {
+    fn empty(&self) -> u64 {
+        u64::from(self.empty.len())
+    }
+
+    fn step(&mut self, iteration: u32, darts: u32) -> Result<Step> {
+        let plan = self.plan;
+        let t0 = Instant::now();
+        throw::throw(plan, iteration, darts, &self.empty, &mut self.darts);
+        self.grid.rebuild(plan, &self.darts);
+        let t1 = Instant::now();
+        self.culler
+            .survivors(plan, &self.darts, &self.grid, &mut self.survivors);
+        cover::cover(plan, &self.survivors, &mut self.coverage);
+        let t2 = Instant::now();
+        self.empty.compact(&self.coverage);
+        let t3 = Instant::now();
+        self.peak_bytes = self.peak_bytes.max(
+            self.empty.bytes()
+                + self.grid.bytes()
+                + self.culler.bytes()
+                + 16 * (self.darts.capacity() + self.survivors.capacity()),
+        );
+        let mut stages = StageTimes::default();
+        stages.add("throw", (t1 - t0).as_secs_f64());
+        stages.add("cull", (t2 - t1).as_secs_f64());
+        stages.add("compact", (t3 - t2).as_secs_f64());
+        Ok(Step {
+            empty: u64::from(self.empty.len()),
+            accepted: self.survivors.iter().map(Dart::point).collect(),
+            stages,
+            finished: false,
+        })
+    }
+
+    fn bytes(&self) -> usize {
+        let map_bytes = self.plan.map.as_ref().map_or(0, |m| 4 * m.radii_fx().len());
+        8 * self.coverage.len() + map_bytes + self.peak_bytes
+    }
 }

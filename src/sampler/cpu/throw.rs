@@ -7,34 +7,8 @@
 use rayon::prelude::*;
 
 use super::compact::EmptyList;
-use crate::sampler::Plan;
+use crate::sampler::{Dart, Plan};
 use crate::sampler::fixed::{self, RADIUS_ONE};
-
-/// One dart. Mirrors `struct Dart` in `shaders/common.wgsl`.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct Dart {
-    /// x in 1/256 px.
-    pub x: u32,
-    /// y in 1/256 px.
-    pub y: u32,
-    /// The index of the dart's pixel, `y * width + x`.
-    pub pixel: u32,
-    /// The radius at the dart's pixel, in 1/64 px.
-    pub radius: u32,
-}
-
-impl Dart {
-    /// The accepted sample this dart becomes, in pixels (exact).
-    #[must_use]
-    pub fn point(&self) -> crate::sampler::Point {
-        crate::sampler::Point {
-            x: fixed::fx_to_pos(self.x),
-            y: fixed::fx_to_pos(self.y),
-            radius: fixed::fx_to_radius(self.radius),
-        }
-    }
-}
 
 /// Dart `k` of the iteration with key `iteration_key`.
 #[inline]

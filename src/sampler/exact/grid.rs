@@ -1,0 +1,73 @@
+//! The accepted samples of an exact run, binned by square cells of `G` px
+//! with `G` = ⌈r_max⌉ + 1: every sample whose disk can reach a point (or a
+//! sub-pixel cell) of pixel p lies in a cell overlapping pixels p ± G.
+//! Cells are linked lists, newest sample first.
+
+use crate::sampler::Plan;
+use crate::sampler::cpu::cull::cells_along;
+use crate::sampler::fixed::RADIUS_ONE;
+
+const NONE: u32 = u32::MAX;
+
+/// Accepted samples by cell.
+pub struct SampleGrid {
+    /// Cell side in pixels.
+    g: u32,
+    cols: u32,
+    width: u32,
+    height: u32,
+    periodic: bool,
+    head: Vec<u32>,
+    next: Vec<u32>,
+}
+
+impl SampleGrid {
+    /// An empty grid for `plan`.
+    pub fn new(plan: &Plan) -> Self {
+        let g = plan.radius_range.1.div_ceil(RADIUS_ONE) + 1;
+        let (cols, rows) = (plan.width.div_ceil(g), plan.height.div_ceil(g));
+        Self {
+            g,
+            cols,
+            width: plan.width,
+            height: plan.height,
+            periodic: plan.periodic,
+            head: vec![NONE; (cols * rows) as usize],
+            next: Vec::new(),
+        }
+    }
+
+    /// Adds sample `index` (the next one: indices come in order) in pixel
+    /// (px, py).
+    pub fn insert(&mut self, index: u32, px: u32, py: u32) {
+        debug_assert_eq!(index as usize, self.next.len());
+        let c = ((py / self.g) * self.cols + px / self.g) as usize;
+        self.next.push(self.head[c]);
+        self.head[c] = index;
+    }
+
+    /// Calls `f` with every sample index of at least `from` that may reach
+    /// pixel (px, py), newest first within a cell, until `f` returns true;
+    /// returns whether one did.
+    pub fn any_near(&self, px: u32, py: u32, from: u32, mut f: impl FnMut(u32) -> bool) -> bool {
+        let (cols, nc) = cells_along(px, self.g, self.width, self.g, self.periodic);
+        let (rows, nr) = cells_along(py, self.g, self.height, self.g, self.periodic);
+        for &cy in &rows[..nr] {
+            for &cx in &cols[..nc] {
+                let mut i = self.head[(cy * self.cols + cx) as usize];
+                while i != NONE && i >= from {
+                    if f(i) {
+                        return true;
+                    }
+                    i = self.next[i as usize];
+                }
+            }
+        }
+        false
+    }
+
+    /// Bytes held.
+    pub fn bytes(&self) -> usize {
+        4 * (self.head.capacity() + self.next.capacity())
+    }
+}

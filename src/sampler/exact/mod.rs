@@ -1,0 +1,637 @@
+//! Exact mode: maximal Poisson-disk sets with no sub-pixel slack, maximal
+//! in the continuous domain, and unbiased (random sequential addition).
+//!
+//! The pixel mode tests disks against pixel centres, so its sets break the
+//! disk condition by up to √2/2 px and leave gaps between pixel centres
+//! (paper §6). Exact mode keeps PixelPie's loop, with cells in place of
+//! pixel centres, after Ebeida et al. (2011, 2012).
+//!
+//! # Semantics
+//!
+//! * **Units.** Positions are integers in 1/2^F px, with
+//!   F = min(16, 24 − ⌈log₂ max(W, H)⌉) ([`frac_bits`]), so every position
+//!   is exact in an `f32`. Radii are the contract's 1/64 px, scaled to
+//!   1/2^F px. Distance tests are `dx² + dy² < f²` on 64-bit integers.
+//! * **Cells.** Level 0 cells are the pixels; a cell of level L splits into
+//!   four of level L + 1, down to level F, whose cells hold one position. A
+//!   cell is *covered* when one accepted sample holds its four corners
+//!   strictly within f(r_i, r_cell), r_cell the radius of the cell's pixel:
+//!   then the whole closed cell is covered (a disk is convex).
+//! * **Darts.** Iteration t throws b = min(batch, active cells, 2^22) darts.
+//!   Dart k takes h = `dart_hash(iteration_key(seed_key(seed), t), k)`,
+//!   picks the active cell `pick(h, cells)` and, within it, the position
+//!   whose offsets are the low F − L bits of `offset_hash(h)`'s two halves:
+//!   uniform over the cell's positions. Its radius is r at its pixel.
+//! * **Acceptance,** in dart order: dart k is accepted iff for every sample
+//!   i accepted before it (in earlier iterations, or darts j < k of this
+//!   one) |c_i − c_k| ≥ f(r_i, r_k). This is sequential random addition
+//!   computed in parallel: each dart is uniform over the active cells,
+//!   which hold all of the uncovered area, and kept only where uncovered, so
+//!   every sample is uniform over the area still uncovered when it comes.
+//! * **Coverage.** After the accepted darts join the set, the active cells
+//!   they cover leave the list, which keeps its order (level 0: the empty
+//!   pixel list of the pixel mode, with the corner rule for coverage).
+//! * **Refinement.** When an iteration accepts fewer than 1/[`REFINE_BELOW`]
+//!   of its darts and the level is below F, every active cell is split in
+//!   four (children in the order (0,0), (1,0), (0,1), (1,1)), and the
+//!   children that one sample covers are dropped.
+//! * **The finest level.** A cell of level F whose one position is covered
+//!   can take no dart. It is dropped when the disks cover it together, which
+//!   [`union::covers`] decides in `f64` with a margin towards "not covered".
+//!   Otherwise it is a void smaller than the position grid, the run stops,
+//!   and the set is reported as not maximal.
+//! * **Stopping.** The run ends when no cell is active: the set is then
+//!   maximal in the continuous domain, since every point of the closed
+//!   domain lies in a closed cell that some disk, or the union of disks,
+//!   covers. With `max_iterations` too small it ends early, not maximal.
+//! * **Periodic domain.** Distances take the short way round, as in pixel
+//!   mode.
+
+mod grid;
+pub mod union;
+
+use std::time::Instant;
+
+use rayon::prelude::*;
+
+use super::cpu::compact::EmptyList;
+use super::cpu::cover::{BAND_ROWS, isqrt, new_map};
+use super::fixed::{self, MAX_BATCH, RADIUS_FRAC_BITS, axis_delta, iteration_key};
+use super::run::{StageTimes, Step, Stepper};
+use super::{Plan, Point, Policy, Result};
+use grid::SampleGrid;
+
+/// An iteration that accepts fewer than 1/`REFINE_BELOW` of its darts
+/// refines the cells.
+pub const REFINE_BELOW: usize = 8;
+
+/// Fractional bits of an exact-mode position for a `width`×`height` domain.
+#[must_use]
+pub fn frac_bits(width: u32, height: u32) -> u32 {
+    let side = width.max(height).max(1);
+    let k = 32 - (side - 1).leading_zeros();
+    (24 - k).min(16)
+}
+
+/// An accepted sample or a dart, in 1/2^F px.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Sample {
+    x: u32,
+    y: u32,
+    /// The pixel index.
+    pixel: u32,
+    /// The radius in 1/2^F px.
+    r: u32,
+}
+
+/// A cell of the current level, in cell units.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Cell {
+    x: u32,
+    y: u32,
+}
+
+/// The exact sampler between iterations.
+pub struct ExactStepper<'p> {
+    plan: &'p Plan,
+    frac: u32,
+    /// Wrap periods in 1/2^F px (0 when not periodic).
+    periods: (u32, u32),
+    samples: Vec<Sample>,
+    grid: SampleGrid,
+    level: u32,
+    /// Level 0: pixels covered by one disk, and the list of the others.
+    coverage: Vec<u64>,
+    empty: EmptyList,
+    /// Levels 1 to F: the active cells.
+    cells: Vec<Cell>,
+    /// Cells of level F that no dart can fill.
+    unfillable: Vec<Cell>,
+    peak_bytes: usize,
+}
+
+impl<'p> ExactStepper<'p> {
+    /// A run of `plan` with every pixel empty.
+    #[must_use]
+    pub fn new(plan: &'p Plan) -> Self {
+        let frac = frac_bits(plan.width, plan.height);
+        let periods = if plan.periodic {
+            (plan.width << frac, plan.height << frac)
+        } else {
+            (0, 0)
+        };
+        Self {
+            plan,
+            frac,
+            periods,
+            samples: Vec::new(),
+            grid: SampleGrid::new(plan),
+            level: 0,
+            coverage: new_map(plan.pixels()),
+            empty: EmptyList::all(plan.pixels(), plan.width),
+            cells: Vec::new(),
+            unfillable: Vec::new(),
+            peak_bytes: 0,
+        }
+    }
+
+    fn active(&self) -> u64 {
+        if self.level == 0 {
+            u64::from(self.empty.len())
+        } else {
+            self.cells.len() as u64
+        }
+    }
+
+    /// The radius of pixel `p` in 1/2^F px.
+    fn r_at(&self, p: u32) -> u32 {
+        self.plan.radius_at(p) << (self.frac - RADIUS_FRAC_BITS)
+    }
+
+    /// Whether (ax, ay) lies strictly within `r` of (bx, by).
+    fn within(&self, (ax, ay): (u32, u32), (bx, by): (u32, u32), r: u32) -> bool {
+        let dx = u64::from(axis_delta(ax, bx, self.periods.0));
+        let dy = u64::from(axis_delta(ay, by, self.periods.1));
+        dx * dx + dy * dy < u64::from(r) * u64::from(r)
+    }
+
+    /// The pixel of a position or corner (a corner on the far edge belongs
+    /// to the last pixel).
+    fn pixel_xy(&self, x: u32, y: u32) -> (u32, u32) {
+        (
+            (x >> self.frac).min(self.plan.width - 1),
+            (y >> self.frac).min(self.plan.height - 1),
+        )
+    }
+
+    /// Dart `k` of the iteration with key `ik`.
+    fn dart(&self, ik: u32, k: u32) -> Sample {
+        let h = fixed::dart_hash(ik, k);
+        let o = fixed::offset_hash(h);
+        let shift = self.frac - self.level;
+        let (cx, cy) = if self.level == 0 {
+            let p = self.empty.get(fixed::pick(h, self.empty.len()));
+            (p % self.plan.width, p / self.plan.width)
+        } else {
+            let c = self.cells[fixed::pick(h, self.cells.len() as u32) as usize];
+            (c.x, c.y)
+        };
+        let mask = (1u32 << shift) - 1;
+        let (x, y) = ((cx << shift) | (o & mask), (cy << shift) | ((o >> 16) & mask));
+        let pixel = (y >> self.frac) * self.plan.width + (x >> self.frac);
+        Sample {
+            x,
+            y,
+            pixel,
+            r: self.r_at(pixel),
+        }
+    }
+
+    /// Whether no accepted sample lies within the policy's distance of `d`.
+    fn free(&self, d: &Sample) -> bool {
+        let policy = self.plan.policy;
+        let (px, py) = self.pixel_xy(d.x, d.y);
+        !self.grid.any_near(px, py, 0, |i| {
+            let s = &self.samples[i as usize];
+            self.within((s.x, s.y), (d.x, d.y), policy.coverage_radius(s.r, d.r))
+        })
+    }
+
+    /// The darts accepted among `darts`, in dart order: the valid ones that
+    /// no earlier accepted dart of the batch excludes.
+    fn accept(&self, darts: &[Sample]) -> Vec<Sample> {
+        let policy = self.plan.policy;
+        let valid: Vec<bool> = darts.par_iter().map(|d| self.free(d)).collect();
+        // The valid darts by grid cell of side G (the sample grid's), sorted.
+        let g = self.plan.radius_range.1.div_ceil(fixed::RADIUS_ONE) + 1;
+        let cols = self.plan.width.div_ceil(g);
+        let mut binned: Vec<(u32, u32)> = (0..darts.len() as u32)
+            .filter(|&k| valid[k as usize])
+            .map(|k| {
+                let (px, py) = self.pixel_xy(darts[k as usize].x, darts[k as usize].y);
+                ((py / g) * cols + px / g, k)
+            })
+            .collect();
+        binned.sort_unstable();
+        // Pairs (k, j), j < k, of valid darts in conflict, ordered by k.
+        let pairs: Vec<(u32, u32)> = (0..darts.len() as u32)
+            .into_par_iter()
+            .filter(|&k| valid[k as usize])
+            .flat_map_iter(|k| {
+                let d = darts[k as usize];
+                let (px, py) = self.pixel_xy(d.x, d.y);
+                let (xs, nx) = super::cpu::cull::cells_along(
+                    px,
+                    g,
+                    self.plan.width,
+                    g,
+                    self.plan.periodic,
+                );
+                let (ys, ny) = super::cpu::cull::cells_along(
+                    py,
+                    g,
+                    self.plan.height,
+                    g,
+                    self.plan.periodic,
+                );
+                let mut out = Vec::new();
+                for &cy in &ys[..ny] {
+                    for &cx in &xs[..nx] {
+                        let cell = cy * cols + cx;
+                        let lo = binned.partition_point(|&(c, _)| c < cell);
+                        for &(c, j) in &binned[lo..] {
+                            if c != cell || j >= k {
+                                break;
+                            }
+                            let e = darts[j as usize];
+                            if self.within((e.x, e.y), (d.x, d.y), policy.coverage_radius(e.r, d.r))
+                            {
+                                out.push((k, j));
+                            }
+                        }
+                    }
+                }
+                out
+            })
+            .collect();
+        let mut accepted = valid;
+        for (k, j) in pairs {
+            if accepted[j as usize] {
+                accepted[k as usize] = false;
+            }
+        }
+        darts
+            .iter()
+            .zip(accepted)
+            .filter(|(_, a)| *a)
+            .map(|(d, _)| *d)
+            .collect()
+    }
+
+    /// Whether sample `s` covers the closed square of corners (x0, y0) and
+    /// (x1, y1) whose pixel has radius `r_cell`.
+    fn covers(&self, s: &Sample, (x0, y0, x1, y1): (u32, u32, u32, u32), r_cell: u32) -> bool {
+        let f = u64::from(self.plan.policy.coverage_radius(s.r, r_cell));
+        let dx = u64::from(axis_delta(x0, s.x, self.periods.0).max(axis_delta(x1, s.x, self.periods.0)));
+        let dy = u64::from(axis_delta(y0, s.y, self.periods.1).max(axis_delta(y1, s.y, self.periods.1)));
+        dx * dx + dy * dy < f * f
+    }
+
+    /// The corners of a cell of the current level.
+    fn corners(&self, c: Cell) -> (u32, u32, u32, u32) {
+        let shift = self.frac - self.level;
+        let (x0, y0) = (c.x << shift, c.y << shift);
+        (x0, y0, x0 + (1 << shift), y0 + (1 << shift))
+    }
+
+    /// Whether a sample of index `from` or later covers cell `c`.
+    fn cell_covered(&self, c: Cell, from: u32) -> bool {
+        let k = self.corners(c);
+        let (px, py) = self.pixel_xy(k.0, k.1);
+        let r_cell = self.r_at(py * self.plan.width + px);
+        self.grid
+            .any_near(px, py, from, |i| self.covers(&self.samples[i as usize], k, r_cell))
+    }
+
+    /// Level 0: marks the pixels that the samples from `from` on cover.
+    fn cover_pixels(&mut self, from: usize) {
+        let plan = self.plan;
+        let one = 1i64 << self.frac;
+        let mut coverage = std::mem::take(&mut self.coverage);
+        let bands = plan.height.div_ceil(BAND_ROWS) as usize;
+        let r_max = plan.radius_range.1 << (self.frac - RADIUS_FRAC_BITS);
+        let reach_max = |s: &Sample| match plan.policy {
+            Policy::Prior | Policy::Smaller => s.r,
+            Policy::Current | Policy::Bigger => s.r.max(r_max),
+        };
+        let mut buckets: Vec<Vec<Sample>> = vec![Vec::new(); bands];
+        for s in &self.samples[from..] {
+            let r = i64::from(reach_max(s));
+            let (y0, y1) = ((i64::from(s.y) - r).div_euclid(one), (i64::from(s.y) + r).div_euclid(one));
+            let mut last = usize::MAX;
+            for q in y0..=y1 {
+                let y = if plan.periodic {
+                    q.rem_euclid(i64::from(plan.height))
+                } else if (0..i64::from(plan.height)).contains(&q) {
+                    q
+                } else {
+                    continue;
+                };
+                let b = (y as u32 / BAND_ROWS) as usize;
+                if b != last && buckets[b].last() != Some(s) {
+                    buckets[b].push(*s);
+                }
+                last = b;
+            }
+        }
+        let band_words = (BAND_ROWS * plan.width / 64) as usize;
+        let this = &*self;
+        let uniform_f = plan.map.is_none() || !plan.policy.reads_pixel_radius();
+        coverage
+            .par_chunks_mut(band_words)
+            .zip(buckets.par_iter())
+            .enumerate()
+            .for_each(|(b, (cov, list))| {
+                let rows = b as u32 * BAND_ROWS..((b as u32 + 1) * BAND_ROWS).min(plan.height);
+                for s in list {
+                    this.cover_band(s, rows.clone(), cov, reach_max(s), uniform_f, one);
+                }
+            });
+        self.coverage = coverage;
+    }
+
+    /// Marks the pixels of `rows` (held by `cov`) that `s` covers whole.
+    fn cover_band(
+        &self,
+        s: &Sample,
+        rows: std::ops::Range<u32>,
+        cov: &mut [u64],
+        reach: u32,
+        uniform_f: bool,
+        one: i64,
+    ) {
+        let plan = self.plan;
+        let (w, h) = (i64::from(plan.width), i64::from(plan.height));
+        let (sx, sy, r) = (i64::from(s.x), i64::from(s.y), i64::from(reach));
+        let wrap = |q: i64, n: i64| {
+            if plan.periodic {
+                Some(q.rem_euclid(n))
+            } else {
+                Some(q).filter(|q| (0..n).contains(q))
+            }
+        };
+        for qy in (sy - r).div_euclid(one)..=(sy + r).div_euclid(one) {
+            let Some(y) = wrap(qy, h).filter(|&y| rows.contains(&(y as u32))) else {
+                continue;
+            };
+            let dy = (qy * one - sy).abs().max((qy * one + one - sy).abs());
+            if dy >= r {
+                continue;
+            }
+            let row = (y as u32 - rows.start) as usize * plan.width as usize;
+            let dxm = isqrt((r * r - dy * dy - 1) as u64) as i64;
+            // Pixels whose both x corners lie within dxm of sx.
+            let x0 = (sx - dxm + one - 1).div_euclid(one);
+            let x1 = (sx + dxm).div_euclid(one) - 1;
+            for qx in x0..=x1 {
+                let Some(x) = wrap(qx, w) else { continue };
+                let p = row + x as usize;
+                if !uniform_f {
+                    let f = i64::from(
+                        plan.policy
+                            .coverage_radius(s.r, self.r_at(y as u32 * plan.width + x as u32)),
+                    );
+                    let dx = (qx * one - sx).abs().max((qx * one + one - sx).abs());
+                    if dx * dx + dy * dy >= f * f {
+                        continue;
+                    }
+                }
+                cov[p / 64] |= 1 << (p % 64);
+            }
+        }
+    }
+
+    /// Splits the active cells in four and keeps the children no sample
+    /// covers; the level goes one down.
+    fn refine(&mut self) {
+        let parents: Vec<Cell> = if self.level == 0 {
+            (0..self.empty.len())
+                .map(|i| {
+                    let p = self.empty.get(i);
+                    Cell {
+                        x: p % self.plan.width,
+                        y: p / self.plan.width,
+                    }
+                })
+                .collect()
+        } else {
+            std::mem::take(&mut self.cells)
+        };
+        let this = &*self;
+        let half = 1u32 << (self.frac - self.level - 1);
+        let cells: Vec<Cell> = parents
+            .par_iter()
+            .flat_map_iter(|&c| {
+                let (x0, y0, _, _) = this.corners(c);
+                let (px, py) = this.pixel_xy(x0, y0);
+                let r_cell = this.r_at(py * this.plan.width + px);
+                let xs = [x0, x0 + half, x0 + 2 * half];
+                let ys = [y0, y0 + half, y0 + 2 * half];
+                let mut covered = [false; 4];
+                this.grid.any_near(px, py, 0, |i| {
+                    let s = &this.samples[i as usize];
+                    for (n, cov) in covered.iter_mut().enumerate() {
+                        let (a, b) = (n % 2, n / 2);
+                        *cov = *cov
+                            || this.covers(s, (xs[a], ys[b], xs[a + 1], ys[b + 1]), r_cell);
+                    }
+                    covered.iter().all(|&c| c)
+                });
+                (0..4u32).filter(move |&n| !covered[n as usize]).map(move |n| Cell {
+                    x: 2 * c.x + n % 2,
+                    y: 2 * c.y + n / 2,
+                })
+            })
+            .collect();
+        self.level += 1;
+        self.cells = cells;
+    }
+
+    /// At the finest level: sets aside the cells whose one position is
+    /// covered, as pending, and drops the pending cells that the disks now
+    /// cover together. A dart elsewhere may still cover a pending cell; those
+    /// left pending when no cell is active are voids finer than the grid.
+    fn settle_finest(&mut self) {
+        let this = &*self;
+        let policy = self.plan.policy;
+        let (open, taken): (Vec<Cell>, Vec<Cell>) = self.cells.par_iter().partition(|&&c| {
+            let k = this.corners(c);
+            let (px, py) = this.pixel_xy(k.0, k.1);
+            let r_cell = this.r_at(py * this.plan.width + px);
+            !this.grid.any_near(px, py, 0, |i| {
+                let s = &this.samples[i as usize];
+                this.within((s.x, s.y), (k.0, k.1), policy.coverage_radius(s.r, r_cell))
+            })
+        });
+        let mut pending = std::mem::take(&mut self.unfillable);
+        pending.extend(taken);
+        let this = &*self;
+        let pending = pending
+            .into_par_iter()
+            .filter(|&c| {
+                let k = this.corners(c);
+                let (px, py) = this.pixel_xy(k.0, k.1);
+                !this.union_covers(k, this.r_at(py * this.plan.width + px))
+            })
+            .collect();
+        self.cells = open;
+        self.unfillable = pending;
+    }
+
+    /// Whether the disks near the closed square `k` cover it together.
+    fn union_covers(&self, k: (u32, u32, u32, u32), r_cell: u32) -> bool {
+        let one = f64::from(1u32 << self.frac);
+        let (px, py) = self.pixel_xy(k.0, k.1);
+        let mut disks = Vec::new();
+        let unwrap = |s: u32, c: u32, period: u32| -> f64 {
+            let d = f64::from(axis_delta(s, c, period));
+            if period == 0 {
+                f64::from(s)
+            } else if (f64::from(c) + d - f64::from(s)).rem_euclid(f64::from(period)) == 0.0 {
+                f64::from(c) + d
+            } else {
+                f64::from(c) - d
+            }
+        };
+        self.grid.any_near(px, py, 0, |i| {
+            let s = &self.samples[i as usize];
+            disks.push(union::Disk {
+                x: unwrap(s.x, k.0, self.periods.0) / one,
+                y: unwrap(s.y, k.1, self.periods.1) / one,
+                r: f64::from(self.plan.policy.coverage_radius(s.r, r_cell)) / one,
+            });
+            false
+        });
+        let q = |v: u32| f64::from(v) / one;
+        union::covers(&disks, (q(k.0), q(k.1), q(k.2), q(k.3)))
+    }
+
+    fn point(&self, s: &Sample) -> Point {
+        let one = (1u32 << self.frac) as f32;
+        Point {
+            x: s.x as f32 / one,
+            y: s.y as f32 / one,
+            radius: fixed::fx_to_radius(self.plan.radius_at(s.pixel)),
+        }
+    }
+}
+
+impl Stepper for ExactStepper<'_> {
+    fn empty(&self) -> u64 {
+        self.active()
+    }
+
+    fn darts_for(&self, plan: &Plan, empty: u64) -> u32 {
+        u64::from(plan.batch)
+            .min(empty)
+            .min(u64::from(MAX_BATCH)) as u32
+    }
+
+    fn step(&mut self, iteration: u32, darts: u32) -> Result<Step> {
+        let t0 = Instant::now();
+        let ik = iteration_key(self.plan.seed_key, iteration);
+        let batch: Vec<Sample> = (0..darts).into_par_iter().map(|k| self.dart(ik, k)).collect();
+        let t1 = Instant::now();
+        let accepted = self.accept(&batch);
+        let from = self.samples.len();
+        for s in &accepted {
+            let i = self.samples.len() as u32;
+            self.grid.insert(i, s.pixel % self.plan.width, s.pixel / self.plan.width);
+            self.samples.push(*s);
+        }
+        let t2 = Instant::now();
+        if self.level == 0 {
+            self.cover_pixels(from);
+            self.empty.compact(&self.coverage);
+        } else {
+            let this = &*self;
+            let cells = this
+                .cells
+                .par_iter()
+                .copied()
+                .filter(|&c| !this.cell_covered(c, from as u32))
+                .collect();
+            self.cells = cells;
+        }
+        let t3 = Instant::now();
+        if self.level < self.frac && accepted.len() * std::env::var("RB").ok().and_then(|v| v.parse().ok()).unwrap_or(REFINE_BELOW) < batch.len() {
+            self.refine();
+        }
+        if self.level == self.frac {
+            self.settle_finest();
+        }
+        let t4 = Instant::now();
+        self.peak_bytes = self.peak_bytes.max(
+            self.empty.bytes()
+                + self.grid.bytes()
+                + 8 * self.cells.capacity()
+                + 16 * (self.samples.capacity() + batch.capacity()),
+        );
+        let mut stages = StageTimes::default();
+        stages.add("throw", (t1 - t0).as_secs_f64());
+        stages.add("cull", (t2 - t1).as_secs_f64());
+        stages.add("compact", (t3 - t2).as_secs_f64());
+        stages.add("refine", (t4 - t3).as_secs_f64());
+        let active = self.active();
+        if std::env::var_os("PIXELPIE_EXACT_DEBUG").is_some() {
+            if active == 0 {
+                for c in &self.unfillable {
+                    let k = self.corners(*c);
+                    let one = f64::from(1u32 << self.frac);
+                    eprintln!("stuck {} {} {} {}", f64::from(k.0) / one, f64::from(k.1) / one, f64::from(k.2) / one, f64::from(k.3) / one);
+                }
+            }
+            eprintln!("it {iteration} level {} darts {} accepted {} active {active} unfillable {}", self.level, batch.len(), accepted.len(), self.unfillable.len());
+        }
+        Ok(Step {
+            empty: active + self.unfillable.len() as u64,
+            accepted: accepted.iter().map(|s| self.point(s)).collect(),
+            stages,
+            finished: active == 0,
+        })
+    }
+
+    fn bytes(&self) -> usize {
+        8 * self.coverage.len() + self.peak_bytes
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::cpu::cover::is_covered;
+    use super::*;
+
+    #[test]
+    fn positions_stay_exact_in_f32() {
+        for (w, h, f) in [(1, 1, 16), (256, 100, 16), (1000, 700, 14), (4096, 4096, 12), (65536, 1, 8)] {
+            assert_eq!(frac_bits(w, h), f, "{w}x{h}");
+            assert!(u64::from(w.max(h)) << f <= 1 << 24);
+        }
+    }
+
+    #[test]
+    fn pixel_cover_marks_exactly_the_pixels_one_disk_holds_whole() {
+        // Step radius map, every policy, bounded and periodic.
+        let (w, h) = (70u32, 66u32);
+        for policy in Policy::ALL {
+            for periodic in [false, true] {
+                let radii: Vec<f32> = (0..w * h).map(|i| if i % w < 35 { 3.0 } else { 5.5 }).collect();
+                let map = std::sync::Arc::new(super::super::RadiusMap::from_pixels(w, h, &radii).unwrap());
+                let plan = super::super::Params::new(w, h)
+                    .with_radius_map(map)
+                    .with_policy(policy)
+                    .with_periodic(periodic)
+                    .with_exact(true)
+                    .plan()
+                    .unwrap();
+                let mut st = ExactStepper::new(&plan);
+                for k in 0..40u32 {
+                    let m = fixed::mix(k + 17);
+                    let (x, y) = ((m % (w << st.frac)), ((m >> 8) % (h << st.frac)));
+                    let pixel = (y >> st.frac) * w + (x >> st.frac);
+                    let s = Sample { x, y, pixel, r: st.r_at(pixel) };
+                    st.grid.insert(k, pixel % w, pixel / w);
+                    st.samples.push(s);
+                }
+                st.cover_pixels(0);
+                let one = 1u32 << st.frac;
+                for p in 0..w * h {
+                    let (px, py) = (p % w, p / w);
+                    let k = (px * one, py * one, px * one + one, py * one + one);
+                    let want = st.samples.iter().any(|s| st.covers(s, k, st.r_at(p)));
+                    assert_eq!(is_covered(&st.coverage, p), want, "{policy:?} periodic {periodic} pixel ({px}, {py})");
+                }
+            }
+        }
+    }
+}
