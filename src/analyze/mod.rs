@@ -9,6 +9,7 @@
 pub mod angles;
 pub mod csv;
 pub mod fidelity;
+pub mod gaps;
 pub mod metrics;
 pub mod plots;
 pub mod spectrum;
@@ -107,6 +108,12 @@ pub struct Report {
     pub uncovered_pixels: Option<u64>,
     /// Σ π (r_i/2)² / A; `None` without a radius.
     pub density: Option<f64>,
+    /// The largest empty circle centred in the closed domain (boundary
+    /// mirrored, or wrapped when periodic): its radius and centre.
+    pub largest_gap: Option<gaps::Gap>,
+    /// Whether the disks cover every point of the closed domain, not only
+    /// pixel centres; `None` without a radius.
+    pub maximal: Option<bool>,
     /// Standard deviation of the 360-bin Delaunay-neighbour angle histogram.
     pub angle_std: Option<f64>,
     /// Delaunay edges the histogram counts (each in both directions).
@@ -147,6 +154,11 @@ pub fn report(
         ),
         None => (None, None),
     };
+    let largest_gap = gaps::largest_gap(points, domain);
+    let maximal = match radius {
+        Some(r) => Some(gaps::uncovered_cells(points, r, domain)? == 0),
+        None => None,
+    };
     let angles = angles::delaunay_angles(points);
     let angle_std =
         (!angles.is_empty()).then(|| angles::histogram_std(&angles::histogram(&angles, 360)));
@@ -156,6 +168,8 @@ pub fn report(
         rho,
         uncovered_pixels,
         density,
+        largest_gap,
+        maximal,
         angle_std,
         angle_edges: angles.len() / 2,
     })

@@ -328,10 +328,17 @@ fn write_outputs(a: &SampleArgs, set: &SampleSet) -> Result<()> {
         })?;
     }
     if !set.maximal && !a.quiet {
-        eprintln!(
-            "warning: stopped after {} iterations before the set was maximal",
-            set.iterations
-        );
+        if set.stats.exact && set.iterations < a.max_iterations {
+            eprintln!(
+                "warning: {} voids finer than the position grid remain; the set is not maximal",
+                set.stats.empty_left
+            );
+        } else {
+            eprintln!(
+                "warning: stopped after {} iterations before the set was maximal",
+                set.iterations
+            );
+        }
     }
     Ok(())
 }

@@ -20,8 +20,15 @@ pub struct Stats {
     pub points: usize,
     /// Iterations run.
     pub iterations: u32,
-    /// Whether every pixel ended covered.
+    /// Whether every pixel ended covered (in exact mode: every point of the
+    /// domain).
     pub maximal: bool,
+    /// Whether the run was in exact mode.
+    pub exact: bool,
+    /// What was left empty at the end: pixels in pixel mode; in exact mode,
+    /// active cells, or after a finished run the voids finer than the
+    /// position grid that no dart can fill.
+    pub empty_left: u64,
     /// `"cpu"` or `"gpu"`.
     pub backend: String,
     /// The GPU adapter's name, or the CPU's thread count.

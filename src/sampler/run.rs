@@ -142,6 +142,8 @@ pub fn run(
         }
     }
     stats.seconds = start.elapsed().as_secs_f64();
+    stats.exact = plan.exact;
+    stats.empty_left = empty;
     stats.bytes_per_pixel = stepper.bytes() as f64 / f64::from(pixels.max(1));
     Ok(SampleSet::finish(
         (plan.width, plan.height),

@@ -142,7 +142,7 @@ fn cover_band(plan: &Plan, s: &Dart, band: std::ops::Range<u32>, cov: &mut [u64]
 
 /// Sets pixels `x0..=x1` of the `n`-pixel row starting at bit `row`,
 /// wrapping or clipping at the row's ends.
-fn fill_span(cov: &mut [u64], row: usize, n: usize, x0: i64, x1: i64, periodic: bool) {
+pub(crate) fn fill_span(cov: &mut [u64], row: usize, n: usize, x0: i64, x1: i64, periodic: bool) {
     let n = n as i64;
     if x0 > x1 {
         return;

@@ -46,6 +46,33 @@ impl SampleGrid {
         self.head[c] = index;
     }
 
+    /// Cell side in pixels.
+    pub fn cell(&self) -> u32 {
+        self.g
+    }
+
+    /// Cells per row.
+    pub fn cols(&self) -> u32 {
+        self.cols
+    }
+
+    /// The number of cells.
+    pub fn cells(&self) -> usize {
+        self.head.len()
+    }
+
+    /// Calls `f` with every cell index that may hold a sample reaching
+    /// pixel (px, py).
+    pub fn for_cells_near(&self, px: u32, py: u32, mut f: impl FnMut(usize)) {
+        let (cols, nc) = cells_along(px, self.g, self.width, self.g, self.periodic);
+        let (rows, nr) = cells_along(py, self.g, self.height, self.g, self.periodic);
+        for &cy in &rows[..nr] {
+            for &cx in &cols[..nc] {
+                f((cy * self.cols + cx) as usize);
+            }
+        }
+    }
+
     /// Calls `f` with every sample index of at least `from` that may reach
     /// pixel (px, py), newest first within a cell, until `f` returns true;
     /// returns whether one did.

@@ -55,7 +55,7 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 use super::cpu::compact::EmptyList;
-use super::cpu::cover::{BAND_ROWS, isqrt, new_map};
+use super::cpu::cover::{BAND_ROWS, fill_span, isqrt, new_map};
 use super::fixed::{self, MAX_BATCH, RADIUS_FRAC_BITS, axis_delta, iteration_key};
 use super::run::{StageTimes, Step, Stepper};
 use super::{Plan, Point, Policy, Result};
@@ -107,6 +107,9 @@ pub struct ExactStepper<'p> {
     cells: Vec<Cell>,
     /// Cells of level F that no dart can fill.
     unfillable: Vec<Cell>,
+    /// The batch's valid darts by grid cell (reused buffers).
+    batch_start: Vec<u32>,
+    batch_entries: Vec<u32>,
     peak_bytes: usize,
 }
 
@@ -131,6 +134,8 @@ impl<'p> ExactStepper<'p> {
             empty: EmptyList::all(plan.pixels(), plan.width),
             cells: Vec::new(),
             unfillable: Vec::new(),
+            batch_start: Vec::new(),
+            batch_entries: Vec::new(),
             peak_bytes: 0,
         }
     }
@@ -199,61 +204,58 @@ impl<'p> ExactStepper<'p> {
 
     /// The darts accepted among `darts`, in dart order: the valid ones that
     /// no earlier accepted dart of the batch excludes.
-    fn accept(&self, darts: &[Sample]) -> Vec<Sample> {
+    fn accept(&mut self, darts: &[Sample]) -> Vec<Sample> {
         let policy = self.plan.policy;
-        let valid: Vec<bool> = darts.par_iter().map(|d| self.free(d)).collect();
-        // The valid darts by grid cell of side G (the sample grid's), sorted.
-        let g = self.plan.radius_range.1.div_ceil(fixed::RADIUS_ONE) + 1;
-        let cols = self.plan.width.div_ceil(g);
-        let mut binned: Vec<(u32, u32)> = (0..darts.len() as u32)
-            .filter(|&k| valid[k as usize])
-            .map(|k| {
-                let (px, py) = self.pixel_xy(darts[k as usize].x, darts[k as usize].y);
-                ((py / g) * cols + px / g, k)
-            })
-            .collect();
-        binned.sort_unstable();
+        let this = &*self;
+        let valid: Vec<bool> = darts.par_iter().map(|d| this.free(d)).collect();
+        // The valid darts by grid cell (counting sort: dart order per cell).
+        let (g, cols) = (self.grid.cell(), self.grid.cols());
+        let cell_of = |d: &Sample| {
+            let (px, py) = (d.pixel % self.plan.width, d.pixel / self.plan.width);
+            ((py / g) * cols + px / g) as usize
+        };
+        let mut start = std::mem::take(&mut self.batch_start);
+        start.clear();
+        start.resize(self.grid.cells() + 1, 0);
+        for (d, _) in darts.iter().zip(&valid).filter(|(_, v)| **v) {
+            start[cell_of(d) + 1] += 1;
+        }
+        for i in 1..start.len() {
+            start[i] += start[i - 1];
+        }
+        let mut entries = std::mem::take(&mut self.batch_entries);
+        entries.clear();
+        entries.resize(start[start.len() - 1] as usize, 0);
+        let mut fill = start.clone();
+        for (k, d) in darts.iter().enumerate().filter(|(k, _)| valid[*k]) {
+            let c = cell_of(d);
+            entries[fill[c] as usize] = k as u32;
+            fill[c] += 1;
+        }
+        let this = &*self;
         // Pairs (k, j), j < k, of valid darts in conflict, ordered by k.
         let pairs: Vec<(u32, u32)> = (0..darts.len() as u32)
             .into_par_iter()
+            .with_min_len(256)
             .filter(|&k| valid[k as usize])
             .flat_map_iter(|k| {
                 let d = darts[k as usize];
-                let (px, py) = self.pixel_xy(d.x, d.y);
-                let (xs, nx) = super::cpu::cull::cells_along(
-                    px,
-                    g,
-                    self.plan.width,
-                    g,
-                    self.plan.periodic,
-                );
-                let (ys, ny) = super::cpu::cull::cells_along(
-                    py,
-                    g,
-                    self.plan.height,
-                    g,
-                    self.plan.periodic,
-                );
+                let (px, py) = (d.pixel % this.plan.width, d.pixel / this.plan.width);
                 let mut out = Vec::new();
-                for &cy in &ys[..ny] {
-                    for &cx in &xs[..nx] {
-                        let cell = cy * cols + cx;
-                        let lo = binned.partition_point(|&(c, _)| c < cell);
-                        for &(c, j) in &binned[lo..] {
-                            if c != cell || j >= k {
-                                break;
-                            }
-                            let e = darts[j as usize];
-                            if self.within((e.x, e.y), (d.x, d.y), policy.coverage_radius(e.r, d.r))
-                            {
-                                out.push((k, j));
-                            }
+                this.grid.for_cells_near(px, py, |cell| {
+                    let run = &entries[start[cell] as usize..start[cell + 1] as usize];
+                    for &j in run.iter().take_while(|&&j| j < k) {
+                        let e = darts[j as usize];
+                        if this.within((e.x, e.y), (d.x, d.y), policy.coverage_radius(e.r, d.r)) {
+                            out.push((k, j));
                         }
                     }
-                }
+                });
                 out
             })
             .collect();
+        self.batch_start = start;
+        self.batch_entries = entries;
         let mut accepted = valid;
         for (k, j) in pairs {
             if accepted[j as usize] {
@@ -308,20 +310,20 @@ impl<'p> ExactStepper<'p> {
         for s in &self.samples[from..] {
             let r = i64::from(reach_max(s));
             let (y0, y1) = ((i64::from(s.y) - r).div_euclid(one), (i64::from(s.y) + r).div_euclid(one));
-            let mut last = usize::MAX;
-            for q in y0..=y1 {
-                let y = if plan.periodic {
-                    q.rem_euclid(i64::from(plan.height))
-                } else if (0..i64::from(plan.height)).contains(&q) {
-                    q
-                } else {
-                    continue;
-                };
-                let b = (y as u32 / BAND_ROWS) as usize;
-                if b != last && buckets[b].last() != Some(s) {
-                    buckets[b].push(*s);
+            if plan.periodic {
+                let mut last = usize::MAX;
+                for q in y0..=y1 {
+                    let b = (q.rem_euclid(i64::from(plan.height)) as u32 / BAND_ROWS) as usize;
+                    if b != last && buckets[b].last() != Some(s) {
+                        buckets[b].push(*s);
+                    }
+                    last = b;
                 }
-                last = b;
+            } else {
+                let (a, b) = (y0.max(0) as u32, y1.min(i64::from(plan.height) - 1) as u32);
+                for band in a / BAND_ROWS..=b / BAND_ROWS {
+                    buckets[band as usize].push(*s);
+                }
             }
         }
         let band_words = (BAND_ROWS * plan.width / 64) as usize;
@@ -373,20 +375,21 @@ impl<'p> ExactStepper<'p> {
             // Pixels whose both x corners lie within dxm of sx.
             let x0 = (sx - dxm + one - 1).div_euclid(one);
             let x1 = (sx + dxm).div_euclid(one) - 1;
+            if uniform_f {
+                fill_span(cov, row, plan.width as usize, x0, x1, plan.periodic);
+                continue;
+            }
             for qx in x0..=x1 {
                 let Some(x) = wrap(qx, w) else { continue };
                 let p = row + x as usize;
-                if !uniform_f {
-                    let f = i64::from(
-                        plan.policy
-                            .coverage_radius(s.r, self.r_at(y as u32 * plan.width + x as u32)),
-                    );
-                    let dx = (qx * one - sx).abs().max((qx * one + one - sx).abs());
-                    if dx * dx + dy * dy >= f * f {
-                        continue;
-                    }
+                let f = i64::from(
+                    plan.policy
+                        .coverage_radius(s.r, self.r_at(y as u32 * plan.width + x as u32)),
+                );
+                let dx = (qx * one - sx).abs().max((qx * one + one - sx).abs());
+                if dx * dx + dy * dy < f * f {
+                    cov[p / 64] |= 1 << (p % 64);
                 }
-                cov[p / 64] |= 1 << (p % 64);
             }
         }
     }
@@ -544,7 +547,7 @@ impl Stepper for ExactStepper<'_> {
             self.cells = cells;
         }
         let t3 = Instant::now();
-        if self.level < self.frac && accepted.len() * std::env::var("RB").ok().and_then(|v| v.parse().ok()).unwrap_or(REFINE_BELOW) < batch.len() {
+        if self.level < self.frac && accepted.len() * REFINE_BELOW < batch.len() {
             self.refine();
         }
         if self.level == self.frac {
@@ -555,6 +558,7 @@ impl Stepper for ExactStepper<'_> {
             self.empty.bytes()
                 + self.grid.bytes()
                 + 8 * self.cells.capacity()
+                + 4 * (self.batch_start.capacity() + self.batch_entries.capacity())
                 + 16 * (self.samples.capacity() + batch.capacity()),
         );
         let mut stages = StageTimes::default();
@@ -563,16 +567,6 @@ impl Stepper for ExactStepper<'_> {
         stages.add("compact", (t3 - t2).as_secs_f64());
         stages.add("refine", (t4 - t3).as_secs_f64());
         let active = self.active();
-        if std::env::var_os("PIXELPIE_EXACT_DEBUG").is_some() {
-            if active == 0 {
-                for c in &self.unfillable {
-                    let k = self.corners(*c);
-                    let one = f64::from(1u32 << self.frac);
-                    eprintln!("stuck {} {} {} {}", f64::from(k.0) / one, f64::from(k.1) / one, f64::from(k.2) / one, f64::from(k.3) / one);
-                }
-            }
-            eprintln!("it {iteration} level {} darts {} accepted {} active {active} unfillable {}", self.level, batch.len(), accepted.len(), self.unfillable.len());
-        }
         Ok(Step {
             empty: active + self.unfillable.len() as u64,
             accepted: accepted.iter().map(|s| self.point(s)).collect(),
