@@ -178,14 +178,29 @@ pub fn uncovered_cells(points: &[[f64; 2]], radius: CoverRadius<'_>, domain: Dom
     if points.is_empty() || !(r_max > 0.0) {
         return Ok((cols * rows) as u64);
     }
-    // Points binned by cells of side g >= r_max.
-    let g = r_max.ceil().max(1.0);
-    let (gc, gr) = ((domain.width / g).ceil() as usize, (domain.height / g).ceil() as usize);
-    let mut bins = vec![Vec::new(); gc * gr];
+    // On a torus, the wrapped copies of the points near the sides join
+    // them, so that the cells see every disk reaching them unwrapped.
+    let m = r_max + 1.0;
+    let mut disks_all: Vec<Disk> = Vec::with_capacity(points.len());
     for (i, p) in points.iter().enumerate() {
-        let cx = ((p[0] / g).floor().max(0.0) as usize).min(gc - 1);
-        let cy = ((p[1] / g).floor().max(0.0) as usize).min(gr - 1);
-        bins[cy * gc + cx].push(i);
+        let r = radius.of(i);
+        if domain.periodic {
+            for img in augmented(&[*p], domain, m) {
+                disks_all.push(Disk { x: img[0], y: img[1], r });
+            }
+        } else {
+            disks_all.push(Disk { x: p[0], y: p[1], r });
+        }
+    }
+    // Disks binned by cells of side g > r_max + 1 over [-m, W + m] x
+    // [-m, H + m]: a disk reaching a pixel lies in its bin or a neighbour.
+    let g = (r_max + 1.0).ceil();
+    let gc = ((domain.width + 2.0 * m) / g).ceil() as usize + 1;
+    let gr = ((domain.height + 2.0 * m) / g).ceil() as usize + 1;
+    let bin = |v: f64, n: usize| (((v + m) / g).floor().max(0.0) as usize).min(n - 1);
+    let mut bins = vec![Vec::new(); gc * gr];
+    for (k, d) in disks_all.iter().enumerate() {
+        bins[bin(d.y, gr) * gc + bin(d.x, gc)].push(k);
     }
     use rayon::prelude::*;
     let count = (0..rows)
@@ -197,27 +212,10 @@ pub fn uncovered_cells(points: &[[f64; 2]], radius: CoverRadius<'_>, domain: Dom
                 let (x0, y0) = (i as f64, j as f64);
                 let (x1, y1) = ((x0 + 1.0).min(domain.width), (y0 + 1.0).min(domain.height));
                 disks.clear();
-                let (gx, gy) = ((x0 / g) as i64, (y0 / g) as i64);
-                for dy in -1..=1i64 {
-                    for dx in -1..=1i64 {
-                        let (mut cx, mut cy) = (gx + dx, gy + dy);
-                        if domain.periodic {
-                            cx = cx.rem_euclid(gc as i64);
-                            cy = cy.rem_euclid(gr as i64);
-                        } else if cx < 0 || cy < 0 || cx >= gc as i64 || cy >= gr as i64 {
-                            continue;
-                        }
-                        for &k in &bins[cy as usize * gc + cx as usize] {
-                            let p = points[k];
-                            // Unwrap to the image nearest the cell.
-                            let (mut px, mut py) = (p[0], p[1]);
-                            if domain.periodic {
-                                let mid = [(x0 + x1) / 2.0, (y0 + y1) / 2.0];
-                                px -= domain.width * ((px - mid[0]) / domain.width).round();
-                                py -= domain.height * ((py - mid[1]) / domain.height).round();
-                            }
-                            disks.push(Disk { x: px, y: py, r: radius.of(k) });
-                        }
+                let (bx, by) = (bin(x0, gc), bin(y0, gr));
+                for cy in by.saturating_sub(1)..=(by + 1).min(gr - 1) {
+                    for cx in bx.saturating_sub(1)..=(bx + 1).min(gc - 1) {
+                        disks.extend(bins[cy * gc + cx].iter().map(|&k| disks_all[k]));
                     }
                 }
                 let whole = disks.iter().any(|d| {
