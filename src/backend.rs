@@ -161,7 +161,10 @@ pub fn sample(
     } else {
         Err("not asked for".into())
     };
-    let runner = gpu.as_mut().map(|g| g as &mut dyn GpuRun).map_err(|e| e.clone());
+    let runner = gpu
+        .as_mut()
+        .map(|g| g as &mut dyn GpuRun)
+        .map_err(|e| e.clone());
     sample_with(params, choice, runner, ctl, notice)
 }
 

@@ -42,17 +42,33 @@ fn augmented(points: &[[f64; 2]], domain: Domain, margin: f64) -> Vec<[f64; 2]> 
     let mut out = points.to_vec();
     for &[x, y] in points {
         let xs: Vec<f64> = if domain.periodic {
-            [Some(x), (x < margin).then_some(x + w), (x > w - margin).then_some(x - w)]
+            [
+                Some(x),
+                (x < margin).then_some(x + w),
+                (x > w - margin).then_some(x - w),
+            ]
         } else {
-            [Some(x), (x < margin).then_some(-x), (x > w - margin).then_some(2.0 * w - x)]
+            [
+                Some(x),
+                (x < margin).then_some(-x),
+                (x > w - margin).then_some(2.0 * w - x),
+            ]
         }
         .into_iter()
         .flatten()
         .collect();
         let ys: Vec<f64> = if domain.periodic {
-            [Some(y), (y < margin).then_some(y + h), (y > h - margin).then_some(y - h)]
+            [
+                Some(y),
+                (y < margin).then_some(y + h),
+                (y > h - margin).then_some(y - h),
+            ]
         } else {
-            [Some(y), (y < margin).then_some(-y), (y > h - margin).then_some(2.0 * h - y)]
+            [
+                Some(y),
+                (y < margin).then_some(-y),
+                (y > h - margin).then_some(2.0 * h - y),
+            ]
         }
         .into_iter()
         .flatten()
@@ -124,7 +140,10 @@ pub fn largest_gap(points: &[[f64; 2]], domain: Domain) -> Option<Gap> {
                 }
                 let r = (centre[0] - a[0]).hypot(centre[1] - a[1]);
                 if r > found.radius {
-                    found = Gap { radius: r, at: centre };
+                    found = Gap {
+                        radius: r,
+                        at: centre,
+                    };
                 }
             }
         } else {
@@ -132,7 +151,10 @@ pub fn largest_gap(points: &[[f64; 2]], domain: Domain) -> Option<Gap> {
             // or, on a torus, checked on a fine grid of candidates.
             for i in 0..=64 {
                 for j in 0..=64 {
-                    let q = [domain.width * f64::from(i) / 64.0, domain.height * f64::from(j) / 64.0];
+                    let q = [
+                        domain.width * f64::from(i) / 64.0,
+                        domain.height * f64::from(j) / 64.0,
+                    ];
                     let r = nearest(points, q, domain);
                     if r > found.radius {
                         found = Gap { radius: r, at: q };
@@ -165,7 +187,11 @@ fn circumcentre(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Option<[f64; 2]> {
 /// Whether every point of the closed domain lies strictly inside the disk
 /// of some point (radius `radius`): maximality in the continuous sense.
 /// Returns the number of pixels (unit cells) not found covered.
-pub fn uncovered_cells(points: &[[f64; 2]], radius: CoverRadius<'_>, domain: Domain) -> Result<u64> {
+pub fn uncovered_cells(
+    points: &[[f64; 2]],
+    radius: CoverRadius<'_>,
+    domain: Domain,
+) -> Result<u64> {
     domain.validate()?;
     if domain.area() > super::metrics::MAX_PIXELS {
         return Err(super::Error::InvalidParameter(format!(
@@ -186,10 +212,18 @@ pub fn uncovered_cells(points: &[[f64; 2]], radius: CoverRadius<'_>, domain: Dom
         let r = radius.of(i);
         if domain.periodic {
             for img in augmented(&[*p], domain, m) {
-                disks_all.push(Disk { x: img[0], y: img[1], r });
+                disks_all.push(Disk {
+                    x: img[0],
+                    y: img[1],
+                    r,
+                });
             }
         } else {
-            disks_all.push(Disk { x: p[0], y: p[1], r });
+            disks_all.push(Disk {
+                x: p[0],
+                y: p[1],
+                r,
+            });
         }
     }
     // Disks binned by cells of side g > r_max + 1 over [-m, W + m] x

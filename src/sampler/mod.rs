@@ -47,11 +47,11 @@ pub mod run;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 pub use output::{Point, SampleSet, Stats};
-pub use run::{Dart, StageTimes, Step, Stepper};
 pub use params::{
     DEFAULT_MAX_ITERATIONS, DEFAULT_SUBPIXEL_BITS, KeyLayout, MAX_PIXELS, Params, Plan, Policy,
     RSA_DENSITY, Radius, RadiusMap,
 };
+pub use run::{Dart, StageTimes, Step, Stepper};
 
 /// What can go wrong in the sampler.
 #[derive(Debug, thiserror::Error)]

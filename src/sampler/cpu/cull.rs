@@ -8,13 +8,19 @@
 use rayon::prelude::*;
 
 use super::throw::{DartGrid, GridEntry};
-use crate::sampler::{Dart, Plan};
 use crate::sampler::fixed::{POS_FRAC_BITS, axis_delta, inside, pixel_centre};
+use crate::sampler::{Dart, Plan};
 
 /// The grid columns (or rows) that hold pixels within `reach` pixels of pixel
 /// `p` along an axis of `n` pixels, wrapping when periodic. At most 4, since
 /// cells are at least `reach` wide; a partial last cell may add one at the seam.
-pub(crate) fn cells_along(p: u32, reach: u32, n: u32, cell: u32, periodic: bool) -> ([u32; 4], usize) {
+pub(crate) fn cells_along(
+    p: u32,
+    reach: u32,
+    n: u32,
+    cell: u32,
+    periodic: bool,
+) -> ([u32; 4], usize) {
     let (mut out, mut len) = ([0u32; 4], 0);
     if !periodic {
         let (a, b) = (

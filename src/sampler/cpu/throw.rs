@@ -7,8 +7,8 @@
 use rayon::prelude::*;
 
 use super::compact::EmptyList;
-use crate::sampler::{Dart, Plan};
 use crate::sampler::fixed::{self, RADIUS_ONE};
+use crate::sampler::{Dart, Plan};
 
 /// Dart `k` of the iteration with key `iteration_key`.
 #[inline]

@@ -182,7 +182,10 @@ impl<'p> ExactStepper<'p> {
             (c.x, c.y)
         };
         let mask = (1u32 << shift) - 1;
-        let (x, y) = ((cx << shift) | (o & mask), (cy << shift) | ((o >> 16) & mask));
+        let (x, y) = (
+            (cx << shift) | (o & mask),
+            (cy << shift) | ((o >> 16) & mask),
+        );
         let pixel = (y >> self.frac) * self.plan.width + (x >> self.frac);
         Sample {
             x,
@@ -274,8 +277,10 @@ impl<'p> ExactStepper<'p> {
     /// (x1, y1) whose pixel has radius `r_cell`.
     fn covers(&self, s: &Sample, (x0, y0, x1, y1): (u32, u32, u32, u32), r_cell: u32) -> bool {
         let f = u64::from(self.plan.policy.coverage_radius(s.r, r_cell));
-        let dx = u64::from(axis_delta(x0, s.x, self.periods.0).max(axis_delta(x1, s.x, self.periods.0)));
-        let dy = u64::from(axis_delta(y0, s.y, self.periods.1).max(axis_delta(y1, s.y, self.periods.1)));
+        let dx =
+            u64::from(axis_delta(x0, s.x, self.periods.0).max(axis_delta(x1, s.x, self.periods.0)));
+        let dy =
+            u64::from(axis_delta(y0, s.y, self.periods.1).max(axis_delta(y1, s.y, self.periods.1)));
         dx * dx + dy * dy < f * f
     }
 
@@ -291,8 +296,9 @@ impl<'p> ExactStepper<'p> {
         let k = self.corners(c);
         let (px, py) = self.pixel_xy(k.0, k.1);
         let r_cell = self.r_at(py * self.plan.width + px);
-        self.grid
-            .any_near(px, py, from, |i| self.covers(&self.samples[i as usize], k, r_cell))
+        self.grid.any_near(px, py, from, |i| {
+            self.covers(&self.samples[i as usize], k, r_cell)
+        })
     }
 
     /// Level 0: marks the pixels that the samples from `from` on cover.
@@ -309,7 +315,10 @@ impl<'p> ExactStepper<'p> {
         let mut buckets: Vec<Vec<Sample>> = vec![Vec::new(); bands];
         for s in &self.samples[from..] {
             let r = i64::from(reach_max(s));
-            let (y0, y1) = ((i64::from(s.y) - r).div_euclid(one), (i64::from(s.y) + r).div_euclid(one));
+            let (y0, y1) = (
+                (i64::from(s.y) - r).div_euclid(one),
+                (i64::from(s.y) + r).div_euclid(one),
+            );
             if plan.periodic {
                 let mut last = usize::MAX;
                 for q in y0..=y1 {
@@ -425,15 +434,16 @@ impl<'p> ExactStepper<'p> {
                     let s = &this.samples[i as usize];
                     for (n, cov) in covered.iter_mut().enumerate() {
                         let (a, b) = (n % 2, n / 2);
-                        *cov = *cov
-                            || this.covers(s, (xs[a], ys[b], xs[a + 1], ys[b + 1]), r_cell);
+                        *cov = *cov || this.covers(s, (xs[a], ys[b], xs[a + 1], ys[b + 1]), r_cell);
                     }
                     covered.iter().all(|&c| c)
                 });
-                (0..4u32).filter(move |&n| !covered[n as usize]).map(move |n| Cell {
-                    x: 2 * c.x + n % 2,
-                    y: 2 * c.y + n / 2,
-                })
+                (0..4u32)
+                    .filter(move |&n| !covered[n as usize])
+                    .map(move |n| Cell {
+                        x: 2 * c.x + n % 2,
+                        y: 2 * c.y + n / 2,
+                    })
             })
             .collect();
         self.level += 1;
@@ -515,21 +525,23 @@ impl Stepper for ExactStepper<'_> {
     }
 
     fn darts_for(&self, plan: &Plan, empty: u64) -> u32 {
-        u64::from(plan.batch)
-            .min(empty)
-            .min(u64::from(MAX_BATCH)) as u32
+        u64::from(plan.batch).min(empty).min(u64::from(MAX_BATCH)) as u32
     }
 
     fn step(&mut self, iteration: u32, darts: u32) -> Result<Step> {
         let t0 = Instant::now();
         let ik = iteration_key(self.plan.seed_key, iteration);
-        let batch: Vec<Sample> = (0..darts).into_par_iter().map(|k| self.dart(ik, k)).collect();
+        let batch: Vec<Sample> = (0..darts)
+            .into_par_iter()
+            .map(|k| self.dart(ik, k))
+            .collect();
         let t1 = Instant::now();
         let accepted = self.accept(&batch);
         let from = self.samples.len();
         for s in &accepted {
             let i = self.samples.len() as u32;
-            self.grid.insert(i, s.pixel % self.plan.width, s.pixel / self.plan.width);
+            self.grid
+                .insert(i, s.pixel % self.plan.width, s.pixel / self.plan.width);
             self.samples.push(*s);
         }
         let t2 = Instant::now();
@@ -587,7 +599,13 @@ mod tests {
 
     #[test]
     fn positions_stay_exact_in_f32() {
-        for (w, h, f) in [(1, 1, 16), (256, 100, 16), (1000, 700, 14), (4096, 4096, 12), (65536, 1, 8)] {
+        for (w, h, f) in [
+            (1, 1, 16),
+            (256, 100, 16),
+            (1000, 700, 14),
+            (4096, 4096, 12),
+            (65536, 1, 8),
+        ] {
             assert_eq!(frac_bits(w, h), f, "{w}x{h}");
             assert!(u64::from(w.max(h)) << f <= 1 << 24);
         }
@@ -599,8 +617,12 @@ mod tests {
         let (w, h) = (70u32, 66u32);
         for policy in Policy::ALL {
             for periodic in [false, true] {
-                let radii: Vec<f32> = (0..w * h).map(|i| if i % w < 35 { 3.0 } else { 5.5 }).collect();
-                let map = std::sync::Arc::new(super::super::RadiusMap::from_pixels(w, h, &radii).unwrap());
+                let radii: Vec<f32> = (0..w * h)
+                    .map(|i| if i % w < 35 { 3.0 } else { 5.5 })
+                    .collect();
+                let map = std::sync::Arc::new(
+                    super::super::RadiusMap::from_pixels(w, h, &radii).unwrap(),
+                );
                 let plan = super::super::Params::new(w, h)
                     .with_radius_map(map)
                     .with_policy(policy)
@@ -613,7 +635,12 @@ mod tests {
                     let m = fixed::mix(k + 17);
                     let (x, y) = ((m % (w << st.frac)), ((m >> 8) % (h << st.frac)));
                     let pixel = (y >> st.frac) * w + (x >> st.frac);
-                    let s = Sample { x, y, pixel, r: st.r_at(pixel) };
+                    let s = Sample {
+                        x,
+                        y,
+                        pixel,
+                        r: st.r_at(pixel),
+                    };
                     st.grid.insert(k, pixel % w, pixel / w);
                     st.samples.push(s);
                 }
@@ -623,7 +650,11 @@ mod tests {
                     let (px, py) = (p % w, p / w);
                     let k = (px * one, py * one, px * one + one, py * one + one);
                     let want = st.samples.iter().any(|s| st.covers(s, k, st.r_at(p)));
-                    assert_eq!(is_covered(&st.coverage, p), want, "{policy:?} periodic {periodic} pixel ({px}, {py})");
+                    assert_eq!(
+                        is_covered(&st.coverage, p),
+                        want,
+                        "{policy:?} periodic {periodic} pixel ({px}, {py})"
+                    );
                 }
             }
         }

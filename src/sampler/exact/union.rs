@@ -85,15 +85,35 @@ mod tests {
     #[test]
     fn one_big_disk_covers_and_a_gap_is_found() {
         let cell = (0.0, 0.0, 1.0, 1.0);
-        let big = Disk { x: 0.5, y: 0.5, r: 2.0 };
+        let big = Disk {
+            x: 0.5,
+            y: 0.5,
+            r: 2.0,
+        };
         assert!(covers(&[big], cell));
         // Two disks that leave a sliver between them uncovered.
-        let left = Disk { x: -1.0, y: 0.5, r: 1.49 };
-        let right = Disk { x: 2.0, y: 0.5, r: 1.49 };
+        let left = Disk {
+            x: -1.0,
+            y: 0.5,
+            r: 1.49,
+        };
+        let right = Disk {
+            x: 2.0,
+            y: 0.5,
+            r: 1.49,
+        };
         assert!(!covers(&[left, right], cell));
         // Overlapping enough, they cover the cell together but neither alone.
-        let left = Disk { x: -0.6, y: 0.5, r: 1.3 };
-        let right = Disk { x: 1.6, y: 0.5, r: 1.3 };
+        let left = Disk {
+            x: -0.6,
+            y: 0.5,
+            r: 1.3,
+        };
+        let right = Disk {
+            x: 1.6,
+            y: 0.5,
+            r: 1.3,
+        };
         assert!(covers(&[left, right], cell));
         assert!(!covers(&[left], cell) && !covers(&[right], cell));
     }
