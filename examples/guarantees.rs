@@ -18,6 +18,9 @@ use pixelpie::sampler::{Control, Params, cpu};
 
 const R: f64 = 8.5;
 
+/// A sampler of the table: periodic or not, to points.
+type Sampler<'a> = dyn Fn(bool) -> Vec<[f64; 2]> + 'a;
+
 fn ours(side: u32, exact: bool, periodic: bool) -> Vec<[f64; 2]> {
     let p = Params::new(side, side)
         .with_radius(R as f32)
@@ -52,13 +55,30 @@ fn rate(f: &dyn Fn() -> usize) -> f64 {
 
 fn main() {
     let side = 1024u32;
-    println!("| sampler | domain | points | closest pair | largest gap | density | maximal (continuous) | samples/s at 4096² | vs pixel mode |");
+    println!(
+        "| sampler | domain | points | closest pair | largest gap | density | maximal (continuous) | samples/s at 4096² | vs pixel mode |"
+    );
     println!("|---|---|---|---|---|---|---|---|---|");
     let pixel_rate = rate(&|| ours(4096, false, false).len());
-    let rows: [(&str, bool, &dyn Fn(bool) -> Vec<[f64; 2]>, f64); 3] = [
-        ("PixelPie pixel mode", true, &|p| ours(side, false, p), pixel_rate),
-        ("PixelPie `--exact`", true, &|p| ours(side, true, p), rate(&|| ours(4096, true, false).len())),
-        ("fast_poisson 1.0 (Bridson)", false, &|_| bridson(side), rate(&|| bridson(4096).len())),
+    let rows: [(&str, bool, &Sampler<'_>, f64); 3] = [
+        (
+            "PixelPie pixel mode",
+            true,
+            &|p| ours(side, false, p),
+            pixel_rate,
+        ),
+        (
+            "PixelPie `--exact`",
+            true,
+            &|p| ours(side, true, p),
+            rate(&|| ours(4096, true, false).len()),
+        ),
+        (
+            "fast_poisson 1.0 (Bridson)",
+            false,
+            &|_| bridson(side),
+            rate(&|| bridson(4096).len()),
+        ),
     ];
     for (name, has_periodic, make, speed) in rows {
         for periodic in [false, true] {
@@ -74,9 +94,10 @@ fn main() {
             let closest = metrics::min_distance(&pts, d).unwrap_or(f64::NAN);
             let gap = gaps::largest_gap(&pts, d).map_or(f64::NAN, |g| g.radius);
             let density = pts.len() as f64 * std::f64::consts::PI * (R / 2.0).powi(2) / d.area();
-            let maximal = gaps::uncovered_cells(&pts, CoverRadius::Uniform(R), d).expect("cells") == 0;
+            let maximal =
+                gaps::uncovered_cells(&pts, CoverRadius::Uniform(R), d).expect("cells") == 0;
             println!(
-                "| {name} | {side}² {} | {} | {closest:.3} | {gap:.3} | {density:.4} | {} | {:.2}M | {:.2}× |",
+                "| {name} | {side}² {} | {} | {closest:.4} | {gap:.4} | {density:.4} | {} | {:.2}M | {:.2}× |",
                 if periodic { "torus" } else { "bounded" },
                 pts.len(),
                 if maximal { "yes" } else { "no" },

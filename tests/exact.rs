@@ -368,5 +368,5 @@ fn a_void_finer_than_the_position_grid_is_reported_and_confirmed() {
     };
     assert!(gaps::uncovered_cells(&pts, CoverRadius::Uniform(2.0), d).unwrap() > 0);
     let gap = gaps::largest_gap(&pts, d).unwrap().radius;
-    assert!(gap >= 2.0 && gap < 2.0 + 1e-3, "gap {gap}");
+    assert!((2.0..2.0 + 1e-3).contains(&gap), "gap {gap}");
 }

@@ -201,7 +201,7 @@ pub fn uncovered_cells(
     }
     let r_max = (0..points.len()).map(|i| radius.of(i)).fold(0.0, f64::max);
     let (cols, rows) = (domain.width.ceil() as usize, domain.height.ceil() as usize);
-    if points.is_empty() || !(r_max > 0.0) {
+    if points.is_empty() || r_max.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
         return Ok((cols * rows) as u64);
     }
     // On a torus, the wrapped copies of the points near the sides join
