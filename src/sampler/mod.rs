@@ -36,6 +36,17 @@
 //!   with x, y and radius in pixels, all exact in `f32`.
 //! * **Batch size.** By default half the expected count, the sum over pixels of
 //!   0.547 / (π r²/4), RSA's saturation density (paper §5.1).
+//! * **The loop.** [`run::run`] drives a backend's [`Stepper`], one iteration
+//!   at a time; cancellation is checked before every iteration.
+//!
+//! # Exact mode
+//!
+//! With [`Params::exact`] the run follows [`exact`]'s semantics instead: the
+//! same darts and iterations, with the disk condition tested between dart
+//! centres with no slack, coverage by cells (a pixel, then quarters of it
+//! down to one position) that one disk holds whole, acceptance in dart
+//! order (unbiased random sequential addition), and maximality in the
+//! continuous domain. It runs on the CPU.
 
 pub mod cpu;
 pub mod exact;
