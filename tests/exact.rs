@@ -370,3 +370,22 @@ fn a_void_finer_than_the_position_grid_is_reported_and_confirmed() {
     let gap = gaps::largest_gap(&pts, d).unwrap().radius;
     assert!((2.0..2.0 + 1e-3).contains(&gap), "gap {gap}");
 }
+
+#[test]
+fn a_cancel_flag_already_set_stops_before_the_first_iteration() {
+    use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
+    let cancel = AtomicBool::new(true);
+    let calls = AtomicU32::new(0);
+    let progress = |_| {
+        calls.fetch_add(1, Ordering::Relaxed);
+    };
+    for exact in [false, true] {
+        let ctl = Control {
+            progress: Some(&progress),
+            cancel: Some(&cancel),
+        };
+        let r = cpu::sample(&Params::new(64, 64).with_radius(3.0).with_exact(exact), ctl);
+        assert!(matches!(r, Err(pixelpie::sampler::Error::Cancelled)));
+    }
+    assert_eq!(calls.load(Ordering::Relaxed), 0, "no iteration ran");
+}
