@@ -13,6 +13,14 @@ use pixelpie::sampler::{Control, Params, Point, Policy, RadiusMap, SampleSet, cp
 
 use common::separation;
 
+/// The points' positions in `f64`.
+fn xy(set: &SampleSet) -> Vec<[f64; 2]> {
+    set.points
+        .iter()
+        .map(|p| [f64::from(p.x), f64::from(p.y)])
+        .collect()
+}
+
 fn run(p: &Params) -> SampleSet {
     cpu::sample(p, Control::default()).unwrap()
 }
@@ -180,11 +188,7 @@ fn uniform_sets_meet_the_disk_condition_and_leave_no_gap() {
         assert_cells_covered(&set, Policy::Prior, periodic, &|_, _| f64::from(r));
         // The largest empty circle (Delaunay, boundary mirrored or wrapped)
         // is smaller than r, and the closest pair at least r.
-        let pts: Vec<[f64; 2]> = set
-            .points
-            .iter()
-            .map(|p| [f64::from(p.x), f64::from(p.y)])
-            .collect();
+        let pts = xy(&set);
         let d = Domain {
             width: f64::from(w),
             height: f64::from(h),
@@ -206,11 +210,7 @@ fn the_pixel_mode_fails_the_same_checks() {
     // The checks can fail: the pixel mode's sets break the disk condition
     // by up to √2/2 px and leave gaps larger than r.
     let set = run(&Params::new(160, 120).with_radius(8.5).with_seed(7));
-    let pts: Vec<[f64; 2]> = set
-        .points
-        .iter()
-        .map(|p| [f64::from(p.x), f64::from(p.y)])
-        .collect();
+    let pts = xy(&set);
     let d = Domain {
         width: 160.0,
         height: 120.0,
@@ -356,11 +356,7 @@ fn a_void_finer_than_the_position_grid_is_reported_and_confirmed() {
         set.iterations < pixelpie::sampler::DEFAULT_MAX_ITERATIONS,
         "stopped by the voids, not the cap"
     );
-    let pts: Vec<[f64; 2]> = set
-        .points
-        .iter()
-        .map(|p| [f64::from(p.x), f64::from(p.y)])
-        .collect();
+    let pts = xy(&set);
     let d = Domain {
         width: 512.0,
         height: 512.0,

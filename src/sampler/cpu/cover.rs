@@ -168,6 +168,28 @@ pub(crate) fn fill_span(cov: &mut [u64], row: usize, n: usize, x0: i64, x1: i64,
     }
 }
 
+/// Runs `mark(item, rows, words)` for every item of every band's bucket,
+/// one task per band of [`BAND_ROWS`] rows, `words` the band's part of the
+/// coverage map: the map is the same for any thread count.
+pub(crate) fn for_each_band<T: Sync>(
+    plan: &Plan,
+    coverage: &mut [u64],
+    buckets: &[Vec<T>],
+    mark: impl Fn(&T, std::ops::Range<u32>, &mut [u64]) + Sync,
+) {
+    let band_words = (BAND_ROWS * plan.width / 64) as usize;
+    coverage
+        .par_chunks_mut(band_words)
+        .zip(buckets.par_iter())
+        .enumerate()
+        .for_each(|(b, (cov, list))| {
+            let rows = b as u32 * BAND_ROWS..((b as u32 + 1) * BAND_ROWS).min(plan.height);
+            for s in list {
+                mark(s, rows.clone(), cov);
+            }
+        });
+}
+
 /// Marks the pixels that the survivors cover. Each band of [`BAND_ROWS`] rows
 /// is one task: the map is the same for any thread count.
 pub fn cover(plan: &Plan, survivors: &[Dart], coverage: &mut [u64]) {
@@ -191,17 +213,9 @@ pub fn cover(plan: &Plan, survivors: &[Dart], coverage: &mut [u64]) {
             (a / BAND_ROWS..=b / BAND_ROWS).for_each(|band| add(band * BAND_ROWS));
         }
     }
-    let band_words = (BAND_ROWS * plan.width / 64) as usize;
-    coverage
-        .par_chunks_mut(band_words)
-        .zip(buckets.par_iter())
-        .enumerate()
-        .for_each(|(b, (cov, list))| {
-            let rows = b as u32 * BAND_ROWS..((b as u32 + 1) * BAND_ROWS).min(plan.height);
-            for s in list {
-                cover_band(plan, s, rows.clone(), cov);
-            }
-        });
+    for_each_band(plan, coverage, &buckets, |s, rows, cov| {
+        cover_band(plan, s, rows, cov)
+    });
 }
 
 #[cfg(test)]

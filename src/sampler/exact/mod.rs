@@ -55,7 +55,7 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 use super::cpu::compact::EmptyList;
-use super::cpu::cover::{BAND_ROWS, fill_span, isqrt, new_map};
+use super::cpu::cover::{BAND_ROWS, fill_span, for_each_band, isqrt, new_map};
 use super::fixed::{self, MAX_BATCH, RADIUS_FRAC_BITS, axis_delta, iteration_key};
 use super::run::{StageTimes, Step, Stepper};
 use super::{Plan, Point, Policy, Result};
@@ -335,19 +335,11 @@ impl<'p> ExactStepper<'p> {
                 }
             }
         }
-        let band_words = (BAND_ROWS * plan.width / 64) as usize;
         let this = &*self;
         let uniform_f = plan.map.is_none() || !plan.policy.reads_pixel_radius();
-        coverage
-            .par_chunks_mut(band_words)
-            .zip(buckets.par_iter())
-            .enumerate()
-            .for_each(|(b, (cov, list))| {
-                let rows = b as u32 * BAND_ROWS..((b as u32 + 1) * BAND_ROWS).min(plan.height);
-                for s in list {
-                    this.cover_band(s, rows.clone(), cov, reach_max(s), uniform_f, one);
-                }
-            });
+        for_each_band(plan, &mut coverage, &buckets, |s, rows, cov| {
+            this.cover_band(s, rows, cov, reach_max(s), uniform_f, one);
+        });
         self.coverage = coverage;
     }
 
@@ -486,15 +478,16 @@ impl<'p> ExactStepper<'p> {
         let one = f64::from(1u32 << self.frac);
         let (px, py) = self.pixel_xy(k.0, k.1);
         let mut disks = Vec::new();
+        // The image of coordinate `s` nearest to `c` on a torus of `period`.
         let unwrap = |s: u32, c: u32, period: u32| -> f64 {
-            let d = f64::from(axis_delta(s, c, period));
-            if period == 0 {
-                f64::from(s)
-            } else if (f64::from(c) + d - f64::from(s)).rem_euclid(f64::from(period)) == 0.0 {
-                f64::from(c) + d
+            let (s, c, p) = (i64::from(s), i64::from(c), i64::from(period));
+            let d = s - c;
+            let d = if p != 0 && 2 * d.abs() > p {
+                d - p * d.signum()
             } else {
-                f64::from(c) - d
-            }
+                d
+            };
+            (c + d) as f64
         };
         self.grid.any_near(px, py, 0, |i| {
             let s = &self.samples[i as usize];
