@@ -35,6 +35,7 @@ fn main() {
             .map(|_| cpu::sample(&params, Control::default()).expect("sampling"))
             .collect();
         runs.sort_by(|a, b| a.stats.seconds.total_cmp(&b.stats.seconds));
+        let n = runs[reps / 2].points.len();
         let s = &runs[reps / 2].stats;
         let t = Instant::now();
         let bridson = Poisson2D::new()
@@ -42,11 +43,11 @@ fn main() {
             .with_seed(1)
             .generate();
         let fp = t.elapsed().as_secs_f64();
-        let rate = s.points as f64 / s.seconds;
+        let rate = n as f64 / s.seconds;
         let fp_rate = bridson.len() as f64 / fp;
         println!(
             "| {side}² | {} | {} | {:.1} | {:.1} | {:.1} | {:.1} | {:.2}M | {} | {} | {:.0} | {:.1}K | {:.0}× |",
-            s.points,
+            n,
             s.iterations,
             s.stages.get("throw") * 1e3,
             s.stages.get("cull") * 1e3,

@@ -1,7 +1,8 @@
 //! The guarantee table of the README: what each sampler promises, measured
 //! by the same independent checks in one run.
 //!
-//! For the pixel mode, the exact mode and `fast_poisson` (Bridson), on a
+//! For the pixel mode, the exact mode, `fast_poisson` (Bridson) and the
+//! `poisson` crate (Ebeida et al. 2011, as published), on a
 //! bounded 1024² domain at r = 8.5 px and on a 1024² torus (ours only):
 //! the closest pair, the largest empty circle (Delaunay, boundary mirrored
 //! or wrapped), the coverage density N·π(r/2)²/A, whether the disks cover
@@ -41,6 +42,20 @@ fn bridson(side: u32) -> Vec<[f64; 2]> {
         .generate()
 }
 
+/// The `poisson` crate: its radius is half the minimum distance, in the unit
+/// square.
+fn ebeida(side: u32) -> Vec<[f64; 2]> {
+    use nalgebra017 as na;
+    use poisson::{Builder, Type, algorithm};
+    use rand06::{SeedableRng, rngs::SmallRng};
+    let s = f64::from(side);
+    Builder::<_, na::Vector2<f64>>::with_radius(R / (2.0 * s), Type::Normal)
+        .build(SmallRng::seed_from_u64(1), algorithm::Ebeida)
+        .into_iter()
+        .map(|p| [p.x * s, p.y * s])
+        .collect()
+}
+
 fn rate(f: &dyn Fn() -> usize) -> f64 {
     let mut runs: Vec<f64> = (0..3)
         .map(|_| {
@@ -60,7 +75,7 @@ fn main() {
     );
     println!("|---|---|---|---|---|---|---|---|---|");
     let pixel_rate = rate(&|| ours(4096, false, false).len());
-    let rows: [(&str, bool, &Sampler<'_>, f64); 3] = [
+    let rows: [(&str, bool, &Sampler<'_>, f64); 4] = [
         (
             "PixelPie pixel mode",
             true,
@@ -78,6 +93,12 @@ fn main() {
             false,
             &|_| bridson(side),
             rate(&|| bridson(4096).len()),
+        ),
+        (
+            "poisson 0.10 (Ebeida)",
+            false,
+            &|_| ebeida(side),
+            rate(&|| ebeida(4096).len()),
         ),
     ];
     for (name, has_periodic, make, speed) in rows {

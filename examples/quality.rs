@@ -80,7 +80,7 @@ fn pixelpie(bits: u32, seed: u64) -> Result<Vec<[f64; 2]>> {
         .with_subpixel_bits(bits)
         .with_seed(seed);
     let set = cpu::sample(&params, Default::default())?;
-    anyhow::ensure!(set.maximal, "not maximal");
+    anyhow::ensure!(set.maximal(), "not maximal");
     Ok(set
         .points
         .iter()
@@ -112,7 +112,7 @@ fn mean_sd(v: &[f64]) -> (f64, f64) {
 }
 
 fn write_png(path: &Path, img: &image::RgbImage) -> Result<()> {
-    write_atomic(path, |w| Ok(plots::write_png(w, img)?))
+    Ok(write_atomic(path, |w| Ok(plots::write_png(w, img)?))?)
 }
 
 fn run_config(

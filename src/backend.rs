@@ -3,21 +3,13 @@
 
 use std::sync::{Mutex, OnceLock};
 
+#[cfg(feature = "gpu")]
 use crate::gpu::{GpuContext, GpuSampler, S1Path};
 use crate::sampler::{self, Control, Error, Params, SampleSet};
 
 /// Which backend to run.
-#[derive(
-    Clone,
-    Copy,
-    Debug,
-    Default,
-    PartialEq,
-    Eq,
-    clap::ValueEnum,
-    serde::Serialize,
-    serde::Deserialize,
-)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum BackendChoice {
     /// The GPU when an adapter exists, else the CPU.
@@ -31,6 +23,7 @@ pub enum BackendChoice {
 
 /// A process-wide headless GPU: opened on first use, kept for later runs so
 /// that pipelines and buffers are reused.
+#[cfg(feature = "gpu")]
 pub struct SharedGpu {
     ctx: GpuContext,
     /// Built on the first run, so that probing the adapter stays cheap.
@@ -38,6 +31,7 @@ pub struct SharedGpu {
     preferred: Mutex<Option<S1Path>>,
 }
 
+#[cfg(feature = "gpu")]
 impl SharedGpu {
     /// The process's GPU, or why there is none.
     pub fn get() -> Result<&'static Self, String> {
@@ -133,6 +127,7 @@ pub trait GpuRun {
     fn sample(&mut self, params: &Params, ctl: Control<'_>) -> sampler::Result<SampleSet>;
 }
 
+#[cfg(feature = "gpu")]
 impl GpuRun for &SharedGpu {
     fn adapter(&self) -> String {
         SharedGpu::adapter(self).to_owned()
@@ -155,17 +150,28 @@ pub fn sample(
     ctl: Control<'_>,
     notice: &mut dyn FnMut(Notice),
 ) -> sampler::Result<SampleSet> {
-    let wants_gpu = choice != BackendChoice::Cpu && !params.exact;
-    let mut gpu = if wants_gpu {
-        SharedGpu::get()
-    } else {
-        Err("not asked for".into())
-    };
-    let runner = gpu
-        .as_mut()
-        .map(|g| g as &mut dyn GpuRun)
-        .map_err(|e| e.clone());
-    sample_with(params, choice, runner, ctl, notice)
+    #[cfg(feature = "gpu")]
+    {
+        let wants_gpu = choice != BackendChoice::Cpu && !params.exact;
+        let mut gpu = if wants_gpu {
+            SharedGpu::get()
+        } else {
+            Err("not asked for".into())
+        };
+        let runner = gpu
+            .as_mut()
+            .map(|g| g as &mut dyn GpuRun)
+            .map_err(|e| e.clone());
+        sample_with(params, choice, runner, ctl, notice)
+    }
+    #[cfg(not(feature = "gpu"))]
+    sample_with(
+        params,
+        choice,
+        Err("built without the `gpu` feature".into()),
+        ctl,
+        notice,
+    )
 }
 
 /// The fallback policy, the same for the CLI and the app:

@@ -3,7 +3,7 @@
 //! The count of a maximal set goes as 1/r², so each run corrects the scale by
 //! sqrt(count / target), starting from the RSA density estimate.
 
-use anyhow::{Result, bail};
+use crate::sampler::Error;
 
 /// The relative tolerance that `--points` promises.
 pub const COUNT_TOLERANCE: f64 = 0.03;
@@ -13,13 +13,13 @@ pub const MAX_RUNS: usize = 8;
 /// Searches the scale `s` (radii multiply by `s`) for which `run(s)` returns
 /// about `target` points, starting at `initial`. Returns the best scale, its
 /// result and the number of runs made.
-pub fn fit_scale<T>(
+pub fn fit_scale<T, E: From<Error>>(
     target: usize,
     initial: f64,
-    mut run: impl FnMut(f64) -> Result<(usize, T)>,
-) -> Result<(f64, T, usize)> {
+    mut run: impl FnMut(f64) -> Result<(usize, T), E>,
+) -> Result<(f64, T, usize), E> {
     if target == 0 {
-        bail!("the point count must be positive");
+        return Err(Error::InvalidParameter("the point count must be positive".into()).into());
     }
     let target_f = target as f64;
     let mut scale = initial;
@@ -39,7 +39,7 @@ pub fn fit_scale<T>(
         scale = next;
     }
     let Some((scale, _, out)) = best else {
-        bail!("no sampler run was made");
+        return Err(Error::InvalidParameter("no sampler run was made".into()).into());
     };
     Ok((scale, out, runs))
 }

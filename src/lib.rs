@@ -4,13 +4,26 @@
 //! * [`sampler`]: the headless core, its semantics and the CPU reference backend;
 //! * [`backend`]: backend selection;
 //! * [`io`]: file formats; [`count`]: point-count targeting.
+//!
+//! # Features
+//!
+//! The default builds everything. With `default-features = false` the
+//! library is the CPU sampler (pixel and exact modes), importance maps,
+//! stipple drawings and the analysis; `gpu` adds the wgpu backend, `cli`
+//! the binary's argument parsing and progress bars, `app` the interactive
+//! app (with `gpu`), `plots` the analysis figures.
 
 pub mod analyze;
+#[cfg(feature = "app")]
 pub mod app;
 pub mod backend;
 pub mod count;
+mod error;
+#[cfg(feature = "gpu")]
 pub mod gpu;
 pub mod importance;
 pub mod io;
 pub mod sampler;
 pub mod stipple;
+
+pub use error::{Error, Result};

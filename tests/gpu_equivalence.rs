@@ -53,8 +53,8 @@ fn both(params: &Params) -> Option<(SampleSet, SampleSet)> {
 fn assert_identical(params: &Params, what: &str) {
     let Some((g, c)) = both(params) else { return };
     assert!(c.points.len() >= 10, "{what}: too few points to compare");
-    assert_eq!(g.iterations, c.iterations, "{what}: iterations");
-    assert_eq!(g.maximal, c.maximal, "{what}: maximality");
+    assert_eq!(g.iterations(), c.iterations(), "{what}: iterations");
+    assert_eq!(g.maximal(), c.maximal(), "{what}: maximality");
     assert_eq!(g.points.len(), c.points.len(), "{what}: point count");
     for (i, (a, b)) in g.points.iter().zip(&c.points).enumerate() {
         assert!(

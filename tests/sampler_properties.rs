@@ -24,7 +24,7 @@ fn check_map(radii: Vec<f32>, policy: Policy, subpixel_bits: u32, periodic: bool
         .with_periodic(periodic)
         .with_seed(11);
     let set = run(&params);
-    assert!(set.maximal, "{policy:?}: not maximal");
+    assert!(set.maximal(), "{policy:?}: not maximal");
     assert!(
         set.points.len() > 100,
         "{policy:?}: only {} points",
@@ -74,7 +74,7 @@ fn periodic_domains_keep_the_distance_across_the_seam() {
         .with_radius(5.0)
         .with_periodic(true)
         .with_seed(3));
-    assert!(set.maximal);
+    assert!(set.maximal());
     let worst = worst_violation(&set.points, Policy::Prior, Some((96.0, 64.0)));
     assert!(worst <= SQRT2_2, "{worst}");
     // Without wrapping the seam would be violated somewhere in most runs; with
@@ -89,7 +89,7 @@ fn pixel_centred_uniform_darts_are_exactly_r_apart() {
         .with_radius(6.25)
         .with_subpixel_bits(0)
         .with_seed(5));
-    assert!(set.maximal);
+    assert!(set.maximal());
     assert!(worst_violation(&set.points, Policy::Prior, None) <= 0.0);
     assert!(
         set.points
@@ -106,7 +106,7 @@ fn density(r: f32, side: u32, seeds: std::ops::Range<u64>) -> f64 {
             .with_radius(r)
             .with_periodic(true)
             .with_seed(seed));
-        assert!(set.maximal);
+        assert!(set.maximal());
         let disk = std::f64::consts::PI * (f64::from(r) / 2.0).powi(2);
         total += set.points.len() as f64 * disk / f64::from(side * side);
     }
@@ -158,8 +158,8 @@ fn an_iteration_cap_reports_a_non_maximal_set() {
     let set = run(&Params::new(256, 256)
         .with_radius(4.0)
         .with_max_iterations(1));
-    assert_eq!(set.iterations, 1);
-    assert!(!set.maximal);
+    assert_eq!(set.iterations(), 1);
+    assert!(!set.maximal());
     assert!(!set.points.is_empty());
 }
 
@@ -179,6 +179,6 @@ fn a_larger_batch_is_split_by_the_key_layout() {
     let plan = params.plan().unwrap();
     assert!(plan.layout.max_batch() < plan.batch);
     let set = run(&params);
-    assert!(set.maximal);
+    assert!(set.maximal());
     assert!(worst_violation(&set.points, Policy::Bigger, None) <= SQRT2_2);
 }

@@ -11,6 +11,7 @@ pub mod csv;
 pub mod fidelity;
 pub mod gaps;
 pub mod metrics;
+#[cfg(feature = "plots")]
 pub mod plots;
 pub mod spectrum;
 

@@ -300,16 +300,17 @@ impl PixelPieApp {
             Some("svg") => crate::io::write_atomic(path, |w| {
                 svg::write(w, &dots, &svg::SvgOptions::new(domain))?;
                 Ok(())
-            }),
+            })?,
             Some("png") => {
                 let img = raster::render(&dots, domain, 1.0)?;
                 crate::io::write_atomic(path, |w| {
                     raster::write_png(w, &img, dots.len())?;
                     Ok(())
-                })
+                })?;
             }
-            _ => crate::io::write_points(path, &o.set, &self.settings),
+            _ => crate::io::write_points(path, &o.set, &self.settings)?,
         }
+        Ok(())
     }
 
     pub(super) fn canvas(&mut self, ui: &mut egui::Ui) {

@@ -228,7 +228,7 @@ fn compute(
     let mut note = None;
     let points = s.use_count.then_some(s.points as usize);
     let fitted = prepared
-        .sample(&base, points, |params| {
+        .sample(&base, points, |params| -> crate::Result<SampleSet> {
             Ok(sample(params, s.backend, gpu, ctl, &mut note)?)
         })
         .map_err(|e| format!("{e:#}"))?;

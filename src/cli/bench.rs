@@ -51,13 +51,13 @@ fn row(label: &str, side: u32, batch: u32, s: &SampleSet) {
     println!(
         "| {label} | {side}² | {:.2}K | {:.2}K | {} | {:.1} | {:.1} | {:.1} | {:.1} | {:.2}M | {:.1} | {} |",
         f64::from(batch) / 1e3,
-        st.points as f64 / 1e3,
+        s.points.len() as f64 / 1e3,
         st.iterations,
         st.stages.get("throw") * 1e3,
         st.stages.get("cull") * 1e3,
         st.stages.get("compact") * 1e3,
         st.seconds * 1e3,
-        st.points as f64 / st.seconds / 1e6,
+        s.points.len() as f64 / st.seconds / 1e6,
         st.bytes_per_pixel * px / (1 << 20) as f64,
         if st.maximal { "yes" } else { "no" },
     );

@@ -188,7 +188,7 @@ pub fn run_with_progress(
             "backend: {} ({}), {} points in {} iterations, {:.3} s",
             set.stats.backend,
             set.stats.device,
-            set.stats.points,
+            set.points.len(),
             set.stats.iterations,
             set.stats.seconds
         );
@@ -300,7 +300,7 @@ pub fn run(a: &SampleArgs) -> Result<()> {
                 Some(_) => (expected / n as f64).sqrt(),
                 None => (expected / n.max(1) as f64).sqrt(),
             };
-            let (_, set, runs) = count::fit_scale(n, initial, |s| {
+            let (_, set, runs) = count::fit_scale(n, initial, |s| -> Result<_> {
                 let set = run_with_progress(&make(s)?, a.backend, &bar, a.verbose)?;
                 Ok((set.points.len(), set))
             })?;
@@ -322,13 +322,13 @@ fn write_outputs(a: &SampleArgs, set: &SampleSet) -> Result<()> {
     io::write_points(&a.output, set, a)?;
     if let Some(path) = &a.stats {
         io::write_atomic(path, |w| {
-            serde_json::to_writer_pretty(&mut *w, &set.stats)?;
+            serde_json::to_writer_pretty(&mut *w, &set.report())?;
             writeln!(w)?;
             Ok(())
         })?;
     }
-    if !set.maximal && !a.quiet {
-        if set.stats.exact && set.iterations < a.max_iterations {
+    if !set.maximal() && !a.quiet {
+        if set.stats.exact && set.iterations() < a.max_iterations {
             eprintln!(
                 "warning: {} voids finer than the position grid remain; the set is not maximal",
                 set.stats.empty_left
@@ -336,7 +336,7 @@ fn write_outputs(a: &SampleArgs, set: &SampleSet) -> Result<()> {
         } else {
             eprintln!(
                 "warning: stopped after {} iterations before the set was maximal",
-                set.iterations
+                set.iterations()
             );
         }
     }

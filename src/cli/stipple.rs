@@ -10,7 +10,7 @@ use serde::Serialize;
 use pixelpie::backend::BackendChoice;
 use pixelpie::importance::{Mapping, Prepared, RadiusRange, fit_size};
 use pixelpie::io;
-use pixelpie::sampler::{self, Params, Point, SampleSet};
+use pixelpie::sampler::{self, Params, Point};
 use pixelpie::stipple::{DotSize, raster, relax, svg, tsp};
 
 use super::importance::{ImportanceOpts, RunOpts};
@@ -307,10 +307,7 @@ pub fn run(a: &StippleArgs) -> Result<()> {
         }
     }
     if let Some(path) = &a.save_points {
-        let out = SampleSet {
-            points,
-            ..set.clone()
-        };
+        let out = set.clone().with_points(points);
         io::write_points(path, &out, a)?;
     }
     if a.verbose {

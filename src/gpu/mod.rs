@@ -375,6 +375,7 @@ impl Stepper for GpuStepper<'_> {
             accepted: it.survivors.iter().map(Dart::point).collect(),
             stages,
             finished: false,
+            removed: Vec::new(),
         })
     }
 

@@ -50,9 +50,8 @@ pub struct Iteration {
 }
 
 /// How dart throwing (S1) rasterizes the disks.
-#[derive(
-    Clone, Copy, Debug, PartialEq, Eq, Hash, clap::ValueEnum, serde::Serialize, serde::Deserialize,
-)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum S1Path {
     /// An instanced depth-only draw into a Depth32Float target (the paper's way).

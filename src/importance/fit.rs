@@ -4,9 +4,7 @@
 
 use std::sync::Arc;
 
-use anyhow::{Context, Result, bail};
-
-use super::{ImportanceMap, Mapping, RadiusRange};
+use super::{Error, ImportanceMap, Mapping, RadiusRange};
 use crate::count;
 use crate::sampler::{Params, RadiusMap, SampleSet};
 
@@ -44,25 +42,25 @@ impl Prepared {
     }
 
     /// `base` (domain, policy, seed…) with the map's radii at `scale`.
-    pub fn params(&self, base: &Params, scale: f64) -> Result<Params> {
+    pub fn params(&self, base: &Params, scale: f64) -> crate::sampler::Result<Params> {
         let radii = self.map.radii(self.mapping, self.range.scaled(scale));
-        let m = RadiusMap::from_pixels(self.map.width(), self.map.height(), &radii)
-            .context("importance radius map")?;
+        let m = RadiusMap::from_pixels(self.map.width(), self.map.height(), &radii)?;
         Ok(base.clone().with_radius_map(Arc::new(m)))
     }
 
     /// Samples the map with `run`, fitting the radius scale to `points` (±3%)
     /// when given. The scale never takes the smallest radius below 1 px.
-    pub fn sample(
+    /// The statistics count the points that survive the cutoff.
+    pub fn sample<E: From<crate::sampler::Error> + From<Error>>(
         &self,
         base: &Params,
         points: Option<usize>,
-        mut run: impl FnMut(&Params) -> Result<SampleSet>,
-    ) -> Result<Fitted> {
-        let mut cut_run = |scale: f64| -> Result<SampleSet> {
-            let mut set = run(&self.params(base, scale)?)?;
-            set.points = self.map.cut(&set.points, self.cutoff);
-            Ok(set)
+        mut run: impl FnMut(&Params) -> Result<SampleSet, E>,
+    ) -> Result<Fitted, E> {
+        let mut cut_run = |scale: f64| -> Result<SampleSet, E> {
+            let set = run(&self.params(base, scale)?)?;
+            let kept = self.map.cut(&set.points, self.cutoff);
+            Ok(set.with_points(kept))
         };
         let Some(n) = points else {
             return Ok(Fitted {
@@ -76,10 +74,13 @@ impl Prepared {
         let radii = self.map.radii(self.mapping, self.range);
         let expected = self.map.expected_points(&radii, self.cutoff);
         if expected <= 0.0 {
-            bail!("the white cutoff leaves no pixel to place dots on");
+            return Err(Error::InvalidParameter(
+                "the white cutoff leaves no pixel to place dots on".into(),
+            )
+            .into());
         }
         let initial = (expected / n as f64).sqrt().max(floor);
-        let (scale, set, runs) = count::fit_scale(n, initial, |s| {
+        let (scale, set, runs) = count::fit_scale(n, initial, |s| -> Result<_, E> {
             let set = cut_run(s.max(floor))?;
             Ok((set.points.len(), set))
         })?;

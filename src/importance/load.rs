@@ -200,7 +200,11 @@ fn load_image(path: &Path) -> Result<Luminance> {
 fn load_exr(path: &Path) -> Result<Luminance> {
     let img = crate::io::read_exr(path).map_err(|e| Error::Decode {
         path: path.to_owned(),
-        message: one_line(&e.root_cause().to_string()),
+        message: one_line(
+            &std::iter::successors(Some(&e as &dyn std::error::Error), |e| e.source())
+                .last()
+                .map_or_else(|| e.to_string(), ToString::to_string),
+        ),
     })?;
     // Layered files name channels "layer.R"; match on the last component.
     let find = |name: &str| {

@@ -4,10 +4,20 @@
 use std::io::{BufWriter, Write};
 use std::path::Path;
 
-use anyhow::{Context, Result};
+use super::{Error, Result};
+
+/// Any error a writer's `fill` may return.
+pub type BoxError = Box<dyn std::error::Error + Send + Sync>;
 
 /// Writes `path` through `fill`, atomically.
-pub fn write_atomic(path: &Path, fill: impl FnOnce(&mut dyn Write) -> Result<()>) -> Result<()> {
+pub fn write_atomic(
+    path: &Path,
+    fill: impl FnOnce(&mut dyn Write) -> std::result::Result<(), BoxError>,
+) -> Result<()> {
+    let fail = |source: BoxError| Error::Write {
+        path: path.to_path_buf(),
+        source,
+    };
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
@@ -15,23 +25,18 @@ pub fn write_atomic(path: &Path, fill: impl FnOnce(&mut dyn Write) -> Result<()>
     let tmp = tempfile::Builder::new()
         .prefix(".pixelpie-")
         .tempfile_in(dir)
-        .with_context(|| format!("cannot write '{}'", path.display()))?;
+        .map_err(|e| fail(e.into()))?;
     let mut w = BufWriter::new(tmp);
-    fill(&mut w).with_context(|| format!("cannot write '{}'", path.display()))?;
-    let tmp = w
-        .into_inner()
-        .map_err(|e| e.into_error())
-        .with_context(|| format!("cannot write '{}'", path.display()))?;
+    fill(&mut w).map_err(fail)?;
+    let tmp = w.into_inner().map_err(|e| fail(e.into_error().into()))?;
     // Temporary files are private (0600); an output is an ordinary file.
     #[cfg(unix)]
     {
         use std::os::unix::fs::PermissionsExt;
         tmp.as_file()
             .set_permissions(std::fs::Permissions::from_mode(0o644))
-            .with_context(|| format!("cannot write '{}'", path.display()))?;
+            .map_err(|e| fail(e.into()))?;
     }
-    tmp.persist(path)
-        .map_err(|e| e.error)
-        .with_context(|| format!("cannot write '{}'", path.display()))?;
+    tmp.persist(path).map_err(|e| fail(e.error.into()))?;
     Ok(())
 }

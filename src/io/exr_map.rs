@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use anyhow::{Context, Result, bail};
+use super::{Error, Result};
 use exr::prelude::{FlatSamples, ReadChannels, ReadLayers};
 
 /// The first valid layer of an EXR file, channel by channel.
@@ -25,7 +25,10 @@ pub fn read_exr(path: &Path) -> Result<ExrImage> {
         .first_valid_layer()
         .all_attributes()
         .from_file(path)
-        .with_context(|| format!("cannot read EXR '{}'", path.display()))?;
+        .map_err(|source| Error::Exr {
+            path: path.to_path_buf(),
+            source,
+        })?;
     let size = image.layer_data.size;
     let (width, height) = (size.width() as u32, size.height() as u32);
     let channels = image
@@ -53,14 +56,17 @@ pub fn read_exr(path: &Path) -> Result<ExrImage> {
 pub fn read_radius_map(path: &Path) -> Result<(u32, u32, Vec<f32>)> {
     let img = read_exr(path)?;
     let [(_, samples)] = <[_; 1]>::try_from(img.channels).map_err(|c| {
-        anyhow::anyhow!(
+        Error::Invalid(format!(
             "radius map '{}' has {} channels, expected one",
             path.display(),
             c.len()
-        )
+        ))
     })?;
     if img.width == 0 || img.height == 0 {
-        bail!("radius map '{}' is empty", path.display());
+        return Err(Error::Invalid(format!(
+            "radius map '{}' is empty",
+            path.display()
+        )));
     }
     Ok((img.width, img.height, samples))
 }

@@ -5,6 +5,39 @@ mod atomic;
 mod exr_map;
 mod points;
 
-pub use atomic::write_atomic;
+use std::path::PathBuf;
+
+pub use atomic::{BoxError, write_atomic};
 pub use exr_map::{ExrImage, read_exr, read_radius_map};
 pub use points::{PointFormat, write_points};
+
+/// What can go wrong reading or writing a file.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// An output could not be written; nothing was left at its path.
+    #[error("cannot write '{}'", path.display())]
+    Write {
+        /// The output.
+        path: PathBuf,
+        /// The cause.
+        #[source]
+        source: BoxError,
+    },
+    /// An OpenEXR file could not be read.
+    #[error("cannot read EXR '{}'", path.display())]
+    Exr {
+        /// The file.
+        path: PathBuf,
+        /// The decoder's error.
+        #[source]
+        source: exr::error::Error,
+    },
+    /// A file that was read but holds the wrong thing, or a path of the
+    /// wrong kind.
+    #[error("{0}")]
+    Invalid(String),
+}
+
+/// The result type of this module.
+pub type Result<T, E = Error> = std::result::Result<T, E>;

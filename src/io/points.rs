@@ -4,7 +4,7 @@
 use std::io::Write;
 use std::path::Path;
 
-use anyhow::{Result, bail};
+use super::{BoxError, Error, Result};
 use serde::Serialize;
 
 use crate::sampler::SampleSet;
@@ -29,10 +29,10 @@ impl PointFormat {
         {
             Some("csv") => Ok(Self::Csv),
             Some("json") => Ok(Self::Json),
-            _ => bail!(
+            _ => Err(Error::Invalid(format!(
                 "unknown output extension of '{}': use .csv or .json",
                 path.display()
-            ),
+            ))),
         }
     }
 }
@@ -47,7 +47,7 @@ pub fn write_points(path: &Path, set: &SampleSet, parameters: &impl Serialize) -
     })
 }
 
-fn write_csv(w: &mut dyn Write, set: &SampleSet) -> Result<()> {
+fn write_csv(w: &mut dyn Write, set: &SampleSet) -> Result<(), BoxError> {
     writeln!(w, "x,y,radius")?;
     for p in &set.points {
         // `f32`'s Display prints the shortest decimal that reads back exactly.
@@ -56,7 +56,11 @@ fn write_csv(w: &mut dyn Write, set: &SampleSet) -> Result<()> {
     Ok(())
 }
 
-fn write_json(w: &mut dyn Write, set: &SampleSet, parameters: &impl Serialize) -> Result<()> {
+fn write_json(
+    w: &mut dyn Write,
+    set: &SampleSet,
+    parameters: &impl Serialize,
+) -> Result<(), BoxError> {
     #[derive(Serialize)]
     struct Doc<'a, P> {
         parameters: &'a P,
@@ -72,8 +76,8 @@ fn write_json(w: &mut dyn Write, set: &SampleSet, parameters: &impl Serialize) -
             parameters,
             width: set.width,
             height: set.height,
-            maximal: set.maximal,
-            iterations: set.iterations,
+            maximal: set.maximal(),
+            iterations: set.iterations(),
             points: &set.points,
         },
     )?;

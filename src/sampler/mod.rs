@@ -57,7 +57,7 @@ pub mod run;
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
-pub use output::{Point, SampleSet, Stats};
+pub use output::{Point, Report as StatsReport, SampleSet, Stats};
 pub use params::{
     DEFAULT_MAX_ITERATIONS, DEFAULT_SUBPIXEL_BITS, KeyLayout, MAX_PIXELS, Params, Plan, Policy,
     RSA_DENSITY, Radius, RadiusMap,

@@ -13,11 +13,11 @@ pub struct Point {
     pub radius: f32,
 }
 
-/// Timings and sizes of a run.
+/// Timings and sizes of a run. The point count is the [`SampleSet`]'s own
+/// (`points.len()`); [`SampleSet::report`] writes both.
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
+#[non_exhaustive]
 pub struct Stats {
-    /// Points accepted.
-    pub points: usize,
     /// Iterations run.
     pub iterations: u32,
     /// Whether every pixel ended covered (in exact mode: every point of the
@@ -29,6 +29,9 @@ pub struct Stats {
     /// active cells, or after a finished run the voids finer than the
     /// position grid that no dart can fill.
     pub empty_left: u64,
+    /// Exact mode: samples taken back to repair voids finer than the
+    /// position grid (each re-filled by new darts); 0 in pixel mode.
+    pub repaired: usize,
     /// `"cpu"` or `"gpu"`.
     pub backend: String,
     /// The GPU adapter's name, or the CPU's thread count.
@@ -47,6 +50,7 @@ pub struct Stats {
 
 /// The output of a run.
 #[derive(Clone, Debug, Default, PartialEq)]
+#[non_exhaustive]
 pub struct SampleSet {
     /// Domain width in pixels.
     pub width: u32,
@@ -54,17 +58,22 @@ pub struct SampleSet {
     pub height: u32,
     /// Points in acceptance order.
     pub points: Vec<Point>,
-    /// Whether the set is maximal (no pixel left uncovered).
-    pub maximal: bool,
-    /// Iterations run.
-    pub iterations: u32,
-    /// The run's statistics.
+    /// The run's statistics (whether it was maximal, iterations, timings).
     pub stats: Stats,
 }
 
+/// A set's statistics with its point count, as `--stats` writes them.
+#[derive(Serialize)]
+pub struct Report<'a> {
+    /// Points in the set.
+    pub points: usize,
+    /// The run's statistics.
+    #[serde(flatten)]
+    pub stats: &'a Stats,
+}
+
 impl SampleSet {
-    /// A finished run of a `width`×`height` domain; the statistics' counts are
-    /// taken from the run itself.
+    /// A finished run of a `width`×`height` domain.
     #[must_use]
     pub fn finish(
         (width, height): (u32, u32),
@@ -73,16 +82,40 @@ impl SampleSet {
         maximal: bool,
         mut stats: Stats,
     ) -> Self {
-        stats.points = points.len();
         stats.iterations = iterations;
         stats.maximal = maximal;
         Self {
             width,
             height,
             points,
-            maximal,
-            iterations,
             stats,
+        }
+    }
+
+    /// Whether the run ended maximal.
+    #[must_use]
+    pub fn maximal(&self) -> bool {
+        self.stats.maximal
+    }
+
+    /// Iterations run.
+    #[must_use]
+    pub fn iterations(&self) -> u32 {
+        self.stats.iterations
+    }
+
+    /// The same run with other points (a cutoff, an order, a relaxation).
+    #[must_use]
+    pub fn with_points(self, points: Vec<Point>) -> Self {
+        Self { points, ..self }
+    }
+
+    /// The statistics with the point count, for JSON.
+    #[must_use]
+    pub fn report(&self) -> Report<'_> {
+        Report {
+            points: self.points.len(),
+            stats: &self.stats,
         }
     }
 }

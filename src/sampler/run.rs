@@ -94,6 +94,9 @@ pub struct Step {
     /// Whether the backend can do no more: the run ends after this step
     /// (maximal only if nothing is left empty).
     pub finished: bool,
+    /// Samples taken back, by their index in acceptance order over the
+    /// whole run (exact mode's repair of voids; see [`super::exact`]).
+    pub removed: Vec<u32>,
 }
 
 /// A backend as the loop sees it: something that runs one iteration.
@@ -121,6 +124,7 @@ pub fn run(
     let start = Instant::now();
     let pixels = plan.pixels();
     let mut points = Vec::new();
+    let mut removed: Vec<u32> = Vec::new();
     let mut empty = stepper.empty();
     let mut iteration = 0;
     while empty > 0 && iteration < plan.max_iterations {
@@ -128,12 +132,13 @@ pub fn run(
         let step = stepper.step(iteration, stepper.darts_for(plan, empty))?;
         stats.stages.merge(&step.stages);
         points.extend(step.accepted);
+        removed.extend(step.removed);
         empty = step.empty;
         iteration += 1;
         let finished = step.finished;
         ctl.report(Progress {
             iteration,
-            points: points.len(),
+            points: points.len() - removed.len(),
             empty_pixels: empty,
             pixels: u64::from(pixels),
         });
@@ -145,6 +150,15 @@ pub fn run(
     stats.exact = plan.exact;
     stats.empty_left = empty;
     stats.bytes_per_pixel = stepper.bytes() as f64 / f64::from(pixels.max(1));
+    stats.repaired = removed.len();
+    if !removed.is_empty() {
+        let mut keep = vec![true; points.len()];
+        for &i in &removed {
+            keep[i as usize] = false;
+        }
+        let mut k = keep.iter();
+        points.retain(|_| *k.next().unwrap_or(&true));
+    }
     Ok(SampleSet::finish(
         (plan.width, plan.height),
         points,

@@ -103,6 +103,7 @@ impl Stepper for CpuStepper<'_> {
             accepted: self.survivors.iter().map(Dart::point).collect(),
             stages,
             finished: false,
+            removed: Vec::new(),
         })
     }
 

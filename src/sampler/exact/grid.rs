@@ -46,6 +46,26 @@ impl SampleGrid {
         self.head[c] = index;
     }
 
+    /// Takes sample `index`, in pixel (px, py), out of the grid. Its slot
+    /// stays (indices are acceptance order), unlinked from its cell's list.
+    pub fn remove(&mut self, index: u32, px: u32, py: u32) {
+        let c = ((py / self.g) * self.cols + px / self.g) as usize;
+        let after = self.next[index as usize];
+        if self.head[c] == index {
+            self.head[c] = after;
+        } else {
+            let mut i = self.head[c];
+            while i != NONE {
+                if self.next[i as usize] == index {
+                    self.next[i as usize] = after;
+                    break;
+                }
+                i = self.next[i as usize];
+            }
+        }
+        self.next[index as usize] = NONE;
+    }
+
     /// Cell side in pixels.
     pub fn cell(&self) -> u32 {
         self.g

@@ -38,12 +38,25 @@
 //! * **The finest level.** A cell of level F whose one position is covered
 //!   can take no dart. It is dropped when the disks cover it together, which
 //!   [`union::covers`] decides in `f64` with a margin towards "not covered".
-//!   Otherwise it is a void smaller than the position grid, the run stops,
-//!   and the set is reported as not maximal.
-//! * **Stopping.** The run ends when no cell is active: the set is then
-//!   maximal in the continuous domain, since every point of the closed
-//!   domain lies in a closed cell that some disk, or the union of disks,
-//!   covers. With `max_iterations` too small it ends early, not maximal.
+//!   Otherwise it is a *void*: uncovered area too small to hold a position.
+//! * **Repair.** When no cell is active and voids are left, each void takes
+//!   back one sample: the latest accepted whose disk comes within 2 units
+//!   (1/2^F px) of the void's cell, which bounds the void. Those samples
+//!   leave the set (and the grid); every pixel within reach of one of them
+//!   that no remaining disk holds whole is reopened as a level-0 cell, in
+//!   pixel order, and the loop goes on from level 0 with the next
+//!   iteration's darts. The void, and all the area the taken samples
+//!   covered alone, lie in the reopened pixels. At most [`MAX_REPAIRS`]
+//!   rounds run; voids left after them end the run, not maximal. A repair
+//!   is a rejection after the fact of a dart that closed a region to less
+//!   than one position: the set is RSA's with those darts refused.
+//!   Measured: about 1 sample in 30 000 at r = 8.5, 1 in 7 000 at r = 2.
+//! * **Stopping.** The run ends when no cell is active and no void is left:
+//!   the set is then maximal in the continuous domain, since every point of
+//!   the closed domain lies in a closed cell that some disk, or the union of
+//!   disks, covers. With `max_iterations` too small it ends early, not
+//!   maximal. [`crate::sampler::Stats::repaired`] counts the samples taken
+//!   back.
 //! * **Periodic domain.** Distances take the short way round, as in pixel
 //!   mode.
 
@@ -64,6 +77,9 @@ use grid::SampleGrid;
 /// An iteration that accepts fewer than 1/`REFINE_BELOW` of its darts
 /// refines the cells.
 pub const REFINE_BELOW: usize = 8;
+
+/// Rounds of void repair before a run gives up, not maximal.
+pub const MAX_REPAIRS: u32 = 16;
 
 /// Fractional bits of an exact-mode position for a `width`×`height` domain.
 #[must_use]
@@ -107,6 +123,8 @@ pub struct ExactStepper<'p> {
     cells: Vec<Cell>,
     /// Cells of level F that no dart can fill.
     unfillable: Vec<Cell>,
+    /// Repair rounds run.
+    repairs: u32,
     /// The batch's valid darts by grid cell (reused buffers).
     batch_start: Vec<u32>,
     batch_entries: Vec<u32>,
@@ -134,6 +152,7 @@ impl<'p> ExactStepper<'p> {
             empty: EmptyList::all(plan.pixels(), plan.width),
             cells: Vec::new(),
             unfillable: Vec::new(),
+            repairs: 0,
             batch_start: Vec::new(),
             batch_entries: Vec::new(),
             peak_bytes: 0,
@@ -307,11 +326,7 @@ impl<'p> ExactStepper<'p> {
         let one = 1i64 << self.frac;
         let mut coverage = std::mem::take(&mut self.coverage);
         let bands = plan.height.div_ceil(BAND_ROWS) as usize;
-        let r_max = plan.radius_range.1 << (self.frac - RADIUS_FRAC_BITS);
-        let reach_max = |s: &Sample| match plan.policy {
-            Policy::Prior | Policy::Smaller => s.r,
-            Policy::Current | Policy::Bigger => s.r.max(r_max),
-        };
+        let reach_max = |s: &Sample| self.reach_max(s);
         let mut buckets: Vec<Vec<Sample>> = vec![Vec::new(); bands];
         for s in &self.samples[from..] {
             let r = i64::from(reach_max(s));
@@ -502,6 +517,92 @@ impl<'p> ExactStepper<'p> {
         union::covers(&disks, (q(k.0), q(k.1), q(k.2), q(k.3)))
     }
 
+    /// How far sample `s`'s coverage disk can reach, in 1/2^F px.
+    fn reach_max(&self, s: &Sample) -> u32 {
+        match self.plan.policy {
+            Policy::Prior | Policy::Smaller => s.r,
+            Policy::Current | Policy::Bigger => {
+                s.r.max(self.plan.radius_range.1 << (self.frac - RADIUS_FRAC_BITS))
+            }
+        }
+    }
+
+    /// Repairs the voids: takes back, for each, the latest sample whose disk
+    /// comes within 2 units of it, and reopens at level 0 the pixels within
+    /// their reach that no remaining disk holds whole. Returns the samples
+    /// taken back, in index order.
+    fn repair(&mut self) -> Vec<u32> {
+        let policy = self.plan.policy;
+        let (w, h) = (self.plan.width, self.plan.height);
+        let voids = std::mem::take(&mut self.unfillable);
+        let mut victims: Vec<u32> = voids
+            .iter()
+            .filter_map(|&c| {
+                let k = self.corners(c);
+                let (px, py) = self.pixel_xy(k.0, k.1);
+                let r_cell = self.r_at(py * w + px);
+                let mut latest = None;
+                self.grid.any_near(px, py, 0, |i| {
+                    let s = &self.samples[i as usize];
+                    let f = policy.coverage_radius(s.r, r_cell) + 2;
+                    if self.within((s.x, s.y), (k.0, k.1), f) {
+                        latest = latest.max(Some(i));
+                    }
+                    false
+                });
+                latest
+            })
+            .collect();
+        victims.sort_unstable();
+        victims.dedup();
+        let one = 1i64 << self.frac;
+        let mut reopen = Vec::new();
+        for &v in &victims {
+            let s = self.samples[v as usize];
+            self.grid.remove(v, s.pixel % w, s.pixel / w);
+            let r = i64::from(self.reach_max(&s));
+            let span = |c: u32, n: u32| {
+                let (a, b) = (
+                    (i64::from(c) - r).div_euclid(one) - 1,
+                    (i64::from(c) + r).div_euclid(one) + 1,
+                );
+                let n = i64::from(n);
+                if self.plan.periodic {
+                    (a..=b.min(a + n - 1))
+                        .map(|q| q.rem_euclid(n))
+                        .collect::<Vec<_>>()
+                } else {
+                    (a.max(0)..=b.min(n - 1)).collect()
+                }
+            };
+            let (xs, ys) = (span(s.x, w), span(s.y, h));
+            for &y in &ys {
+                for &x in &xs {
+                    reopen.push(y as u32 * w + x as u32);
+                }
+            }
+        }
+        reopen.sort_unstable();
+        reopen.dedup();
+        self.level = 0;
+        self.cells.clear();
+        let this = &*self;
+        let open: Vec<u32> = reopen
+            .into_par_iter()
+            .filter(|&p| !this.cell_covered(Cell { x: p % w, y: p / w }, 0))
+            .collect();
+        for word in &mut self.coverage {
+            *word = !0;
+        }
+        for &p in &open {
+            self.coverage[(p / 64) as usize] &= !(1u64 << (p % 64));
+        }
+        self.empty = EmptyList::all(self.plan.pixels(), w);
+        self.empty.compact(&self.coverage);
+        self.repairs += 1;
+        victims
+    }
+
     fn point(&self, s: &Sample) -> Point {
         let one = (1u32 << self.frac) as f32;
         Point {
@@ -559,6 +660,13 @@ impl Stepper for ExactStepper<'_> {
             self.settle_finest();
         }
         let t4 = Instant::now();
+        let removed =
+            if self.active() == 0 && !self.unfillable.is_empty() && self.repairs < MAX_REPAIRS {
+                self.repair()
+            } else {
+                Vec::new()
+            };
+        let t5 = Instant::now();
         self.peak_bytes = self.peak_bytes.max(
             self.empty.bytes()
                 + self.grid.bytes()
@@ -571,12 +679,14 @@ impl Stepper for ExactStepper<'_> {
         stages.add("cull", (t2 - t1).as_secs_f64());
         stages.add("compact", (t3 - t2).as_secs_f64());
         stages.add("refine", (t4 - t3).as_secs_f64());
+        stages.add("repair", (t5 - t4).as_secs_f64());
         let active = self.active();
         Ok(Step {
             empty: active + self.unfillable.len() as u64,
             accepted: accepted.iter().map(|s| self.point(s)).collect(),
             stages,
             finished: active == 0,
+            removed,
         })
     }
 
