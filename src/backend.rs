@@ -1,6 +1,7 @@
 //! Backend selection: the GPU backend when an adapter exists (or is asked
 //! for), the CPU reference otherwise. Both give the same points.
 
+#[cfg(feature = "gpu")]
 use std::sync::{Mutex, OnceLock};
 
 #[cfg(feature = "gpu")]

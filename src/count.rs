@@ -3,7 +3,7 @@
 //! The count of a maximal set goes as 1/r², so each run corrects the scale by
 //! sqrt(count / target), starting from the RSA density estimate.
 
-use crate::sampler::Error;
+use crate::sampler::{Error, Params, SampleSet};
 
 /// The relative tolerance that `--points` promises.
 pub const COUNT_TOLERANCE: f64 = 0.03;
@@ -42,4 +42,27 @@ pub fn fit_scale<T, E: From<Error>>(
         return Err(Error::InvalidParameter("no sampler run was made".into()).into());
     };
     Ok((scale, out, runs))
+}
+
+/// Samples the parameters `make(scale)` with `run`: at `start` (a radius, or
+/// 1 for a radius map's own scale), or, with `target`, at the scale that
+/// gives about that many points, found by [`fit_scale`] from the RSA
+/// estimate at scale 1. Returns the set and the number of runs. The CLI's
+/// `sample --points` and the Python package's `sample(points=…)`.
+pub fn sample_scaled<E: From<Error>>(
+    start: f64,
+    target: Option<usize>,
+    make: impl Fn(f64) -> Result<Params, E>,
+    mut run: impl FnMut(&Params) -> Result<SampleSet, E>,
+) -> Result<(SampleSet, usize), E> {
+    let Some(n) = target else {
+        return Ok((run(&make(start)?)?, 1));
+    };
+    let expected = make(1.0)?.plan()?.expected_points();
+    let initial = (expected / n.max(1) as f64).sqrt();
+    let (_, set, runs) = fit_scale(n, initial, |s| -> Result<_, E> {
+        let set = run(&make(s)?)?;
+        Ok((set.points.len(), set))
+    })?;
+    Ok((set, runs))
 }

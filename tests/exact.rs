@@ -380,12 +380,48 @@ fn a_cancel_flag_already_set_stops_before_the_first_iteration() {
         calls.fetch_add(1, Ordering::Relaxed);
     };
     for exact in [false, true] {
-        let ctl = Control {
-            progress: Some(&progress),
-            cancel: Some(&cancel),
-        };
+        let ctl = Control::new().with_progress(&progress).with_cancel(&cancel);
         let r = cpu::sample(&Params::new(64, 64).with_radius(3.0).with_exact(exact), ctl);
         assert!(matches!(r, Err(pixelpie::sampler::Error::Cancelled)));
     }
     assert_eq!(calls.load(Ordering::Relaxed), 0, "no iteration ran");
+}
+
+#[test]
+fn progress_comes_after_every_iteration_and_a_cancel_stops_the_next() {
+    use std::sync::Mutex;
+    use std::sync::atomic::{AtomicBool, Ordering};
+    for exact in [false, true] {
+        let p = Params::new(300, 200).with_radius(2.5).with_exact(exact);
+        // Uncancelled: one report per iteration, counts growing, the last
+        // one the set itself.
+        let seen = Mutex::new(Vec::new());
+        let progress = |q: pixelpie::sampler::Progress| seen.lock().unwrap().push(q);
+        let set = cpu::sample(&p, Control::new().with_progress(&progress)).unwrap();
+        let seen = seen.into_inner().unwrap();
+        assert_eq!(seen.len() as u32, set.iterations());
+        assert!(
+            seen.windows(2)
+                .all(|w| w[0].iteration + 1 == w[1].iteration && w[0].points <= w[1].points)
+        );
+        let last = seen.last().unwrap();
+        assert_eq!((last.points, last.empty_pixels), (set.points.len(), 0));
+        assert!(set.iterations() > 3);
+        // Cancelled from the second report on: exactly two iterations ran.
+        let cancel = AtomicBool::new(false);
+        let calls = Mutex::new(0u32);
+        let progress = |_| {
+            let mut n = calls.lock().unwrap();
+            *n += 1;
+            if *n == 2 {
+                cancel.store(true, Ordering::Relaxed);
+            }
+        };
+        let r = cpu::sample(
+            &p,
+            Control::new().with_progress(&progress).with_cancel(&cancel),
+        );
+        assert!(matches!(r, Err(pixelpie::sampler::Error::Cancelled)));
+        assert_eq!(*calls.lock().unwrap(), 2, "exact {exact}");
+    }
 }

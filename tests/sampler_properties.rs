@@ -177,7 +177,7 @@ fn a_larger_batch_is_split_by_the_key_layout() {
         .with_policy(Policy::Bigger)
         .with_batch(u32::MAX);
     let plan = params.plan().unwrap();
-    assert!(plan.layout.max_batch() < plan.batch);
+    assert!(plan.layout().max_batch() < plan.batch());
     let set = run(&params);
     assert!(set.maximal());
     assert!(worst_violation(&set.points, Policy::Bigger, None) <= SQRT2_2);

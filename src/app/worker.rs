@@ -158,10 +158,7 @@ fn run(
             let _ = replies.send(Reply::Progress(id, p));
             repaint.request_repaint();
         };
-        let ctl = Control {
-            progress: Some(&progress),
-            cancel: Some(&cancel),
-        };
+        let ctl = Control::new().with_progress(&progress).with_cancel(&cancel);
         let relaxed = |done: u32| {
             let _ = replies.send(Reply::Relaxed(id, done));
             repaint.request_repaint();

@@ -95,7 +95,7 @@ pub fn run(a: &BenchArgs) -> Result<()> {
         let params = Params::new(side, side)
             .with_radius(a.radius)
             .with_seed(a.seed);
-        let batch = params.plan()?.batch;
+        let batch = params.plan()?.batch();
         if let Some(g) = gpu {
             for (label, path) in [
                 ("GPU raster", S1Path::Raster),

@@ -12,11 +12,11 @@ use serde::Serialize;
 use pixelpie::backend::{self, BackendChoice, Notice};
 use pixelpie::count;
 use pixelpie::gpu::S1Path;
-use pixelpie::importance::{Mapping, fit_size};
+use pixelpie::importance::{ImportanceOptions, Mapping, fit_size};
 use pixelpie::io;
 use pixelpie::sampler::{self, Control, Params, Policy, Progress, RadiusMap, SampleSet};
 
-use super::importance::{ImportanceOpts, RunOpts};
+use super::importance::RunOpts;
 
 /// Arguments of `pixelpie sample`.
 #[derive(Args, Debug, Serialize)]
@@ -41,10 +41,11 @@ pub struct SampleArgs {
     #[arg(long)]
     importance: Option<PathBuf>,
     #[command(flatten)]
-    importance_opts: ImportanceOpts,
+    #[serde(flatten)]
+    importance_opts: ImportanceOptions,
     /// Disk policy for varying radii (paper §3.4).
-    #[arg(long, value_enum, default_value_t = PolicyArg::Prior)]
-    policy: PolicyArg,
+    #[arg(long, value_enum, default_value_t = Policy::Prior)]
+    policy: Policy,
     /// Seed of the dart hash.
     #[arg(long, default_value_t = 0)]
     seed: u64,
@@ -112,31 +113,6 @@ impl GpuPath {
     }
 }
 
-/// The disk policy on the command line.
-#[derive(Clone, Copy, Debug, clap::ValueEnum, Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum PolicyArg {
-    /// f = r(earlier sample).
-    Prior,
-    /// f = r(later sample).
-    Current,
-    /// f = max of the two.
-    Bigger,
-    /// f = min of the two.
-    Smaller,
-}
-
-impl From<PolicyArg> for Policy {
-    fn from(p: PolicyArg) -> Self {
-        match p {
-            PolicyArg::Prior => Self::Prior,
-            PolicyArg::Current => Self::Current,
-            PolicyArg::Bigger => Self::Bigger,
-            PolicyArg::Smaller => Self::Smaller,
-        }
-    }
-}
-
 /// Checks that a JSON side output has the right extension.
 pub fn check_json_path(path: &Path) -> Result<()> {
     if path.extension().and_then(|e| e.to_str()) != Some("json") {
@@ -164,15 +140,12 @@ pub fn run_with_progress(
     choice: BackendChoice,
     bar: &ProgressBar,
     verbose: bool,
-) -> Result<SampleSet> {
+) -> sampler::Result<SampleSet> {
     let progress = |p: Progress| {
         bar.set_position(100 - 100 * p.empty_pixels / p.pixels.max(1));
         bar.set_message(format!("iteration {}, {} points", p.iteration, p.points));
     };
-    let ctl = Control {
-        progress: Some(&progress),
-        cancel: None,
-    };
+    let ctl = Control::new().with_progress(&progress);
     let set = backend::sample(params, choice, ctl, &mut |n| {
         let show = match n {
             // Sampling on the CPU is the normal course without a GPU: a
@@ -199,7 +172,7 @@ pub fn run_with_progress(
 /// The parameters common to every run of `a`, on a `width`×`height` domain.
 fn base_params(a: &SampleArgs, width: u32, height: u32) -> Params {
     let base = Params::new(width, height)
-        .with_policy(a.policy.into())
+        .with_policy(a.policy)
         .with_seed(a.seed)
         .with_subpixel_bits(a.subpixel_bits)
         .with_periodic(a.periodic)
@@ -286,33 +259,18 @@ pub fn run(a: &SampleArgs) -> Result<()> {
         })
     };
     let bar = progress_bar(a.quiet);
-    let set = match a.points {
-        None => run_with_progress(
-            &make(f64::from(a.radius.unwrap_or(1.0)))?,
-            a.backend,
-            &bar,
-            a.verbose,
-        )?,
-        Some(n) => {
-            // Start from the RSA estimate: radius (or map scale) for n points.
-            let expected = make(1.0)?.plan()?.expected_points;
-            let initial = match &map {
-                Some(_) => (expected / n as f64).sqrt(),
-                None => (expected / n.max(1) as f64).sqrt(),
-            };
-            let (_, set, runs) = count::fit_scale(n, initial, |s| -> Result<_> {
-                let set = run_with_progress(&make(s)?, a.backend, &bar, a.verbose)?;
-                Ok((set.points.len(), set))
-            })?;
-            if a.verbose {
-                eprintln!(
-                    "count target {n}: {} points after {runs} runs",
-                    set.points.len()
-                );
-            }
-            set
-        }
-    };
+    let (set, runs) = count::sample_scaled(
+        f64::from(a.radius.unwrap_or(1.0)),
+        a.points,
+        make,
+        |p| -> Result<SampleSet> { Ok(run_with_progress(p, a.backend, &bar, a.verbose)?) },
+    )?;
+    if let (Some(n), true) = (a.points, a.verbose) {
+        eprintln!(
+            "count target {n}: {} points after {runs} runs",
+            set.points.len()
+        );
+    }
     bar.finish_and_clear();
     write_outputs(a, &set)
 }

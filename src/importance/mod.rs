@@ -29,12 +29,14 @@ pub mod ink;
 mod ink_table;
 mod load;
 mod mapping;
+mod options;
 
 use std::path::{Path, PathBuf};
 
 pub use fit::{Fitted, Prepared};
 pub use load::{Luminance, Range, linear_to_srgb, load, srgb_to_linear};
 pub use mapping::{Mapping, RadiusRange};
+pub use options::{DEFAULT_RADIUS_RATIO, ImportanceOptions, MappingKind};
 
 use crate::sampler::{Point, RSA_DENSITY};
 
@@ -100,6 +102,7 @@ pub type Result<T, E = Error> = std::result::Result<T, E>;
 
 /// Which grey a drawing reproduces.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum Tones {
     /// The display grey: the sRGB-encoded value a viewer sees. Mid grey

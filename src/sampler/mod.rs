@@ -110,7 +110,18 @@ pub struct Progress {
 }
 
 /// Progress reporting and cancellation, shared by every backend.
+///
+/// ```
+/// use std::sync::atomic::AtomicBool;
+/// use pixelpie::sampler::{Control, Params, Progress};
+/// let cancel = AtomicBool::new(false);
+/// let progress = |p: Progress| eprintln!("{} points", p.points);
+/// let ctl = Control::new().with_progress(&progress).with_cancel(&cancel);
+/// let set = Params::new(64, 64).with_radius(4.0).generate_with(ctl).unwrap();
+/// assert!(set.maximal());
+/// ```
 #[derive(Default, Clone, Copy)]
+#[non_exhaustive]
 pub struct Control<'a> {
     /// Called after every iteration.
     pub progress: Option<&'a (dyn Fn(Progress) + Sync)>,
@@ -119,7 +130,28 @@ pub struct Control<'a> {
     pub cancel: Option<&'a AtomicBool>,
 }
 
-impl Control<'_> {
+impl<'a> Control<'a> {
+    /// No progress and no cancellation.
+    #[must_use]
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Calls `progress` after every iteration.
+    #[must_use]
+    pub fn with_progress(mut self, progress: &'a (dyn Fn(Progress) + Sync)) -> Self {
+        self.progress = Some(progress);
+        self
+    }
+
+    /// Ends the run with [`Error::Cancelled`] before the next iteration once
+    /// `cancel` is set.
+    #[must_use]
+    pub fn with_cancel(mut self, cancel: &'a AtomicBool) -> Self {
+        self.cancel = Some(cancel);
+        self
+    }
+
     /// [`Error::Cancelled`] when the cancel flag is set.
     pub fn check(&self) -> Result<()> {
         if self.cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
@@ -133,5 +165,25 @@ impl Control<'_> {
         if let Some(f) = self.progress {
             f(p);
         }
+    }
+}
+
+impl Params {
+    /// Samples the set: the common case, as fast_poisson's `generate()`.
+    /// Runs on the GPU when the `gpu` feature finds a hardware adapter, on
+    /// the CPU otherwise; the points are the same either way.
+    ///
+    /// ```
+    /// use pixelpie::sampler::Params;
+    /// let set = Params::new(256, 256).with_radius(6.0).with_seed(3).generate().unwrap();
+    /// assert!(set.maximal() && set.points.len() > 400);
+    /// ```
+    pub fn generate(&self) -> Result<SampleSet> {
+        self.generate_with(Control::default())
+    }
+
+    /// [`Self::generate`] with progress reporting and cancellation.
+    pub fn generate_with(&self, ctl: Control<'_>) -> Result<SampleSet> {
+        crate::backend::sample(self, crate::backend::BackendChoice::Auto, ctl, &mut |_| {})
     }
 }

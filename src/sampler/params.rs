@@ -21,6 +21,7 @@ pub const MIN_INDEX_BITS: u32 = 8;
 #[derive(
     Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize,
 )]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum Policy {
     /// f(i, j) = r(i): the earlier sample's disk. Key = dart index, Less wins.
@@ -186,6 +187,7 @@ pub enum Radius {
 /// assert_eq!(params.seed, 7);
 /// ```
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct Params {
     /// Domain width in pixels.
     pub width: u32,
@@ -361,35 +363,36 @@ impl KeyLayout {
     }
 }
 
-/// The checked, derived constants of one run.
+/// The checked, derived constants of one run. Only [`Params::plan`] makes
+/// one, so a plan is always valid; its fields are read through methods.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Plan {
     /// Domain width in pixels.
-    pub width: u32,
+    pub(crate) width: u32,
     /// Domain height in pixels.
-    pub height: u32,
+    pub(crate) height: u32,
     /// The disk policy.
-    pub policy: Policy,
+    pub(crate) policy: Policy,
     /// Sub-pixel bits per axis.
-    pub subpixel_bits: u32,
+    pub(crate) subpixel_bits: u32,
     /// Whether the domain wraps.
-    pub periodic: bool,
+    pub(crate) periodic: bool,
     /// The 32-bit key of the seed.
-    pub seed_key: u32,
+    pub(crate) seed_key: u32,
     /// The depth-key layout.
-    pub layout: KeyLayout,
+    pub(crate) layout: KeyLayout,
     /// Darts per iteration (before the cap by empty pixels and key layout).
-    pub batch: u32,
+    pub(crate) batch: u32,
     /// The cap on iterations.
-    pub max_iterations: u32,
+    pub(crate) max_iterations: u32,
     /// Smallest and largest radius (1/64 px).
-    pub radius_range: (u32, u32),
+    pub(crate) radius_range: (u32, u32),
     /// The radius map, or `None` for a uniform radius.
-    pub map: Option<Arc<RadiusMap>>,
+    pub(crate) map: Option<Arc<RadiusMap>>,
     /// The expected number of points at RSA saturation density.
-    pub expected_points: f64,
+    pub(crate) expected_points: f64,
     /// Exact mode.
-    pub exact: bool,
+    pub(crate) exact: bool,
 }
 
 impl Plan {
@@ -495,6 +498,30 @@ impl Plan {
     #[must_use]
     pub fn pixels(&self) -> u32 {
         self.width * self.height
+    }
+
+    /// The domain's size in pixels.
+    #[must_use]
+    pub fn size(&self) -> (u32, u32) {
+        (self.width, self.height)
+    }
+
+    /// The depth-key layout.
+    #[must_use]
+    pub fn layout(&self) -> KeyLayout {
+        self.layout
+    }
+
+    /// Darts per iteration (before the cap by empty pixels and key layout).
+    #[must_use]
+    pub fn batch(&self) -> u32 {
+        self.batch
+    }
+
+    /// The expected number of points at RSA saturation density.
+    #[must_use]
+    pub fn expected_points(&self) -> f64 {
+        self.expected_points
     }
 
     /// The radius (1/64 px) of pixel index `p`.

@@ -5,11 +5,17 @@
 //! All coordinates are in the sampling domain's pixels, origin top left, as
 //! in [`crate::sampler`].
 
+mod job;
 pub mod raster;
 pub mod read;
 pub mod relax;
 pub mod svg;
 pub mod tsp;
+
+pub use job::{
+    DEFAULT_DOT_RATIO, DEFAULT_POINTS, DotMode, Format, MIN_DOMAIN_SIDE, Order, Stipple,
+    StippleOptions, default_domain,
+};
 
 use crate::importance::{Prepared, RadiusRange};
 use crate::sampler::Point;

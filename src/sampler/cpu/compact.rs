@@ -49,12 +49,6 @@ impl EmptyList {
         }
     }
 
-    /// Whether no pixel is empty.
-    #[must_use]
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-
     /// The `i`-th empty pixel.
     #[inline]
     #[must_use]

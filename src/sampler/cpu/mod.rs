@@ -6,10 +6,10 @@
 //! [`CpuStepper`] runs one iteration; the loop itself is
 //! [`crate::sampler::run::run`], shared with the GPU backend.
 
-pub mod compact;
-pub mod cover;
-pub mod cull;
-pub mod throw;
+pub(crate) mod compact;
+pub(crate) mod cover;
+pub(crate) mod cull;
+pub(crate) mod throw;
 
 use std::time::Instant;
 
@@ -23,7 +23,7 @@ use super::{Control, Dart, Params, Plan, Result, SampleSet, Stats};
 /// ```
 /// use pixelpie::sampler::{Params, Control, cpu};
 /// let set = cpu::sample(&Params::new(64, 64).with_radius(4.0).with_seed(1), Control::default()).unwrap();
-/// assert!(set.maximal && !set.points.is_empty());
+/// assert!(set.maximal() && !set.points.is_empty());
 /// ```
 pub fn sample(params: &Params, ctl: Control<'_>) -> Result<SampleSet> {
     let plan = params.plan()?;

@@ -1,0 +1,161 @@
+//! The options that turn an image into a radius map, shared by `sample
+//! --importance`, `stipple`, the Python package and library users. With the
+//! `cli` feature they are also the command line's arguments.
+
+use std::path::Path;
+
+use serde::Serialize;
+
+use super::{Adjust, Error, ImportanceMap, Mapping, Prepared, RadiusRange, Result, Tones};
+
+/// r_max / r_min when only one end (or neither) is given.
+pub const DEFAULT_RADIUS_RATIO: f32 = 8.0;
+
+/// How importance becomes radius, by name (the sized-dot mapping follows
+/// from the dot mode instead).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
+#[serde(rename_all = "lowercase")]
+pub enum MappingKind {
+    /// r = r_min + (r_max − r_min)·v (paper §3.4).
+    #[default]
+    Linear,
+    /// Calibrated: the stipple's ink equals the darkness (reproduces tones).
+    Tone,
+}
+
+impl From<MappingKind> for Mapping {
+    fn from(m: MappingKind) -> Self {
+        match m {
+            MappingKind::Linear => Self::Linear,
+            MappingKind::Tone => Self::Tone,
+        }
+    }
+}
+
+/// Options that turn an image into a radius map.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[cfg_attr(feature = "cli", derive(clap::Args))]
+#[non_exhaustive]
+pub struct ImportanceOptions {
+    /// The grey the drawing reproduces (levels and gamma apply to it).
+    #[cfg_attr(feature = "cli", arg(long, value_enum, default_value_t = Tones::Display, requires = "importance"))]
+    pub tones: Tones,
+    /// Importance-to-radius mapping [default: tone for stipple, linear for sample].
+    #[cfg_attr(feature = "cli", arg(long, value_enum, requires = "importance"))]
+    pub mapping: Option<MappingKind>,
+    /// Radius in px of black (most important) pixels; scaled with --points.
+    #[cfg_attr(feature = "cli", arg(long, requires = "importance"))]
+    pub min_radius: Option<f32>,
+    /// Radius in px of white pixels [default: 8 × the minimum].
+    #[cfg_attr(feature = "cli", arg(long, requires = "importance"))]
+    pub max_radius: Option<f32>,
+    /// Gamma applied after the levels: above 1 darkens mid-tones.
+    #[cfg_attr(
+        feature = "cli",
+        arg(long, default_value_t = 1.0, requires = "importance")
+    )]
+    pub gamma: f32,
+    /// Black level: values at or below it count as black (0..1).
+    #[cfg_attr(
+        feature = "cli",
+        arg(long, default_value_t = 0.0, requires = "importance")
+    )]
+    pub black_level: f32,
+    /// White level: values at or above it count as white (0..1).
+    #[cfg_attr(
+        feature = "cli",
+        arg(long, default_value_t = 1.0, requires = "importance")
+    )]
+    pub white_level: f32,
+    /// Invert the image: light parts become the important ones.
+    #[cfg_attr(feature = "cli", arg(long, requires = "importance"))]
+    pub invert: bool,
+    /// Drop dots whose (adjusted) importance is above this level (0..1).
+    #[cfg_attr(feature = "cli", arg(long, requires = "importance"))]
+    pub white_cutoff: Option<f32>,
+    /// White point of float images (EXR, float TIFF) [default: their 99.5th percentile].
+    #[cfg_attr(feature = "cli", arg(long, requires = "importance"))]
+    pub hdr_white: Option<f32>,
+}
+
+impl Default for ImportanceOptions {
+    fn default() -> Self {
+        Self {
+            tones: Tones::Display,
+            mapping: None,
+            min_radius: None,
+            max_radius: None,
+            gamma: 1.0,
+            black_level: 0.0,
+            white_level: 1.0,
+            invert: false,
+            white_cutoff: None,
+            hdr_white: None,
+        }
+    }
+}
+
+impl ImportanceOptions {
+    /// Loads `path`, resizes it to `size` (given the image's own size) and
+    /// applies the adjustments. `count_target`: a point count will scale
+    /// the radii, so a missing radius range may default.
+    pub fn prepare(
+        &self,
+        path: &Path,
+        size: impl FnOnce(u32, u32) -> (u32, u32),
+        default_mapping: Mapping,
+        count_target: bool,
+    ) -> Result<Prepared> {
+        self.prepare_map(
+            ImportanceMap::open(path, self.hdr_white)?,
+            size,
+            default_mapping,
+            count_target,
+        )
+    }
+
+    /// [`Self::prepare`] for a map already in memory.
+    pub fn prepare_map(
+        &self,
+        map: ImportanceMap,
+        size: impl FnOnce(u32, u32) -> (u32, u32),
+        default_mapping: Mapping,
+        count_target: bool,
+    ) -> Result<Prepared> {
+        let adjust = Adjust {
+            black: self.black_level,
+            white: self.white_level,
+            gamma: self.gamma,
+            invert: self.invert,
+        };
+        adjust.validate()?;
+        if let Some(c) = self.white_cutoff
+            && !(0.0..=1.0).contains(&c)
+        {
+            return Err(Error::InvalidParameter(format!(
+                "--white-cutoff {c} must be between 0 and 1"
+            )));
+        }
+        let (w, h) = size(map.width(), map.height());
+        let map = map.resized(w, h)?.toned(self.tones).adjusted(&adjust)?;
+        let ratio = DEFAULT_RADIUS_RATIO;
+        let range = match (self.min_radius, self.max_radius) {
+            (Some(lo), Some(hi)) => RadiusRange::new(lo, hi)?,
+            (Some(lo), None) => RadiusRange::new(lo, lo * ratio)?,
+            (None, Some(hi)) if count_target => RadiusRange::new(hi / ratio, hi)?,
+            (None, _) if count_target => RadiusRange::new(1.0, ratio)?,
+            (None, _) => {
+                return Err(Error::InvalidParameter(
+                    "give --points or --min-radius with an importance map".into(),
+                ));
+            }
+        };
+        Ok(Prepared {
+            map,
+            mapping: self.mapping.map_or(default_mapping, Into::into),
+            range,
+            cutoff: self.white_cutoff,
+        })
+    }
+}
