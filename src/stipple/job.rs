@@ -237,6 +237,13 @@ impl StippleOptions {
                 "--width-mm and --pen-mm apply to SVG output; use --scale to size a PNG".into(),
             );
         }
+        self.check()
+    }
+
+    /// Checks the options that depend on neither the picture nor the
+    /// output's format.
+    pub fn check(&self) -> Result<(), Error> {
+        let bad = |m: String| Err(Error::InvalidParameter(m));
         if let Some(pen) = self.pen_mm {
             if !(pen.is_finite() && pen > 0.0) {
                 return bad(format!("--pen-mm {pen} must be a positive number"));
@@ -289,6 +296,7 @@ impl StippleOptions {
         sample: impl FnMut(&Params) -> crate::Result<SampleSet>,
         relaxed: impl FnMut(u32) -> bool,
     ) -> crate::Result<Stipple> {
+        self.check()?;
         // The dots' own radius sets the sample radii, or the count does; a
         // pen alone sets the darkest dots to its width.
         let pen_sized =

@@ -1,0 +1,362 @@
+"""Tests of the pixelpie Python package.
+
+* The points are the command line's for the same parameters, bit for bit,
+  and so are the stipple drawings' bytes.
+* Maximality and the minimum distance, checked independently with scipy.
+* Every error case: ValueError for bad arguments, OSError for files.
+* Cancellation (KeyboardInterrupt between iterations) and the released GIL.
+
+The CLI is ``$PIXELPIE_BIN``, or ``target/release/pixelpie`` of this
+checkout; a missing binary fails the tests that compare with it.
+"""
+
+from __future__ import annotations
+
+import _thread
+import math
+import os
+import subprocess
+import threading
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy.spatial import cKDTree
+
+import pixelpie
+
+ROOT = Path(__file__).resolve().parents[2]
+ASSETS = ROOT / "assets"
+CLI = Path(os.environ.get("PIXELPIE_BIN", ROOT / "target" / "release" / "pixelpie"))
+
+
+def cli(*args: str) -> subprocess.CompletedProcess:
+    assert CLI.is_file(), f"the pixelpie binary is missing at {CLI} (cargo build --release)"
+    return subprocess.run([str(CLI), *args], capture_output=True, text=True, check=True)
+
+
+def cli_points(tmp_path: Path, *args: str) -> np.ndarray:
+    out = tmp_path / "cli.csv"
+    cli("sample", *args, "--quiet", "-o", str(out))
+    # The CSV holds the shortest decimals that read back exactly as f32.
+    return np.loadtxt(out, delimiter=",", skiprows=1, dtype=np.float64).astype(np.float32).reshape(-1, 3)
+
+
+# --- the command line's points, bit for bit ---------------------------------
+
+CASES = [
+    (dict(radius=4.0), ["--radius", "4"]),
+    (dict(radius=3.3, periodic=True, seed=9), ["--radius", "3.3", "--periodic", "--seed", "9"]),
+    (dict(points=3000, seed=2), ["--points", "3000", "--seed", "2"]),
+    (dict(radius=2.5, exact=True, seed=4), ["--radius", "2.5", "--exact", "--seed", "4"]),
+    (dict(radius=5.0, subpixel_bits=0, policy="prior"), ["--radius", "5", "--subpixel-bits", "0"]),
+]
+
+
+@pytest.mark.parametrize("kwargs,args", CASES)
+def test_uniform_points_are_the_clis(tmp_path, kwargs, args):
+    kwargs = dict(kwargs)
+    policy = kwargs.pop("policy", "smaller")
+    pts, stats = pixelpie.sample(300, 200, policy=policy, **kwargs)
+    want = cli_points(tmp_path, "--width", "300", "--height", "200", "--policy", policy, *args)
+    assert pts.dtype == np.float32 and pts.shape == want.shape
+    assert np.array_equal(pts, want)
+    assert stats["points"] == len(pts) and stats["maximal"]
+
+
+@pytest.mark.parametrize("policy", ["prior", "current", "bigger", "smaller"])
+def test_importance_points_are_the_clis(tmp_path, policy):
+    image = ASSETS / "gradient.exr"
+    pts, stats = pixelpie.sample(256, 160, importance=image, points=2000, policy=policy, seed=1)
+    want = cli_points(
+        tmp_path,
+        "--width", "256", "--height", "160", "--importance", str(image),
+        "--points", "2000", "--policy", policy, "--seed", "1",
+    )
+    assert np.array_equal(pts, want)
+    assert stats["points"] == len(pts)
+    # Radii vary with the map.
+    assert pts[:, 2].min() < pts[:, 2].max()
+
+
+def test_importance_with_a_min_radius_is_the_clis(tmp_path):
+    image = ASSETS / "default.png"
+    pts, _ = pixelpie.sample(400, 300, importance=str(image), radius=1.5, policy="bigger")
+    want = cli_points(
+        tmp_path,
+        "--width", "400", "--height", "300", "--importance", str(image),
+        "--min-radius", "1.5", "--policy", "bigger",
+    )
+    assert np.array_equal(pts, want)
+
+
+def test_radius_map_samples_its_radii_and_points_scale_it():
+    h, w = 120, 160
+    rmap = np.where(np.arange(w)[None, :] < w // 2, 2.0, 5.0) * np.ones((h, 1))
+    pts, stats = pixelpie.sample(w, h, radius_map=rmap, policy="smaller", seed=3)
+    assert stats["maximal"]
+    assert set(np.unique(pts[:, 2])) == {2.0, 5.0}
+    left = pts[pts[:, 0] < w // 2 - 5]
+    assert np.all(left[:, 2] == 2.0)
+    scaled, _ = pixelpie.sample(w, h, radius_map=rmap, points=600, seed=3)
+    assert abs(len(scaled) - 600) <= 0.03 * 600
+
+
+def test_stipple_writes_the_clis_bytes(tmp_path):
+    image = ASSETS / "default.png"
+    for name, extra_py, extra_cli in [
+        ("a.svg", {}, []),
+        ("b.svg", dict(points=3000, relax=2, order="tsp", dot="fixed"),
+         ["--points", "3000", "--relax", "2", "--order", "tsp", "--dot", "fixed"]),
+        ("c.png", dict(points=2000, scale=0.5, white_cutoff=0.9),
+         ["--points", "2000", "--scale", "0.5", "--white-cutoff", "0.9"]),
+    ]:
+        ours, theirs = tmp_path / ("py-" + name), tmp_path / ("cli-" + name)
+        dots = pixelpie.stipple(image, ours, **extra_py)
+        cli("stipple", str(image), "-o", str(theirs), "--quiet", *extra_cli)
+        assert ours.read_bytes() == theirs.read_bytes(), name
+        assert dots.shape[1] == 3 and len(dots) > 500
+        assert np.all(dots[:, 2] > 0)
+
+
+def test_stipple_without_output_returns_the_dots_only(tmp_path):
+    dots = pixelpie.stipple(ASSETS / "default.png", points=1500)
+    assert abs(len(dots) - 1500) <= 0.03 * 1500
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_analyze_is_the_clis(tmp_path):
+    pts, _ = pixelpie.sample(200, 200, radius=5.0, seed=1, periodic=True)
+    csv = tmp_path / "p.csv"
+    cli("sample", "--width", "200", "--height", "200", "--radius", "5", "--seed", "1",
+        "--periodic", "--policy", "smaller", "--quiet", "-o", str(csv))
+    import json
+    want = json.loads(cli("analyze", str(csv), "--width", "200", "--height", "200",
+                          "--periodic").stdout)
+    got = pixelpie.analyze(pts, 200, 200, periodic=True)
+    assert got == want
+    assert got["count"] == len(pts) and got["uncovered_pixels"] == 0
+
+
+# --- properties, checked with scipy -----------------------------------------
+
+
+def probes(w: float, h: float, step: float) -> np.ndarray:
+    xs = np.arange(0.0, w + 1e-9, step)
+    ys = np.arange(0.0, h + 1e-9, step)
+    gx, gy = np.meshgrid(xs, ys)
+    return np.column_stack([gx.ravel(), gy.ravel()])
+
+
+def closest_pair(xy: np.ndarray, box=None) -> float:
+    tree = cKDTree(xy, boxsize=box)
+    d, _ = tree.query(xy, k=2)
+    return float(d[:, 1].min())
+
+
+@pytest.mark.parametrize("periodic", [False, True])
+def test_exact_sets_meet_the_disk_condition_and_cover_every_point(periodic):
+    r, w, h = 3.0, 240, 180
+    pts, stats = pixelpie.sample(w, h, radius=r, exact=True, periodic=periodic, seed=7)
+    assert stats["maximal"] and stats["exact"]
+    xy = pts[:, :2].astype(np.float64)
+    box = (w, h) if periodic else None
+    if periodic:
+        xy = np.mod(xy, (w, h))
+    assert closest_pair(xy, box) >= r
+    # Every probe (every 1/8 px, edges included) lies within r of a sample.
+    q = probes(w, h, 0.125)
+    if periodic:
+        q = np.mod(q, (w, h))
+    d, _ = cKDTree(xy, boxsize=box).query(q)
+    assert d.max() < r
+
+
+def test_pixel_mode_sets_cover_every_pixel_centre_within_their_slack():
+    r, w, h = 4.0, 256, 192
+    pts, stats = pixelpie.sample(w, h, radius=r, seed=11)
+    assert stats["maximal"] and not stats["exact"]
+    xy = pts[:, :2].astype(np.float64)
+    # The paper's pixel-resolution bound: at most sqrt(2)/2 px of slack.
+    assert closest_pair(xy) >= r - math.sqrt(0.5)
+    centres = probes(w - 1, h - 1, 1.0) + 0.5
+    d, _ = cKDTree(xy).query(centres)
+    assert d.max() < r
+
+
+def test_the_same_seed_gives_the_same_points_and_another_seed_others():
+    a, _ = pixelpie.sample(128, 128, radius=3.0, seed=5)
+    b, _ = pixelpie.sample(128, 128, radius=3.0, seed=5)
+    c, _ = pixelpie.sample(128, 128, radius=3.0, seed=6)
+    assert np.array_equal(a, b) and not np.array_equal(a, c)
+
+
+def test_a_capped_run_is_reported_not_maximal():
+    pts, stats = pixelpie.sample(300, 300, radius=2.0, max_iterations=2)
+    assert not stats["maximal"] and stats["iterations"] == 2 and len(pts) > 0
+
+
+# --- errors ------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("kwargs,text", [
+    (dict(radius=0.0), "radius"),
+    (dict(radius=-2.0), "radius"),
+    (dict(radius=float("nan")), "radius"),
+    (dict(radius=500.0), "radius"),
+    (dict(), "give radius"),
+    (dict(radius=3.0, points=100), "not both"),
+    (dict(radius=3.0, policy="largest"), "policy"),
+    (dict(radius=3.0, backend="tpu"), "backend"),
+    (dict(radius=3.0, subpixel_bits=9), "sub-pixel"),
+    (dict(points=0), "point count"),
+    (dict(radius_map=np.full((10, 10), 2.0)), "shape"),
+    (dict(radius_map=np.full((50, 40), np.nan)), "radius"),
+    (dict(radius_map=np.full((50, 40), 2.0), radius=2.0), "exclude"),
+    (dict(importance=np.full((5, 5), 1.5), points=10), "outside [0, 1]"),
+    (dict(importance=np.full((5, 5), 0.5)), "importance"),
+    (dict(importance=np.zeros(5), points=10), "2-D"),
+])
+def test_bad_arguments_raise_value_error(kwargs, text):
+    with pytest.raises(ValueError, match=None) as e:
+        pixelpie.sample(40, 50, **kwargs)
+    assert text.lower() in str(e.value).lower(), str(e.value)
+    assert "\n" not in str(e.value)
+
+
+@pytest.mark.parametrize("w,h", [(0, 10), (10, 0), (1 << 20, 1 << 20)])
+def test_impossible_sizes_raise_value_error(w, h):
+    with pytest.raises(ValueError):
+        pixelpie.sample(w, h, radius=2.0)
+
+
+def test_the_gpu_backend_is_not_built_in():
+    with pytest.raises(RuntimeError, match="gpu"):
+        pixelpie.sample(64, 64, radius=3.0, backend="gpu")
+
+
+def test_unreadable_files_raise_os_error(tmp_path):
+    missing = tmp_path / "missing.png"
+    empty = tmp_path / "empty.png"
+    empty.write_bytes(b"")
+    corrupt = tmp_path / "corrupt.png"
+    corrupt.write_bytes(b"\x89PNG\r\n\x1a\nnot a png at all")
+    for path in [missing, empty, corrupt]:
+        with pytest.raises(OSError) as e:
+            pixelpie.sample(64, 64, importance=path, points=100)
+        assert path.name in str(e.value)
+        with pytest.raises(OSError):
+            pixelpie.stipple(path, tmp_path / "out.svg")
+    assert not (tmp_path / "out.svg").exists()
+
+
+def test_unwritable_outputs_raise_os_error_and_leave_nothing(tmp_path):
+    target = tmp_path / "no-such-dir" / "out.svg"
+    with pytest.raises(OSError, match="cannot write"):
+        pixelpie.stipple(ASSETS / "default.png", target, points=500)
+    assert not target.parent.exists()
+
+
+@pytest.mark.parametrize("kwargs,text", [
+    (dict(output="drawing.gif"), "extension"),
+    (dict(output="drawing.svg", scale=2.0), "scale"),
+    (dict(dot="huge"), "dot"),
+    (dict(order="random"), "order"),
+    (dict(tones="sepia"), "tones"),
+    (dict(dot_ratio=0.0), "dot-ratio"),
+    (dict(pen_mm=0.3, output="x.svg"), "width-mm"),
+    (dict(white_cutoff=2.0), "cutoff"),
+    (dict(gamma=-1.0), "gamma"),
+])
+def test_bad_stipple_arguments_raise_value_error(tmp_path, kwargs, text):
+    if "output" in kwargs:
+        kwargs["output"] = tmp_path / kwargs["output"]
+    with pytest.raises(ValueError) as e:
+        pixelpie.stipple(ASSETS / "default.png", points=300, **kwargs)
+    assert text.lower() in str(e.value).lower(), str(e.value)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_bad_analyze_arguments_raise_value_error():
+    pts = np.zeros((4, 2))
+    with pytest.raises(ValueError):
+        pixelpie.analyze(pts, 0, 10)
+    with pytest.raises(ValueError):
+        pixelpie.analyze(np.zeros((4, 1)), 10, 10)
+    with pytest.raises(ValueError):
+        pixelpie.analyze(pts, 10, 10, radius=-1)
+
+
+# --- cancellation and the GIL ------------------------------------------------
+
+
+def test_progress_is_called_after_every_iteration():
+    seen = []
+    pts, stats = pixelpie.sample(300, 300, radius=2.0, progress=lambda *a: seen.append(a))
+    assert len(seen) == stats["iterations"] > 3
+    assert [s[0] for s in seen] == list(range(1, len(seen) + 1))
+    assert seen[-1][1] == len(pts) and seen[-1][2] == 0 and seen[-1][3] == 300 * 300
+
+
+def test_an_exception_in_progress_stops_the_run_and_is_raised():
+    calls = []
+
+    def progress(*a):
+        calls.append(a)
+        raise ZeroDivisionError("stop here")
+
+    with pytest.raises(ZeroDivisionError, match="stop here"):
+        pixelpie.sample(400, 400, radius=2.0, progress=progress)
+    assert len(calls) == 1
+
+
+@pytest.mark.parametrize("exact", [False, True])
+def test_ctrl_c_cancels_between_iterations(exact):
+    # interrupt_main() is what Ctrl-C does: it trips the SIGINT flag. The
+    # library checks for signals after every iteration and stops there, so
+    # exactly one iteration runs (a full run takes many).
+    calls = []
+
+    def progress(*a):
+        calls.append(a)
+        if len(calls) == 1:
+            _thread.interrupt_main()
+
+    with pytest.raises(KeyboardInterrupt):
+        pixelpie.sample(600, 600, radius=2.0, exact=exact, progress=progress)
+    assert len(calls) == 1
+    _, stats = pixelpie.sample(600, 600, radius=2.0, exact=exact)
+    assert stats["iterations"] > 3
+
+
+def test_ctrl_c_cancels_a_stipple_too():
+    calls = []
+
+    def progress(*a):
+        calls.append(a)
+        _thread.interrupt_main()
+
+    with pytest.raises(KeyboardInterrupt):
+        pixelpie.stipple(ASSETS / "default.png", points=5000, progress=progress)
+    assert len(calls) == 1
+
+
+def test_the_gil_is_released_while_sampling():
+    # While one thread samples, the main thread keeps running Python code.
+    started, done = threading.Event(), threading.Event()
+    counts = []
+
+    def work():
+        pixelpie.sample(2048, 2048, radius=2.0, exact=True,
+                        progress=lambda *a: started.set())
+        done.set()
+
+    t = threading.Thread(target=work)
+    t.start()
+    assert started.wait(60)
+    n = 0
+    while not done.is_set():
+        n += 1
+    t.join()
+    counts.append(n)
+    assert counts[0] > 1000, counts
