@@ -344,3 +344,50 @@ fn bad_input_gives_one_line_errors_and_no_output() {
         "stats extension",
     );
 }
+
+#[test]
+fn the_stats_count_the_points_written() {
+    // The white cutoff drops points after sampling: the statistics count
+    // what the CSV holds, not what the sampler accepted.
+    let dir = tmp();
+    let (csv, stats) = (dir.path().join("p.csv"), dir.path().join("s.json"));
+    let gradient = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/gradient.exr");
+    let out = pixelpie(&[
+        "sample",
+        "--importance",
+        gradient,
+        "--min-radius",
+        "2",
+        "--white-cutoff",
+        "0.5",
+        "-o",
+        csv.to_str().unwrap(),
+        "--stats",
+        stats.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let rows = std::fs::read_to_string(&csv).unwrap().lines().count() - 1;
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
+    assert!(rows > 100);
+    assert_eq!(v["points"].as_u64(), Some(rows as u64));
+    // Without the cutoff there are more points: the cutoff did drop some.
+    let all = dir.path().join("all.csv");
+    let out = pixelpie(&[
+        "sample",
+        "--importance",
+        gradient,
+        "--min-radius",
+        "2",
+        "-o",
+        all.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert!(out.status.success());
+    assert!(std::fs::read_to_string(&all).unwrap().lines().count() - 1 > rows);
+}

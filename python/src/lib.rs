@@ -164,7 +164,8 @@ fn run_sample(
     };
     let image = match radii {
         Radii::Uniform(r) => {
-            let make = |s: f64| -> pixelpie::Result<Params> { Ok(base.clone().with_radius(s as f32)) };
+            let make =
+                |s: f64| -> pixelpie::Result<Params> { Ok(base.clone().with_radius(s as f32)) };
             let start = f64::from(r.unwrap_or(1.0));
             return Ok(pixelpie::count::sample_scaled(start, points, make, &mut run)?.0);
         }
@@ -207,7 +208,10 @@ enum ImageMap {
 /// The native `sample`; see `pixelpie.sample`.
 #[pyfunction]
 #[pyo3(signature = (width, height, radius, points, radius_map, importance_path, importance_values, policy_name, seed, subpixel_bits, periodic, exact, backend_name, max_iterations, progress))]
-#[expect(clippy::too_many_arguments, reason = "Python's keyword arguments, one by one")]
+#[expect(
+    clippy::too_many_arguments,
+    reason = "Python's keyword arguments, one by one"
+)]
 fn sample<'py>(
     py: Python<'py>,
     width: u32,
@@ -246,7 +250,9 @@ fn sample<'py>(
     }
     let radii = if let Some(a) = &radius_map {
         if radius.is_some() {
-            return Err(bad("radius and radius_map exclude each other (points scales the map)"));
+            return Err(bad(
+                "radius and radius_map exclude each other (points scales the map)",
+            ));
         }
         let (w, h, values) = grid(a, "radius_map")?;
         if (w, h) != (width, height) {
@@ -271,12 +277,10 @@ fn sample<'py>(
             _ => Radii::Uniform(radius),
         }
     };
-    if importance_values.is_some() || maps[1] {
-        if radius.is_none() && points.is_none() {
-            return Err(bad(
-                "give points or radius (the black pixels' radius) with an importance map",
-            ));
-        }
+    if (importance_values.is_some() || maps[1]) && radius.is_none() && points.is_none() {
+        return Err(bad(
+            "give points or radius (the black pixels' radius) with an importance map",
+        ));
     }
     let set = cancellable(py, progress, move |ctl| {
         run_sample((width, height), radii, radius, points, base, choice, ctl)
@@ -288,7 +292,10 @@ fn sample<'py>(
 /// The native `stipple`; see `pixelpie.stipple`.
 #[pyfunction(name = "stipple")]
 #[pyo3(signature = (image, output, points, width, height, dot, dot_factor, dot_ratio, dot_radius, relax, order, scale, width_mm, pen_mm, policy_name, seed, subpixel_bits, periodic, exact, tones, mapping, min_radius, max_radius, gamma, black_level, white_level, invert, white_cutoff, hdr_white, backend_name, progress))]
-#[expect(clippy::too_many_arguments, reason = "Python's keyword arguments, one by one")]
+#[expect(
+    clippy::too_many_arguments,
+    reason = "Python's keyword arguments, one by one"
+)]
 fn stipple_py<'py>(
     py: Python<'py>,
     image: PathBuf,
@@ -332,7 +339,11 @@ fn stipple_py<'py>(
         Some("fixed") => Some(DotMode::Fixed),
         Some("sized") => Some(DotMode::Sized),
         Some("proportional") => Some(DotMode::Proportional),
-        Some(d) => return Err(bad(format!("dot '{d}' is not one of fixed, sized, proportional"))),
+        Some(d) => {
+            return Err(bad(format!(
+                "dot '{d}' is not one of fixed, sized, proportional"
+            )));
+        }
     };
     o.dot_factor = dot_factor;
     o.dot_ratio = dot_ratio;
@@ -355,7 +366,11 @@ fn stipple_py<'py>(
     imp.tones = match tones {
         "display" => Tones::Display,
         "linear" => Tones::Linear,
-        _ => return Err(bad(format!("tones '{tones}' is not one of display, linear"))),
+        _ => {
+            return Err(bad(format!(
+                "tones '{tones}' is not one of display, linear"
+            )));
+        }
     };
     imp.mapping = match mapping {
         None => None,
