@@ -5,6 +5,23 @@
 //! * [`backend`]: backend selection;
 //! * [`io`]: file formats; [`count`]: point-count targeting.
 //!
+//! # Example
+//!
+//! ```
+//! use pixelpie::sampler::Params;
+//!
+//! // 8.5 px disks on 1024², tileable, exact (no sub-pixel slack, no gaps).
+//! let set = Params::new(1024, 1024)
+//!     .with_radius(8.5)
+//!     .with_periodic(true)
+//!     .with_exact(true)
+//!     .with_seed(7)
+//!     .generate()?;
+//! assert!(set.maximal());
+//! println!("{} points, {:.3} s", set.points.len(), set.stats.seconds);
+//! # Ok::<(), pixelpie::sampler::Error>(())
+//! ```
+//!
 //! # Features
 //!
 //! The default builds everything. With `default-features = false` the

@@ -97,7 +97,7 @@ fn a_dropped_file_replaces_the_map() {
     let app = h.state();
     let src = app.source.as_ref().unwrap();
     assert_eq!((src.map.width(), src.map.height()), (90, 60));
-    assert_eq!(src.path, second);
+    assert_eq!(src.path.as_deref(), Some(second.as_path()));
     // Sampled on the image enlarged to the CLI's 1024 px domain.
     let outcome = app.outcome.as_ref().unwrap();
     let set = &outcome.set;
@@ -112,7 +112,7 @@ fn a_dropped_file_replaces_the_map() {
     h.run_steps(2);
     assert!(
         h.state()
-            .error
+            .open_error
             .as_deref()
             .is_some_and(|e| e.contains("bad.png"))
     );
@@ -134,7 +134,7 @@ fn exports_are_read_by_the_cli_analyzer() {
         csv.exists(),
         "status {:?}, error {:?}",
         h.state().status,
-        h.state().error
+        h.state().export_error
     );
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_pixelpie"))
         .args([
@@ -216,4 +216,94 @@ fn relaxation_runs_on_the_worker_and_can_be_cancelled() {
     settle(&mut h);
     let relaxed = &h.state().outcome.as_ref().unwrap().set.points;
     assert!((1900..=2100).contains(&relaxed.len()), "{}", relaxed.len());
+}
+
+#[test]
+fn a_new_image_shows_no_stale_dots() {
+    // Bug: the old dots were drawn enlarged over a new image of another
+    // size until its sampling finished.
+    let dir = tempfile::tempdir().unwrap();
+    let (first, second) = (dir.path().join("a.png"), dir.path().join("b.png"));
+    gradient_png(&first, 300, 200);
+    gradient_png(&second, 128, 128);
+    let mut h = harness(&first);
+    settle(&mut h);
+    assert!(h.state().dots_drawn() > 100);
+    h.input_mut()
+        .dropped_files
+        .push(Arc::new(Dropped(second.clone())));
+    h.run_steps(1);
+    assert_eq!(h.state().source.as_ref().unwrap().map.width(), 128);
+    assert_eq!(h.state().dots_drawn(), 0, "old dots over the new image");
+    assert!(h.state().outcome.is_none());
+    settle(&mut h);
+    let set = &h.state().outcome.as_ref().unwrap().set;
+    assert_eq!((set.width, set.height), (1024, 1024));
+    assert!(h.state().dots_drawn() > 100);
+}
+
+#[test]
+fn exports_use_the_dot_colour_and_the_png_scale() {
+    // Bug: with red dots on screen the SVG said fill="black" and the PNG
+    // was grey; the PNG had no size control.
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("g.png");
+    gradient_png(&png, 160, 120);
+    let mut h = harness(&png);
+    settle(&mut h);
+    h.state_mut().settings.dot_color = [220, 30, 30];
+    h.state_mut().settings.png_scale = 0.5;
+    h.state_mut().export_path = dir.path().join("out").display().to_string();
+    h.get_by_label("SVG").click();
+    h.get_by_label("PNG").click();
+    h.run_steps(2);
+    assert!(h.state().export_error.is_none(), "{:?}", h.state().export_error);
+    let svg = std::fs::read_to_string(dir.path().join("out.svg")).unwrap();
+    assert!(svg.contains(r##"fill="#dc1e1e""##), "the SVG's ink is not the dots' colour");
+    let img = image::open(dir.path().join("out.png")).unwrap().to_rgb8();
+    let set = &h.state().outcome.as_ref().unwrap().set;
+    assert_eq!(img.dimensions(), (set.width / 2, set.height / 2));
+    let inked: Vec<_> = img.pixels().filter(|p| p.0 != [255, 255, 255]).collect();
+    assert!(inked.len() > 100);
+    // Every inked pixel lies between the paper and the ink: reddish.
+    assert!(inked.iter().all(|p| p.0[0] >= p.0[1] && p.0[1] == p.0[2]));
+    assert!(inked.iter().any(|p| p.0[0] > 200 && p.0[1] < 80));
+}
+
+#[test]
+fn errors_sit_by_their_action_and_go_when_it_succeeds() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("g.png");
+    gradient_png(&png, 160, 120);
+    let mut h = harness(&png);
+    settle(&mut h);
+    // Open with an empty path: a plain message, not "cannot read ''".
+    h.state_mut().open_path.clear();
+    h.get_by_label("Open").click();
+    h.run_steps(2);
+    let e = h.state().open_error.clone().expect("an open error");
+    assert!(!e.contains("''"), "{e}");
+    assert!(h.state().export_error.is_none() && h.state().error.is_none());
+    // A failed export names the user's file, not the temporary one.
+    let missing = dir.path().join("no-such-folder").join("out");
+    h.state_mut().export_path = missing.display().to_string();
+    h.get_by_label("SVG").click();
+    h.run_steps(2);
+    let e = h.state().export_error.clone().expect("an export error");
+    assert!(e.contains("out.svg") && !e.contains(".pixelpie-"), "{e}");
+    h.get_by_label(&e);
+    // The next export succeeds: its error goes, the full path shows.
+    h.state_mut().export_path = "out".into();
+    std::env::set_current_dir(dir.path()).unwrap();
+    h.get_by_label("SVG").click();
+    h.run_steps(2);
+    assert!(h.state().export_error.is_none());
+    let full = std::fs::canonicalize(dir.path().join("out.svg")).unwrap();
+    assert_eq!(h.state().exported.as_deref(), Some(full.as_path()));
+    h.get_by_label(&format!("wrote {}", full.display()));
+    // Opening an image clears the open error.
+    h.state_mut().open_path = png.display().to_string();
+    h.get_by_label("Open").click();
+    h.run_steps(2);
+    assert!(h.state().open_error.is_none());
 }

@@ -358,10 +358,10 @@ fn stipple_py<'py>(
     o.width_mm = width_mm;
     o.pen_mm = pen_mm;
     o.policy = policy(policy_name)?;
-    o.seed = seed;
-    o.subpixel_bits = subpixel_bits;
-    o.periodic = periodic;
-    o.exact = exact;
+    o.sampler.seed = seed;
+    o.sampler.subpixel_bits = subpixel_bits;
+    o.sampler.periodic = periodic;
+    o.sampler.exact = exact;
     let imp = &mut o.importance;
     imp.tones = match tones {
         "display" => Tones::Display,

@@ -26,13 +26,15 @@ use crate::sampler::Progress;
 pub const DEBOUNCE: Duration = Duration::from_millis(150);
 /// The key under which the settings persist.
 const STORAGE_KEY: &str = "pixelpie-settings";
-/// The bundled image shown at first start.
-pub const DEFAULT_IMAGE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/default.png");
+/// The photo shown at first start, built into the binary (assets/default.png).
+pub const DEFAULT_IMAGE: &[u8] = include_bytes!("../../assets/default.png");
+/// The built-in photo's name in the panel and in error messages.
+pub const DEFAULT_IMAGE_NAME: &str = "default.png (built in)";
 
 /// A loaded picture: the importance map and its display textures.
 pub struct Source {
-    /// Where it came from.
-    pub path: PathBuf,
+    /// Where it came from: a file, or `None` for the built-in photo.
+    pub path: Option<PathBuf>,
     /// The importance map.
     pub map: Arc<ImportanceMap>,
     importance: egui::TextureHandle,
@@ -47,10 +49,18 @@ pub struct PixelPieApp {
     pub source: Option<Source>,
     /// The latest finished sampling.
     pub outcome: Option<Outcome>,
-    /// The last error, shown in the panel.
+    /// The last sampling error, shown with the statistics.
     pub error: Option<String>,
-    /// A status line (exports, fallbacks).
+    /// Why the last image could not be opened, shown under the Open row
+    /// until an image opens.
+    pub open_error: Option<String>,
+    /// Why the last export failed, shown under the Export row until an
+    /// export succeeds.
+    pub export_error: Option<String>,
+    /// The sampler's note (fallbacks, a count that did not fit).
     pub status: String,
+    /// The last file exported, in full.
+    pub exported: Option<PathBuf>,
     /// Where exports go (the extension is set by the button).
     pub export_path: String,
     worker: Worker,
@@ -88,7 +98,10 @@ impl PixelPieApp {
             source: None,
             outcome: None,
             error: None,
+            open_error: None,
+            export_error: None,
             status: String::new(),
+            exported: None,
             export_path: "stipple.svg".into(),
             worker,
             next_job: 0,
@@ -103,30 +116,68 @@ impl PixelPieApp {
             gpu_dots,
             open_path: String::new(),
         };
-        let path = image
-            .or_else(|| settings.image.take())
-            .unwrap_or_else(|| DEFAULT_IMAGE.into());
-        app.open(&cc.egui_ctx, &path);
-        if app.source.is_none() && path != Path::new(DEFAULT_IMAGE) {
-            app.open(&cc.egui_ctx, Path::new(DEFAULT_IMAGE));
+        match image.or_else(|| settings.image.take()) {
+            Some(path) => {
+                app.open(&cc.egui_ctx, &path);
+                if app.source.is_none() {
+                    // Keep the error, but show something to work on.
+                    let error = app.open_error.take();
+                    app.open_builtin(&cc.egui_ctx);
+                    app.open_error = error;
+                }
+            }
+            None => app.open_builtin(&cc.egui_ctx),
         }
         app
     }
 
     /// Loads an image or EXR as the importance map; errors go to the panel.
     pub fn open(&mut self, ctx: &egui::Context, path: &Path) {
-        match load_source(ctx, path) {
+        if path.as_os_str().is_empty() {
+            self.open_error =
+                Some("no file given: type a path, drop a file or use Browse".into());
+            return;
+        }
+        match load_source(ctx, Some(path)) {
             Ok(source) => {
                 self.settings.image = Some(path.to_path_buf());
                 self.open_path = path.display().to_string();
-                self.source = Some(source);
-                self.error = None;
-                self.last_key = None;
-                self.view.fit_next = true;
-                self.request_sample();
+                self.show(source);
             }
-            Err(e) => self.error = Some(e),
+            Err(e) => self.open_error = Some(e),
         }
+    }
+
+    /// Loads the built-in photo.
+    pub fn open_builtin(&mut self, ctx: &egui::Context) {
+        match load_source(ctx, None) {
+            Ok(source) => {
+                self.settings.image = None;
+                self.open_path.clear();
+                self.show(source);
+            }
+            Err(e) => self.open_error = Some(e),
+        }
+    }
+
+    /// Makes `source` the picture, drops the old drawing (its dots belong to
+    /// another domain) and samples anew.
+    fn show(&mut self, source: Source) {
+        // A job in flight samples the old picture: its reply is stale.
+        self.worker.cancel();
+        self.next_job += 1;
+        self.done_job = self.next_job;
+        self.progress = None;
+        self.relaxed = None;
+        self.source = Some(source);
+        self.open_error = None;
+        self.outcome = None;
+        self.dot_instances = Arc::new(Vec::new());
+        self.dots_generation += 1;
+        self.error = None;
+        self.last_key = None;
+        self.view.fit_next = true;
+        self.request_sample();
     }
 
     /// The GPU adapter that samples and draws, if any.
@@ -212,9 +263,14 @@ impl PixelPieApp {
     }
 }
 
-/// Decodes `path` into an importance map and two display textures.
-fn load_source(ctx: &egui::Context, path: &Path) -> Result<Source, String> {
-    let map = ImportanceMap::open(path, None).map_err(|e| e.to_string())?;
+/// Decodes `path` (`None`: the built-in photo) into an importance map and
+/// two display textures.
+fn load_source(ctx: &egui::Context, path: Option<&Path>) -> Result<Source, String> {
+    let map = match path {
+        Some(p) => ImportanceMap::open(p, None),
+        None => ImportanceMap::from_encoded(DEFAULT_IMAGE, Path::new(DEFAULT_IMAGE_NAME), None),
+    }
+    .map_err(|e| e.to_string())?;
     let (w, h) = (map.width() as usize, map.height() as usize);
     let gray: Vec<egui::Color32> = map
         .values()
@@ -231,7 +287,11 @@ fn load_source(ctx: &egui::Context, path: &Path) -> Result<Source, String> {
         egui::TextureOptions::LINEAR,
     );
     // The photo in colour where `image` can decode it; EXR shows its luminance.
-    let photo_image = image::open(path)
+    let decoded = match path {
+        Some(p) => image::open(p),
+        None => image::load_from_memory(DEFAULT_IMAGE),
+    };
+    let photo_image = decoded
         .ok()
         .map(|img| img.to_rgba8())
         .filter(|img| img.dimensions() == (map.width(), map.height()))
@@ -241,7 +301,7 @@ fn load_source(ctx: &egui::Context, path: &Path) -> Result<Source, String> {
         );
     let photo = ctx.load_texture("photo", photo_image, egui::TextureOptions::LINEAR);
     Ok(Source {
-        path: path.to_path_buf(),
+        path: path.map(Path::to_path_buf),
         map: Arc::new(map),
         importance,
         photo,

@@ -86,6 +86,8 @@ pub struct Settings {
     pub background: Background,
     /// Show the coverage disks of the samples (paper Figure 4).
     pub show_coverage: bool,
+    /// PNG export: image pixels per domain pixel.
+    pub png_scale: f32,
 }
 
 impl Default for Settings {
@@ -116,6 +118,7 @@ impl Default for Settings {
             dot_color: [20, 20, 20],
             background: Background::Paper,
             show_coverage: false,
+            png_scale: 1.0,
         }
     }
 }

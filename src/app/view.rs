@@ -46,12 +46,18 @@ impl PixelPieApp {
                 self.open(&ctx, &path);
             }
         });
+        if let Some(e) = &self.open_error {
+            ui.colored_label(Color32::from_rgb(200, 40, 40), e);
+        }
         if let Some(src) = &self.source {
             ui.label(format!(
                 "{} ({}×{})",
-                src.path
-                    .file_name()
-                    .map_or_else(String::new, |n| n.to_string_lossy().into_owned()),
+                src.path.as_ref().map_or_else(
+                    || super::DEFAULT_IMAGE_NAME.to_owned(),
+                    |p| p
+                        .file_name()
+                        .map_or_else(String::new, |n| n.to_string_lossy().into_owned())
+                ),
                 src.map.width(),
                 src.map.height()
             ));
@@ -247,23 +253,49 @@ impl PixelPieApp {
         }
     }
 
+    /// Under the Export row: the file written, or why not.
+    fn export_result_ui(&self, ui: &mut egui::Ui) {
+        if let Some(e) = &self.export_error {
+            ui.colored_label(Color32::from_rgb(200, 40, 40), e);
+        } else if let Some(p) = &self.exported {
+            ui.label(format!("wrote {}", p.display()));
+        }
+    }
+
     fn export_ui(&mut self, ui: &mut egui::Ui) {
         ui.label("Export to");
         ui.add(egui::TextEdit::singleline(&mut self.export_path).desired_width(240.0));
         ui.horizontal(|ui| {
             for ext in ["svg", "png", "csv", "json"] {
                 if ui.button(ext.to_uppercase()).clicked() {
-                    let path = PathBuf::from(self.export_path.trim()).with_extension(ext);
-                    match self.export(&path) {
-                        Ok(()) => {
-                            self.status = format!("wrote {}", path.display());
-                            self.export_path = path.display().to_string();
-                        }
-                        Err(e) => self.error = Some(format!("{e:#}")),
-                    }
+                    self.export_as(ext);
                 }
             }
         });
+        self.export_result_ui(ui);
+    }
+
+    /// Exports to the export path with extension `ext`; the outcome shows
+    /// under the Export row.
+    pub fn export_as(&mut self, ext: &str) {
+        let typed = self.export_path.trim();
+        if typed.is_empty() {
+            self.export_error = Some("no file name given: type one or use Browse".into());
+            return;
+        }
+        let path = PathBuf::from(typed).with_extension(ext);
+        match self.export(&path) {
+            Ok(()) => {
+                let full = std::fs::canonicalize(&path).unwrap_or(path);
+                self.export_path = full.display().to_string();
+                self.exported = Some(full);
+                self.export_error = None;
+            }
+            Err(e) => {
+                self.exported = None;
+                self.export_error = Some(format!("{e:#}"));
+            }
+        }
     }
 
     /// How big the dots are drawn and exported.
@@ -297,14 +329,17 @@ impl PixelPieApp {
         let dots = self.drawn_dots();
         let domain = (o.set.width, o.set.height);
         match path.extension().and_then(|e| e.to_str()) {
-            Some("svg") => crate::io::write_atomic(path, |w| {
-                svg::write(w, &dots, &svg::SvgOptions::new(domain))?;
-                Ok(())
-            })?,
-            Some("png") => {
-                let img = raster::render(&dots, domain, 1.0)?;
+            Some("svg") => {
+                let opts = svg::SvgOptions::new(domain).with_ink(self.settings.dot_color);
                 crate::io::write_atomic(path, |w| {
-                    raster::write_png(w, &img, dots.len())?;
+                    svg::write(w, &dots, &opts)?;
+                    Ok(())
+                })?;
+            }
+            Some("png") => {
+                let img = raster::render(&dots, domain, self.settings.png_scale)?;
+                crate::io::write_atomic(path, |w| {
+                    raster::write_png_ink(w, &img, self.settings.dot_color, dots.len())?;
                     Ok(())
                 })?;
             }

@@ -14,7 +14,9 @@ use pixelpie::count;
 use pixelpie::gpu::S1Path;
 use pixelpie::importance::{ImportanceOptions, Mapping, fit_size};
 use pixelpie::io;
-use pixelpie::sampler::{self, Control, Params, Policy, Progress, RadiusMap, SampleSet};
+use pixelpie::sampler::{
+    self, Control, Params, Policy, Progress, RadiusMap, SampleSet, SamplerOptions,
+};
 
 use super::importance::RunOpts;
 
@@ -46,30 +48,12 @@ pub struct SampleArgs {
     /// Disk policy for varying radii (paper §3.4).
     #[arg(long, value_enum, default_value_t = Policy::Prior)]
     policy: Policy,
-    /// Seed of the dart hash.
-    #[arg(long, default_value_t = 0)]
-    seed: u64,
-    /// Sub-pixel bits per axis of dart positions (0 = pixel centres, at most 7).
-    #[arg(long, default_value_t = sampler::DEFAULT_SUBPIXEL_BITS)]
-    subpixel_bits: u32,
+    #[command(flatten)]
+    #[serde(flatten)]
+    sampler: SamplerOptions,
     /// Darts per iteration (default: half the expected count).
     #[arg(long)]
     batch: Option<u32>,
-    /// Wrap distances and disks around the domain (tileable output).
-    #[arg(long)]
-    periodic: bool,
-    /// Exact mode: the disk condition between the samples themselves with no
-    /// sub-pixel slack, maximal in the continuous domain, at the RSA density
-    /// (runs on the CPU).
-    #[arg(long)]
-    exact: bool,
-    /// Backend.
-    #[arg(long, value_enum, default_value_t = BackendChoice::Auto)]
-    backend: BackendChoice,
-    /// How the GPU rasterizes darts (S1): by measurement, the depth-tested
-    /// draw, or the compute pass.
-    #[arg(long, value_enum, default_value_t = GpuPath::Auto)]
-    gpu_path: GpuPath,
     /// Cap on iterations; a capped run is reported as not maximal.
     #[arg(long, default_value_t = sampler::DEFAULT_MAX_ITERATIONS)]
     max_iterations: u32,
@@ -79,12 +63,37 @@ pub struct SampleArgs {
     /// Statistics as JSON.
     #[arg(long)]
     stats: Option<PathBuf>,
-    /// No progress bar.
+    #[command(flatten)]
+    #[serde(flatten)]
+    run: RunArgs,
+}
+
+/// How a run goes, for `sample` and `stipple`: the backend, and what is
+/// reported on stderr.
+#[derive(Args, Debug, Serialize)]
+pub struct RunArgs {
+    /// Backend.
+    #[arg(long, value_enum, default_value_t = BackendChoice::Auto)]
+    pub backend: BackendChoice,
+    /// How the GPU rasterizes darts (S1): by measurement, the depth-tested
+    /// draw, or the compute pass.
+    #[arg(long, value_enum, default_value_t = GpuPath::Auto)]
+    pub gpu_path: GpuPath,
+    /// No progress bar and no report on stderr.
     #[arg(long, short)]
-    quiet: bool,
-    /// Print the backend and adapter on stderr.
+    pub quiet: bool,
+    /// Print the backend, adapter, radii and timings on stderr.
     #[arg(long, short)]
-    verbose: bool,
+    pub verbose: bool,
+}
+
+impl RunArgs {
+    /// Makes the process's GPU use the chosen S1 path.
+    pub fn apply_gpu_path(&self) {
+        if self.backend != BackendChoice::Cpu && self.gpu_path != GpuPath::Auto {
+            self.gpu_path.apply();
+        }
+    }
 }
 
 /// The GPU's S1 path on the command line.
@@ -173,11 +182,8 @@ pub fn run_with_progress(
 fn base_params(a: &SampleArgs, width: u32, height: u32) -> Params {
     let base = Params::new(width, height)
         .with_policy(a.policy)
-        .with_seed(a.seed)
-        .with_subpixel_bits(a.subpixel_bits)
-        .with_periodic(a.periodic)
-        .with_exact(a.exact)
         .with_max_iterations(a.max_iterations);
+    let base = a.sampler.apply(base);
     match a.batch {
         Some(b) => base.with_batch(b),
         None => base,
@@ -193,14 +199,14 @@ fn run_importance(a: &SampleArgs, path: &Path) -> Result<()> {
         Mapping::Linear,
         a.points.is_some(),
     )?;
-    let bar = progress_bar(a.quiet);
+    let bar = progress_bar(a.run.quiet);
     let opts = RunOpts {
         base: base_params(a, prepared.map.width(), prepared.map.height()),
         points: a.points,
-        backend: a.backend,
+        backend: a.run.backend,
         bar: &bar,
-        quiet: a.quiet,
-        verbose: a.verbose,
+        quiet: a.run.quiet,
+        verbose: a.run.verbose,
     };
     let (set, _) = super::importance::sample(&prepared, &opts)?;
     bar.finish_and_clear();
@@ -212,9 +218,7 @@ pub fn run(a: &SampleArgs) -> Result<()> {
     if let Some(s) = &a.stats {
         check_json_path(s)?;
     }
-    if a.backend != BackendChoice::Cpu && a.gpu_path != GpuPath::Auto {
-        a.gpu_path.apply();
-    }
+    a.run.apply_gpu_path();
     if let Some(path) = &a.importance {
         return run_importance(a, path);
     }
@@ -258,14 +262,14 @@ pub fn run(a: &SampleArgs) -> Result<()> {
             None => base.clone().with_radius(scale as f32),
         })
     };
-    let bar = progress_bar(a.quiet);
+    let bar = progress_bar(a.run.quiet);
     let (set, runs) = count::sample_scaled(
         f64::from(a.radius.unwrap_or(1.0)),
         a.points,
         make,
-        |p| -> Result<SampleSet> { Ok(run_with_progress(p, a.backend, &bar, a.verbose)?) },
+        |p| -> Result<SampleSet> { Ok(run_with_progress(p, a.run.backend, &bar, a.run.verbose)?) },
     )?;
-    if let (Some(n), true) = (a.points, a.verbose) {
+    if let (Some(n), true) = (a.points, a.run.verbose) {
         eprintln!(
             "count target {n}: {} points after {runs} runs",
             set.points.len()
@@ -285,7 +289,7 @@ fn write_outputs(a: &SampleArgs, set: &SampleSet) -> Result<()> {
             Ok(())
         })?;
     }
-    if !set.maximal() && !a.quiet {
+    if !set.maximal() && !a.run.quiet {
         if set.stats.exact && set.iterations() < a.max_iterations {
             eprintln!(
                 "warning: {} voids finer than the position grid remain; the set is not maximal",

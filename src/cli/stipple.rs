@@ -9,11 +9,10 @@ use anyhow::Result;
 use clap::Args;
 use serde::Serialize;
 
-use pixelpie::backend::BackendChoice;
 use pixelpie::io;
 use pixelpie::stipple::{Format, StippleOptions};
 
-use super::sample::{GpuPath, progress_bar, run_with_progress};
+use super::sample::{RunArgs, progress_bar, run_with_progress};
 
 /// Arguments of `pixelpie stipple`.
 #[derive(Args, Debug, Serialize)]
@@ -30,19 +29,9 @@ pub struct StippleArgs {
     /// Also write the dots' centres and radii (.csv or .json), in drawing order.
     #[arg(long)]
     save_points: Option<PathBuf>,
-    /// Backend.
-    #[arg(long, value_enum, default_value_t = BackendChoice::Auto)]
-    backend: BackendChoice,
-    /// How the GPU rasterizes darts (S1): by measurement, the depth-tested
-    /// draw, or the compute pass.
-    #[arg(long, value_enum, default_value_t = GpuPath::Auto)]
-    gpu_path: GpuPath,
-    /// No progress bar and no report on stderr.
-    #[arg(long, short)]
-    quiet: bool,
-    /// Print the backend, radii and timings on stderr.
-    #[arg(long, short)]
-    verbose: bool,
+    #[command(flatten)]
+    #[serde(flatten)]
+    run: RunArgs,
 }
 
 pub fn run(a: &StippleArgs) -> Result<()> {
@@ -52,12 +41,10 @@ pub fn run(a: &StippleArgs) -> Result<()> {
         io::PointFormat::from_path(p)?;
     }
     o.validate(format)?;
-    if a.backend != BackendChoice::Cpu && a.gpu_path != GpuPath::Auto {
-        a.gpu_path.apply();
-    }
+    a.run.apply_gpu_path();
     let t0 = Instant::now();
-    let bar = progress_bar(a.quiet);
-    let relax_bar = progress_bar(a.quiet || o.relax == 0);
+    let bar = progress_bar(a.run.quiet);
+    let relax_bar = progress_bar(a.run.quiet || o.relax == 0);
     relax_bar.set_length(u64::from(o.relax));
     relax_bar.set_style(
         indicatif::ProgressStyle::with_template("{spinner} relaxing [{bar:30}] {pos}/{len}")
@@ -65,7 +52,14 @@ pub fn run(a: &StippleArgs) -> Result<()> {
     );
     let drawing = o.run(
         &a.image,
-        |params| Ok(run_with_progress(params, a.backend, &bar, a.verbose)?),
+        |params| {
+            Ok(run_with_progress(
+                params,
+                a.run.backend,
+                &bar,
+                a.run.verbose,
+            )?)
+        },
         |done| {
             bar.finish_and_clear();
             relax_bar.set_position(u64::from(done));
@@ -75,11 +69,11 @@ pub fn run(a: &StippleArgs) -> Result<()> {
     bar.finish_and_clear();
     relax_bar.finish_and_clear();
     let got = drawing.set.points.len();
-    if a.verbose {
+    if a.run.verbose {
         eprintln!("{got} points after {} runs", drawing.runs);
     }
     if let Some(n) = drawing.short_of
-        && !a.quiet
+        && !a.run.quiet
     {
         eprintln!(
             "warning: asked for {n} points, got {got}: the smallest radius is at the sampler's \
@@ -87,7 +81,7 @@ pub fn run(a: &StippleArgs) -> Result<()> {
         );
     }
     if let Some(tour) = &drawing.tour
-        && !a.quiet
+        && !a.run.quiet
     {
         let saved = if tour.nearest_neighbour_length > 0.0 {
             100.0 * (1.0 - tour.length / tour.nearest_neighbour_length)
@@ -104,7 +98,7 @@ pub fn run(a: &StippleArgs) -> Result<()> {
         let out = drawing.set.clone().with_points(drawing.points.clone());
         io::write_points(path, &out, a)?;
     }
-    if a.verbose {
+    if a.run.verbose {
         let (lo, hi) = drawing
             .dots
             .iter()

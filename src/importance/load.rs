@@ -124,6 +124,27 @@ pub fn linear_to_srgb(v: f32) -> f32 {
     }
 }
 
+/// Decodes an image file held in memory (PNG, JPEG, TIFF, BMP, WebP) into
+/// linear luminance, as [`load`] does a file; `name` names it in errors.
+pub fn load_bytes(bytes: &[u8], name: &Path) -> Result<Luminance> {
+    let decode = |e: &dyn std::fmt::Display| Error::Decode {
+        path: name.to_owned(),
+        message: one_line(&e.to_string()),
+    };
+    let img = image::ImageReader::new(std::io::Cursor::new(bytes))
+        .with_guessed_format()
+        .map_err(|e| decode(&e))?
+        .decode()
+        .map_err(|e| decode(&e))?;
+    let lum = luminance(img, name)?;
+    if lum.width == 0 || lum.height == 0 {
+        return Err(Error::Empty {
+            path: name.to_owned(),
+        });
+    }
+    Ok(lum)
+}
+
 fn load_image(path: &Path) -> Result<Luminance> {
     let decode = |e: &dyn std::fmt::Display| Error::Decode {
         path: path.to_owned(),
@@ -138,6 +159,11 @@ fn load_image(path: &Path) -> Result<Luminance> {
         .map_err(|e| decode(&e))?
         .decode()
         .map_err(|e| decode(&e))?;
+    luminance(img, path)
+}
+
+/// A decoded raster image's linear luminance (and alpha).
+fn luminance(img: image::DynamicImage, path: &Path) -> Result<Luminance> {
     let (width, height) = (img.width(), img.height());
     let color = img.color();
     let has_alpha = color.has_alpha();

@@ -34,7 +34,7 @@ mod options;
 use std::path::{Path, PathBuf};
 
 pub use fit::{Fitted, Prepared};
-pub use load::{Luminance, Range, linear_to_srgb, load, srgb_to_linear};
+pub use load::{Luminance, Range, linear_to_srgb, load, load_bytes, srgb_to_linear};
 pub use mapping::{Mapping, RadiusRange};
 pub use options::{DEFAULT_RADIUS_RATIO, ImportanceOptions, MappingKind};
 
@@ -232,6 +232,12 @@ impl ImportanceMap {
     /// pipeline). `hdr_white` overrides the white point of float images.
     pub fn open(path: &Path, hdr_white: Option<f32>) -> Result<Self> {
         load(path)?.normalized(hdr_white)
+    }
+
+    /// [`Self::open`] for an image file held in memory (not EXR); `name`
+    /// names it in errors.
+    pub fn from_encoded(bytes: &[u8], name: &Path, hdr_white: Option<f32>) -> Result<Self> {
+        load_bytes(bytes, name)?.normalized(hdr_white)
     }
 
     /// Width in pixels.

@@ -18,6 +18,14 @@ pub fn write_atomic(
         path: path.to_path_buf(),
         source,
     };
+    // tempfile names its temporary file in its errors: keep the cause only,
+    // so that a message speaks of the user's file.
+    let plain = |e: std::io::Error| -> BoxError {
+        match e.raw_os_error() {
+            Some(code) => Box::new(std::io::Error::from_raw_os_error(code)),
+            None => Box::new(std::io::Error::new(e.kind(), e.kind().to_string())),
+        }
+    };
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
@@ -25,18 +33,18 @@ pub fn write_atomic(
     let tmp = tempfile::Builder::new()
         .prefix(".pixelpie-")
         .tempfile_in(dir)
-        .map_err(|e| fail(e.into()))?;
+        .map_err(|e| fail(plain(e)))?;
     let mut w = BufWriter::new(tmp);
     fill(&mut w).map_err(fail)?;
-    let tmp = w.into_inner().map_err(|e| fail(e.into_error().into()))?;
+    let tmp = w.into_inner().map_err(|e| fail(plain(e.into_error())))?;
     // Temporary files are private (0600); an output is an ordinary file.
     #[cfg(unix)]
     {
         use std::os::unix::fs::PermissionsExt;
         tmp.as_file()
             .set_permissions(std::fs::Permissions::from_mode(0o644))
-            .map_err(|e| fail(e.into()))?;
+            .map_err(|e| fail(plain(e)))?;
     }
-    tmp.persist(path).map_err(|e| fail(e.error.into()))?;
+    tmp.persist(path).map_err(|e| fail(plain(e.error)))?;
     Ok(())
 }

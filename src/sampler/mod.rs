@@ -51,12 +51,14 @@
 pub mod cpu;
 pub mod exact;
 pub mod fixed;
+mod options;
 mod output;
 mod params;
 pub mod run;
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
+pub use options::SamplerOptions;
 pub use output::{Point, Report as StatsReport, SampleSet, Stats};
 pub use params::{
     DEFAULT_MAX_ITERATIONS, DEFAULT_SUBPIXEL_BITS, KeyLayout, MAX_PIXELS, Params, Plan, Policy,

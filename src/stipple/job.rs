@@ -13,7 +13,7 @@ use super::{Dot, DotSize, Error, relax, svg, tsp};
 use crate::importance::{
     DEFAULT_RADIUS_RATIO, ImportanceMap, ImportanceOptions, Mapping, RadiusRange, fit_size,
 };
-use crate::sampler::{self, Params, Point, Policy, SampleSet};
+use crate::sampler::{Params, Point, Policy, SampleSet, SamplerOptions};
 
 /// The default number of dots.
 pub const DEFAULT_POINTS: usize = 10_000;
@@ -143,20 +143,10 @@ pub struct StippleOptions {
     /// the smaller disk, which keeps large light-area disks out of dark areas.
     #[cfg_attr(feature = "cli", arg(long, value_enum, default_value_t = Policy::Smaller))]
     pub policy: Policy,
-    /// Seed of the dart hash.
-    #[cfg_attr(feature = "cli", arg(long, default_value_t = 0))]
-    pub seed: u64,
-    /// Sub-pixel bits per axis of dart positions (0 = pixel centres, at most 7).
-    #[cfg_attr(feature = "cli", arg(long, default_value_t = sampler::DEFAULT_SUBPIXEL_BITS))]
-    pub subpixel_bits: u32,
-    /// Wrap distances around the domain, so that tiled copies of the drawing
-    /// keep the dot spacing across their seams.
-    #[cfg_attr(feature = "cli", arg(long))]
-    pub periodic: bool,
-    /// Exact mode: dots exactly the disk distance apart with no gaps between
-    /// them (runs on the CPU).
-    #[cfg_attr(feature = "cli", arg(long))]
-    pub exact: bool,
+    /// Seed, sub-pixel darts, periodic domain, exact mode.
+    #[cfg_attr(feature = "cli", command(flatten))]
+    #[serde(flatten)]
+    pub sampler: SamplerOptions,
 }
 
 impl Default for StippleOptions {
@@ -176,10 +166,7 @@ impl Default for StippleOptions {
             width_mm: None,
             pen_mm: None,
             policy: Policy::Smaller,
-            seed: 0,
-            subpixel_bits: sampler::DEFAULT_SUBPIXEL_BITS,
-            periodic: false,
-            exact: false,
+            sampler: SamplerOptions::default(),
         }
     }
 }
@@ -338,19 +325,16 @@ impl StippleOptions {
             prepared.range = RadiusRange::new(min, max.max(min))?;
         }
         let t_load = t0.elapsed().as_secs_f64();
-        let base = Params::new(width, height)
-            .with_policy(self.policy)
-            .with_seed(self.seed)
-            .with_subpixel_bits(self.subpixel_bits)
-            .with_periodic(self.periodic)
-            .with_exact(self.exact);
+        let base = self
+            .sampler
+            .apply(Params::new(width, height).with_policy(self.policy));
         let fitted = prepared.sample(&base, points, sample)?;
         let (mut set, range) = (fitted.set, fitted.range);
         let t_sample = t0.elapsed().as_secs_f64() - t_load;
         if self.relax > 0 {
             let options = relax::RelaxOptions {
                 iterations: self.relax,
-                periodic: self.periodic,
+                periodic: self.sampler.periodic,
             };
             let moved = super::relax_points(&prepared, range, &set.points, options, relaxed)?;
             set = set.with_points(moved);

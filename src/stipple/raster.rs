@@ -116,6 +116,32 @@ pub fn write_png(w: &mut dyn Write, img: &GrayImage, dots: usize) -> Result<()> 
     writer.finish().map_err(encode)
 }
 
+/// Encodes `img` (paper white, grey where ink is) as an 8-bit RGB PNG with
+/// ink of colour `ink` (sRGB): each pixel blends the paper and the ink by
+/// the ink's coverage, as [`write_png`] does in grey (black ink gives the
+/// same greys).
+pub fn write_png_ink(w: &mut dyn Write, img: &GrayImage, ink: [u8; 3], dots: usize) -> Result<()> {
+    let encode = |e: png::EncodingError| Error::Encode(e.to_string());
+    let mut enc = png::Encoder::new(w, img.width(), img.height());
+    enc.set_color(png::ColorType::Rgb);
+    enc.set_depth(png::BitDepth::Eight);
+    enc.add_text_chunk("Software".into(), "pixelpie".into())
+        .map_err(encode)?;
+    enc.add_text_chunk(DOTS_KEYWORD.into(), dots.to_string())
+        .map_err(encode)?;
+    let rgb: Vec<u8> = img
+        .as_raw()
+        .iter()
+        .flat_map(|&g| {
+            let paper = u32::from(g);
+            ink.map(|c| ((u32::from(c) * (255 - paper) + 255 * paper + 127) / 255) as u8)
+        })
+        .collect();
+    let mut writer = enc.write_header().map_err(encode)?;
+    writer.write_image_data(&rgb).map_err(encode)?;
+    writer.finish().map_err(encode)
+}
+
 /// The dot count of a PNG drawing we wrote ([`write_png`]), or `None` for
 /// any other PNG (or bytes that are not a PNG).
 ///

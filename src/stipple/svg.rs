@@ -44,6 +44,8 @@ pub struct SvgOptions {
     /// The pen's width in mm: draw each dot as a pen stroke of this width
     /// (needs `size_mm`); `None` draws filled circles.
     pub pen_mm: Option<f64>,
+    /// The ink's colour (sRGB); black by default.
+    pub ink: [u8; 3],
 }
 
 impl SvgOptions {
@@ -60,6 +62,28 @@ impl SvgOptions {
             domain,
             size_mm: None,
             pen_mm: None,
+            ink: [0, 0, 0],
+        }
+    }
+
+    /// These options with ink of colour `ink` (sRGB).
+    ///
+    /// ```
+    /// use pixelpie::stipple::svg::SvgOptions;
+    /// assert_eq!(SvgOptions::new((4, 4)).with_ink([255, 0, 0]).ink_name(), "#ff0000");
+    /// assert_eq!(SvgOptions::new((4, 4)).ink_name(), "black");
+    /// ```
+    #[must_use]
+    pub fn with_ink(self, ink: [u8; 3]) -> Self {
+        Self { ink, ..self }
+    }
+
+    /// The ink as an SVG colour: `black`, or `#rrggbb`.
+    #[must_use]
+    pub fn ink_name(&self) -> String {
+        match self.ink {
+            [0, 0, 0] => "black".into(),
+            [r, g, b] => format!("#{r:02x}{g:02x}{b:02x}"),
         }
     }
 
@@ -81,6 +105,7 @@ impl SvgOptions {
             domain,
             size_mm: Some((width_mm, h)),
             pen_mm: None,
+            ink: [0, 0, 0],
         })
     }
 
@@ -128,7 +153,7 @@ impl SvgOptions {
 /// ```
 /// use pixelpie::stipple::{Dot, svg};
 /// let mut out = Vec::new();
-/// let opts = svg::SvgOptions { domain: (10, 10), size_mm: None, pen_mm: None };
+/// let opts = svg::SvgOptions::new((10, 10));
 /// svg::write(&mut out, &[Dot { x: 5.0, y: 5.0, radius: 1.0 }], &opts).unwrap();
 /// assert!(String::from_utf8(out).unwrap().contains(r#"<circle cx="5" cy="5" r="1"/>"#));
 /// ```
@@ -147,7 +172,7 @@ impl SvgOptions {
 /// ```
 pub fn write(w: &mut dyn Write, dots: &[Dot], opts: &SvgOptions) -> Result<()> {
     if let Some((pen, size)) = opts.pen()? {
-        return write_pen(w, dots, opts.domain, size, pen);
+        return write_pen(w, dots, opts.domain, size, pen, &opts.ink_name());
     }
     let (dw, dh) = opts.domain;
     let (width, height) = match opts.size_mm {
@@ -160,7 +185,7 @@ pub fn write(w: &mut dyn Write, dots: &[Dot], opts: &SvgOptions) -> Result<()> {
         r#"<svg xmlns="http://www.w3.org/2000/svg" version="1.1" width="{width}" height="{height}" viewBox="0 0 {dw} {dh}">"#
     )?;
     writeln!(w, "<!-- {} dots, made by pixelpie -->", dots.len())?;
-    writeln!(w, r#"<g fill="black" stroke="none">"#)?;
+    writeln!(w, r#"<g fill="{}" stroke="none">"#, opts.ink_name())?;
     for d in dots {
         writeln!(
             w,
@@ -183,6 +208,7 @@ fn write_pen(
     domain: (u32, u32),
     (width, height): (f64, f64),
     pen: f64,
+    ink: &str,
 ) -> Result<()> {
     if let Some((i, d)) = dots
         .iter()
@@ -204,7 +230,8 @@ fn write_pen(
     writeln!(w, "<!-- {} dots, made by pixelpie -->", dots.len())?;
     writeln!(
         w,
-        r#"<g inkscape:groupmode="layer" id="layer1" inkscape:label="1 stipple" fill="none" stroke="black" stroke-width="{}" stroke-linecap="round" stroke-linejoin="round">"#,
+        r#"<g inkscape:groupmode="layer" id="layer1" inkscape:label="1 stipple" fill="none" stroke="{}" stroke-width="{}" stroke-linecap="round" stroke-linejoin="round">"#,
+        ink,
         num(pen)
     )?;
     let mut line = String::new();
