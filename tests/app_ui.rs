@@ -257,9 +257,16 @@ fn exports_use_the_dot_colour_and_the_png_scale() {
     h.get_by_label("SVG").click();
     h.get_by_label("PNG").click();
     h.run_steps(2);
-    assert!(h.state().export_error.is_none(), "{:?}", h.state().export_error);
+    assert!(
+        h.state().export_error.is_none(),
+        "{:?}",
+        h.state().export_error
+    );
     let svg = std::fs::read_to_string(dir.path().join("out.svg")).unwrap();
-    assert!(svg.contains(r##"fill="#dc1e1e""##), "the SVG's ink is not the dots' colour");
+    assert!(
+        svg.contains(r##"fill="#dc1e1e""##),
+        "the SVG's ink is not the dots' colour"
+    );
     let img = image::open(dir.path().join("out.png")).unwrap().to_rgb8();
     let set = &h.state().outcome.as_ref().unwrap().set;
     assert_eq!(img.dimensions(), (set.width / 2, set.height / 2));

@@ -74,7 +74,8 @@ pub struct PixelPieApp {
     dot_instances: Arc<Vec<dots::DotInstance>>,
     view: view::ViewState,
     gpu_dots: bool,
-    open_path: String,
+    /// The path typed in the Open field.
+    pub open_path: String,
 }
 
 impl PixelPieApp {
@@ -134,8 +135,7 @@ impl PixelPieApp {
     /// Loads an image or EXR as the importance map; errors go to the panel.
     pub fn open(&mut self, ctx: &egui::Context, path: &Path) {
         if path.as_os_str().is_empty() {
-            self.open_error =
-                Some("no file given: type a path, drop a file or use Browse".into());
+            self.open_error = Some("no file given: type a path, drop a file or use Browse".into());
             return;
         }
         match load_source(ctx, Some(path)) {
