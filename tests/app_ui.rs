@@ -314,3 +314,235 @@ fn errors_sit_by_their_action_and_go_when_it_succeeds() {
     h.run_steps(2);
     assert!(h.state().open_error.is_none());
 }
+
+/// File dialogs that answer with set paths, and remember where they started.
+struct Answers {
+    open: Option<PathBuf>,
+    save: Option<PathBuf>,
+    started_in: std::sync::Arc<std::sync::Mutex<Vec<Option<PathBuf>>>>,
+}
+
+impl app::dialogs::FileDialogs for Answers {
+    fn pick_image(&mut self, folder: Option<&Path>) -> Option<PathBuf> {
+        self.started_in
+            .lock()
+            .unwrap()
+            .push(folder.map(Path::to_path_buf));
+        self.open.clone()
+    }
+    fn save_drawing(&mut self, folder: Option<&Path>, _name: &str) -> Option<PathBuf> {
+        self.started_in
+            .lock()
+            .unwrap()
+            .push(folder.map(Path::to_path_buf));
+        self.save.clone()
+    }
+}
+
+/// A node's accessible label.
+fn label(n: &egui_kittest::Node<'_>) -> Option<String> {
+    use egui_kittest::kittest::NodeT;
+    n.accesskit_node().label()
+}
+
+fn press(h: &mut Harness<'_, PixelPieApp>, key: egui::Key, modifiers: egui::Modifiers) {
+    h.key_press_modifiers(modifiers, key);
+    h.run_steps(2);
+}
+
+#[test]
+fn shortcuts_and_file_dialogs_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let (first, second) = (dir.path().join("a.png"), dir.path().join("b.png"));
+    gradient_png(&first, 200, 150);
+    gradient_png(&second, 100, 100);
+    let mut h = harness(&first);
+    settle(&mut h);
+    let started = std::sync::Arc::new(std::sync::Mutex::new(Vec::new()));
+    let out = dir.path().join("drawing.png");
+    h.state_mut().dialogs = Box::new(Answers {
+        open: Some(second.clone()),
+        save: Some(out.clone()),
+        started_in: started.clone(),
+    });
+    let cmd = egui::Modifiers::COMMAND;
+    // Ctrl+O opens through the dialog, which starts in the last folder.
+    press(&mut h, egui::Key::O, cmd);
+    assert_eq!(h.state().source.as_ref().unwrap().map.width(), 100);
+    settle(&mut h);
+    // Ctrl+S exports where the dialog says, in its extension's format.
+    press(&mut h, egui::Key::S, cmd);
+    assert!(out.exists(), "{:?}", h.state().export_error);
+    assert!(pixelpie::stipple::raster::read_png_dots(&std::fs::read(&out).unwrap()).is_some());
+    let started = started.lock().unwrap().clone();
+    assert_eq!(started, vec![Some(dir.path().to_path_buf()); 2]);
+    // F fits, + and − zoom the picture (not the UI, even with Ctrl).
+    let fit = h.state().zoom();
+    press(&mut h, egui::Key::Plus, egui::Modifiers::NONE);
+    assert!((h.state().zoom() / fit - 1.25).abs() < 1e-3);
+    press(&mut h, egui::Key::Minus, cmd);
+    assert!((h.state().zoom() / fit - 1.0).abs() < 1e-3);
+    press(&mut h, egui::Key::Plus, cmd);
+    assert_eq!(h.ctx.zoom_factor(), 1.0, "Ctrl+plus scaled the UI");
+    press(&mut h, egui::Key::F, egui::Modifiers::NONE);
+    assert!((h.state().zoom() - fit).abs() < 1e-3);
+    // R re-rolls; Ctrl+Z undoes it; Reset restores the defaults, undoably.
+    let seed = h.state().settings.seed;
+    press(&mut h, egui::Key::R, egui::Modifiers::NONE);
+    assert_ne!(h.state().settings.seed, seed);
+    press(&mut h, egui::Key::Z, cmd);
+    assert_eq!(h.state().settings.seed, seed);
+    h.state_mut().settings.gamma = 2.0;
+    std::thread::sleep(pixelpie::app::shortcuts::UNDO_GROUP);
+    h.run_steps(1);
+    h.get_by_label("Reset").click();
+    h.run_steps(2);
+    assert_eq!(h.state().settings.gamma, 1.0);
+    assert_eq!(
+        h.state().source.as_ref().unwrap().map.width(),
+        100,
+        "reset kept the picture"
+    );
+    press(&mut h, egui::Key::Z, cmd);
+    assert_eq!(h.state().settings.gamma, 2.0);
+    // F1 shows the help, which lists every shortcut.
+    press(&mut h, egui::Key::F1, egui::Modifiers::NONE);
+    assert!(h.state().show_help);
+    for (keys, what) in pixelpie::app::shortcuts::SHORTCUTS {
+        assert!(h.query_all_by_label(keys).count() > 0, "{keys} not listed");
+        h.get_by_label(what);
+    }
+}
+
+#[test]
+fn the_export_row_and_re_roll_stay_put() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("g.png");
+    gradient_png(&png, 200, 150);
+    let mut h = harness(&png);
+    settle(&mut h);
+    let svg = h.get_by_label("SVG").rect();
+    let reroll = h.get_by_label("Re-roll").rect();
+    // Busy: the progress line shows; nothing below it moves.
+    h.state_mut().settings.points = 50_000;
+    let start = Instant::now();
+    while !h.state().busy() {
+        h.step();
+        assert!(start.elapsed() < Duration::from_secs(10));
+    }
+    h.run_steps(1);
+    assert!(h.state().busy());
+    assert_eq!(h.get_by_label("SVG").rect(), svg, "the export row moved");
+    h.state_mut().cancel_job();
+    h.run_steps(2);
+    // A seed of many digits: Re-roll stays where it was.
+    h.state_mut().settings.seed = u64::MAX / 3;
+    h.run_steps(2);
+    assert_eq!(h.get_by_label("Re-roll").rect(), reroll, "Re-roll moved");
+    assert_eq!(h.get_by_label("SVG").rect(), svg);
+}
+
+#[test]
+fn every_label_is_in_the_fonts_and_the_controls_explain_themselves() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("g.png");
+    gradient_png(&png, 200, 150);
+    let mut h = harness(&png);
+    settle(&mut h);
+    h.ctx.all_styles_mut(|s| s.interaction.tooltip_delay = 0.0);
+    h.state_mut().show_help = true;
+    h.run_steps(2);
+    // No glyph missing from the bundled fonts (the colour picker's header
+    // once showed an empty box).
+    let labels: Vec<String> = h.query_all_by(|_| true).filter_map(|n| label(&n)).collect();
+    assert!(labels.len() > 40);
+    let font = egui::FontId::proportional(14.0);
+    for l in &labels {
+        let ok = h.ctx.fonts_mut(|f| f.has_glyphs(&font, l));
+        assert!(ok, "a glyph of {l:?} is missing from the fonts");
+    }
+    // Tooltips in plain words, keeping the paper's terms (the help window
+    // closed, so that it covers nothing).
+    h.state_mut().show_help = false;
+    h.run_steps(2);
+    let mut missing = Vec::new();
+    for (control, words) in [
+        ("Policy", "disk policy"),
+        ("Sub-pixel bits", "pixel centre"),
+        ("Coverage disks (Figure 4)", "Figure 4"),
+        ("Re-roll", "seed"),
+        ("Periodic (tileable)", "tile"),
+        ("SVG", "SVG"),
+        ("Black", "Black"),
+    ] {
+        // Away first: egui shows a tooltip after the pointer rests.
+        h.get_by_label("Behind").hover();
+        h.run_steps(2);
+        h.get_all_by_label(control).next().unwrap().hover();
+        h.run_steps(2);
+        let tip = h
+            .query_all_by(|n| {
+                // Wrapped text is read as runs of one line each.
+                [n.label(), n.value()]
+                    .into_iter()
+                    .flatten()
+                    .any(|l| l.contains(words))
+            })
+            .count();
+        if tip == 0 {
+            missing.push((control, words));
+        }
+    }
+    assert!(missing.is_empty(), "no tooltips: {missing:?}");
+    // S1/S2/PP are named in the statistics' tooltip.
+    h.get_by_label("Behind").hover();
+    h.run_steps(2);
+    h.get_by_label_contains("S1 ").hover();
+    h.run_steps(2);
+    let tip = h
+        .query_all_by(|n| {
+            [n.label(), n.value()]
+                .into_iter()
+                .flatten()
+                .any(|l| l.contains("S1 throws darts"))
+        })
+        .count();
+    assert!(tip > 0, "S1/S2/PP are not explained");
+}
+
+#[test]
+fn a_periodic_drawing_shows_two_by_two_tiles() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("g.png");
+    gradient_png(&png, 200, 200);
+    let mut h = harness(&png);
+    h.state_mut().settings.periodic = true;
+    settle(&mut h);
+    assert_eq!(h.state().tiles(), 2);
+    // The canvas holds four copies: dark dots in each quadrant of the
+    // 2×2 block, and the block fits the canvas.
+    let img = h.render().expect("render");
+    let _ = img.save(concat!(env!("CARGO_TARGET_TMPDIR"), "/app-tiles.png"));
+    let canvas_x0 = 330u32;
+    let (w, hgt) = (img.width() - canvas_x0, img.height());
+    let side = w.min(hgt) as f32 * 0.98;
+    let (cx, cy) = (canvas_x0 as f32 + w as f32 / 2.0, hgt as f32 / 2.0);
+    let dark_in = |qx: f32, qy: f32| {
+        img.enumerate_pixels()
+            .filter(|(x, y, p)| {
+                let (fx, fy) = (*x as f32 - cx, *y as f32 - cy);
+                (qx * fx) > 5.0
+                    && (qy * fy) > 5.0
+                    && fx.abs() < side / 2.0
+                    && fy.abs() < side / 2.0
+                    && p[0] < 60
+            })
+            .count()
+    };
+    for (qx, qy) in [(-1.0, -1.0), (1.0, -1.0), (-1.0, 1.0), (1.0, 1.0)] {
+        assert!(dark_in(qx, qy) > 100, "no dots in quadrant ({qx}, {qy})");
+    }
+    h.get_by_label("Show 2×2 tiles").click();
+    h.run_steps(2);
+    assert_eq!(h.state().tiles(), 1);
+}

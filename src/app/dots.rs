@@ -52,7 +52,8 @@ pub struct DotLayer {
     pub generation: u64,
     /// The view transform and style.
     pub view: ViewUniform,
-    /// Which slot of the renderer holds the layer (0 = coverage, 1 = dots).
+    /// Which slot of the renderer holds the layer: 2 × tile + (0 = coverage,
+    /// 1 = dots), for up to [`SLOTS`] / 2 tiles.
     pub slot: usize,
 }
 
@@ -68,8 +69,11 @@ struct Slot {
 pub struct DotRenderer {
     pipeline: wgpu::RenderPipeline,
     layout: wgpu::BindGroupLayout,
-    slots: [Option<Slot>; 2],
+    slots: [Option<Slot>; SLOTS],
 }
+
+/// Layers the renderer holds: coverage and dots for each of 2×2 tiles.
+pub const SLOTS: usize = 8;
 
 impl DotRenderer {
     /// Builds the pipeline for egui's target format.
@@ -115,7 +119,7 @@ impl DotRenderer {
         Self {
             pipeline,
             layout,
-            slots: [None, None],
+            slots: std::array::from_fn(|_| None),
         }
     }
 

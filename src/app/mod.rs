@@ -4,8 +4,10 @@
 //! thread (debounced, the latest request wins) on egui's own wgpu device, and
 //! the dots are drawn on the GPU by an `egui_wgpu` paint callback.
 
+pub mod dialogs;
 mod dots;
 mod settings;
+pub mod shortcuts;
 mod view;
 mod worker;
 
@@ -76,6 +78,11 @@ pub struct PixelPieApp {
     gpu_dots: bool,
     /// The path typed in the Open field.
     pub open_path: String,
+    /// The file dialogs (the desktop's; tests answer them).
+    pub dialogs: Box<dyn dialogs::FileDialogs>,
+    /// Whether the shortcut help shows.
+    pub show_help: bool,
+    history: shortcuts::History,
 }
 
 impl PixelPieApp {
@@ -116,7 +123,12 @@ impl PixelPieApp {
             view: view::ViewState::default(),
             gpu_dots,
             open_path: String::new(),
+            dialogs: Box::new(dialogs::NativeDialogs),
+            show_help: false,
+            history: shortcuts::History::default(),
         };
+        // Ctrl+plus and Ctrl+minus zoom the picture, not the whole UI.
+        cc.egui_ctx.options_mut(|o| o.zoom_with_keyboard = false);
         match image.or_else(|| settings.image.take()) {
             Some(path) => {
                 app.open(&cc.egui_ctx, &path);
@@ -141,11 +153,42 @@ impl PixelPieApp {
         match load_source(ctx, Some(path)) {
             Ok(source) => {
                 self.settings.image = Some(path.to_path_buf());
+                if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+                    self.settings.last_dir = Some(dir.to_path_buf());
+                }
                 self.open_path = path.display().to_string();
                 self.show(source);
             }
             Err(e) => self.open_error = Some(e),
         }
+    }
+
+    /// Asks for an image with the file dialog, from the last folder.
+    pub fn open_dialog(&mut self, ctx: &egui::Context) {
+        if let Some(path) = self.dialogs.pick_image(self.settings.last_dir.as_deref()) {
+            self.open(ctx, &path);
+        }
+    }
+
+    /// Asks where to export with the file dialog, from the last folder, and
+    /// exports there (the extension picks the format; SVG without one).
+    pub fn export_dialog(&mut self) {
+        let name = Path::new(self.export_path.trim()).file_name().map_or_else(
+            || "stipple.svg".into(),
+            |n| n.to_string_lossy().into_owned(),
+        );
+        let Some(path) = self
+            .dialogs
+            .save_drawing(self.settings.last_dir.as_deref(), &name)
+        else {
+            return;
+        };
+        let ext = match path.extension().and_then(|e| e.to_str()) {
+            Some(e @ ("svg" | "png" | "csv" | "json")) => e.to_owned(),
+            _ => "svg".to_owned(),
+        };
+        self.export_path = path.display().to_string();
+        self.export_as(&ext);
     }
 
     /// Loads the built-in photo.
@@ -327,12 +370,24 @@ impl eframe::App for PixelPieApp {
         if let Some(path) = dropped.into_iter().next() {
             self.open(&ctx, &path);
         }
+        self.handle_shortcuts(&ctx);
         egui::Panel::left("controls")
             .resizable(false)
             .show(ui, |ui| {
+                // Progress, statistics and the export row keep fixed places
+                // at the bottom; the controls scroll above them.
+                egui::Panel::bottom("actions")
+                    .resizable(false)
+                    .show(ui, |ui| {
+                        self.stats_ui(ui);
+                        ui.separator();
+                        self.export_ui(ui);
+                    });
                 egui::ScrollArea::vertical().show(ui, |ui| self.controls(ui));
             });
         egui::CentralPanel::default().show(ui, |ui| self.canvas(ui));
+        self.help_ui(&ctx);
+        self.history.observe(&self.settings);
         let key = self.settings.sampling_key();
         if self.last_key.as_ref() != Some(&key) {
             self.last_key = Some(key);

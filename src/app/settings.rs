@@ -88,6 +88,10 @@ pub struct Settings {
     pub show_coverage: bool,
     /// PNG export: image pixels per domain pixel.
     pub png_scale: f32,
+    /// The folder of the last file opened or exported (the dialogs start there).
+    pub last_dir: Option<PathBuf>,
+    /// With a periodic domain, show the drawing tiled 2×2.
+    pub tile: bool,
 }
 
 impl Default for Settings {
@@ -119,6 +123,8 @@ impl Default for Settings {
             background: Background::Paper,
             show_coverage: false,
             png_scale: 1.0,
+            last_dir: None,
+            tile: true,
         }
     }
 }
