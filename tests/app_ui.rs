@@ -546,3 +546,51 @@ fn a_periodic_drawing_shows_two_by_two_tiles() {
     h.run_steps(2);
     assert_eq!(h.state().tiles(), 1);
 }
+
+#[test]
+fn the_status_follows_the_job_on_the_gpu_backend() {
+    // Bug: with the GPU backend, "sampling…" stayed up well after the
+    // statistics showed a finished run. The status now follows the job (its
+    // elapsed time while it runs, "ready" when done) and the statistics give
+    // the whole job's time beside the last run's.
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("g.png");
+    gradient_png(&png, 200, 150);
+    let mut h = harness(&png);
+    h.state_mut().settings.backend = pixelpie::backend::BackendChoice::Gpu;
+    settle(&mut h);
+    let has = |h: &Harness<'_, PixelPieApp>, text: &str| {
+        h.query_all_by(|n| {
+            [n.label(), n.value()]
+                .into_iter()
+                .flatten()
+                .any(|l| l.contains(text))
+        })
+        .count()
+            > 0
+    };
+    assert!(!has(&h, "sampling"), "a finished job still says sampling");
+    h.get_by_label("ready");
+    let o = h.state().outcome.as_ref().unwrap();
+    assert!(o.seconds >= o.set.stats.seconds && o.runs >= 1);
+    assert!(has(&h, &format!("{} run(s) in", o.runs)));
+    // While a job runs, its elapsed time shows.
+    h.state_mut().settings.points = 40_000;
+    let start = Instant::now();
+    while !h
+        .state()
+        .progress_shown()
+        .is_some_and(|l| !l.starts_with("waiting"))
+    {
+        h.step();
+        std::thread::sleep(Duration::from_millis(5));
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "no progress shown"
+        );
+    }
+    let shown = h.state().progress_shown().unwrap();
+    assert!(shown.ends_with(" s"), "{shown}");
+    settle(&mut h);
+    assert!(!has(&h, "sampling") && h.state().progress_shown().is_none());
+}

@@ -83,6 +83,8 @@ pub struct PixelPieApp {
     /// Whether the shortcut help shows.
     pub show_help: bool,
     history: shortcuts::History,
+    /// When the job in flight started (for its elapsed time).
+    job_started: Option<Instant>,
 }
 
 impl PixelPieApp {
@@ -126,6 +128,7 @@ impl PixelPieApp {
             dialogs: Box::new(dialogs::NativeDialogs),
             show_help: false,
             history: shortcuts::History::default(),
+            job_started: None,
         };
         // Ctrl+plus and Ctrl+minus zoom the picture, not the whole UI.
         cc.egui_ctx.options_mut(|o| o.zoom_with_keyboard = false);
@@ -258,6 +261,7 @@ impl PixelPieApp {
         self.next_job += 1;
         self.progress = None;
         self.relaxed = None;
+        self.job_started = Some(Instant::now());
         self.worker.submit(Job {
             id: self.next_job,
             map: src.map.clone(),

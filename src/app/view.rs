@@ -319,17 +319,7 @@ impl PixelPieApp {
                     return;
                 }
                 ui.spinner();
-                match (&self.progress, self.relaxed) {
-                    (_, Some(done)) => {
-                        ui.label(format!("relaxing: {done} of {} steps", self.settings.relax))
-                    }
-                    (Some(p), None) => ui.label(format!(
-                        "iteration {}, {:.0}% covered",
-                        p.iteration,
-                        100.0 - 100.0 * p.empty_pixels as f64 / p.pixels.max(1) as f64
-                    )),
-                    (None, None) => ui.label("sampling…"),
-                };
+                ui.label(self.progress_shown().unwrap_or_default());
                 if ui
                     .button("Cancel")
                     .on_hover_text("Stop this sampling or relaxation; keep the last drawing.")
@@ -347,13 +337,14 @@ impl PixelPieApp {
                 let st = &o.set.stats;
                 (
                     format!(
-                        "{} dots, {} iterations, {} run(s)",
+                        "{} dots, {} iterations, {} run(s) in {:.2} s",
                         o.set.points.len(),
                         st.iterations,
-                        o.runs
+                        o.runs,
+                        o.seconds
                     ),
                     format!(
-                        "S1 {:.1} ms, S2 {:.1} ms, PP {:.1} ms, total {:.1} ms",
+                        "last run: S1 {:.1} ms, S2 {:.1} ms, PP {:.1} ms, total {:.1} ms",
                         st.stages.get("throw") * 1e3,
                         st.stages.get("cull") * 1e3,
                         st.stages.get("compact") * 1e3,
@@ -377,6 +368,33 @@ impl PixelPieApp {
             (None, true) => (ui.visuals().text_color(), String::new()),
         };
         ui.colored_label(note.0, note.1);
+    }
+
+    /// The progress line while a job is queued or runs: what it does and
+    /// for how long; `None` when idle.
+    #[must_use]
+    pub fn progress_shown(&self) -> Option<String> {
+        if !self.busy() {
+            return None;
+        }
+        if self.done_job == self.next_job {
+            // Queued: the last job's progress is not this one's.
+            return Some("waiting for the controls to rest".into());
+        }
+        let elapsed = self.job_started.map_or(String::new(), |t| {
+            format!(", {:.1} s", t.elapsed().as_secs_f64())
+        });
+        Some(match (&self.progress, self.relaxed) {
+            (_, Some(done)) => {
+                format!("relaxing: {done} of {} steps{elapsed}", self.settings.relax)
+            }
+            (Some(p), None) => format!(
+                "iteration {}, {:.0}% covered{elapsed}",
+                p.iteration,
+                100.0 - 100.0 * p.empty_pixels as f64 / p.pixels.max(1) as f64
+            ),
+            (None, None) => format!("sampling{elapsed}"),
+        })
     }
 
     /// Under the Export row: the file written, or why not.

@@ -37,6 +37,9 @@ pub struct Outcome {
     pub scale: f32,
     /// A note for the status line, such as a fallback to the CPU.
     pub note: Option<String>,
+    /// Seconds the whole job took: every sampler run, relaxation and dot
+    /// sizes (the statistics' `seconds` is the last run's sampler alone).
+    pub seconds: f64,
 }
 
 /// A message from the worker.
@@ -163,7 +166,11 @@ fn run(
             let _ = replies.send(Reply::Relaxed(id, done));
             repaint.request_repaint();
         };
-        let result = compute(&job, &gpu, ctl, &relaxed);
+        let start = std::time::Instant::now();
+        let result = compute(&job, &gpu, ctl, &relaxed).map(|mut o| {
+            o.seconds = start.elapsed().as_secs_f64();
+            o
+        });
         if matches!(&result, Err(e) if e == "cancelled") {
             continue;
         }
@@ -266,6 +273,7 @@ fn compute(
         set,
         runs: fitted.runs,
         note,
+        seconds: 0.0,
     })
 }
 
