@@ -216,8 +216,14 @@ pub fn sample_with(
             Ok(gpu) => {
                 notice(Notice::Adapter(gpu.adapter()));
                 match gpu.sample(params, ctl) {
-                    Err(Error::Gpu(e)) => {
-                        notice(Notice::Fallback(format!("the GPU failed: {e}")));
+                    Err(e) if e.is_gpu() => {
+                        let mut why = e.to_string();
+                        let mut source = std::error::Error::source(&e);
+                        while let Some(s) = source {
+                            why = format!("{why}: {s}");
+                            source = s.source();
+                        }
+                        notice(Notice::Fallback(format!("the GPU failed: {why}")));
                         sampler::cpu::sample(params, ctl)
                     }
                     other => other,

@@ -32,6 +32,17 @@ fn harness(image: &Path) -> Harness<'static, PixelPieApp> {
     h
 }
 
+/// The app on a fresh `w`×`h` gradient, sampled: its folder, the image and
+/// the harness.
+fn ready(w: u32, h: u32) -> (tempfile::TempDir, PathBuf, Harness<'static, PixelPieApp>) {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("g.png");
+    gradient_png(&png, w, h);
+    let mut harness = harness(&png);
+    settle(&mut harness);
+    (dir, png, harness)
+}
+
 /// Steps the UI until sampling is done (debounce, worker, reply).
 fn settle(h: &mut Harness<'_, PixelPieApp>) {
     let start = Instant::now();
@@ -121,11 +132,7 @@ fn a_dropped_file_replaces_the_map() {
 
 #[test]
 fn exports_are_read_by_the_cli_analyzer() {
-    let dir = tempfile::tempdir().unwrap();
-    let png = dir.path().join("g.png");
-    gradient_png(&png, 160, 120);
-    let mut h = harness(&png);
-    settle(&mut h);
+    let (dir, _, mut h) = ready(160, 120);
     h.state_mut().export_path = dir.path().join("out.svg").display().to_string();
     h.get_by_label("CSV").click();
     h.run_steps(2);
@@ -162,11 +169,7 @@ fn exports_are_read_by_the_cli_analyzer() {
 
 #[test]
 fn the_canvas_renders_dots_and_backgrounds() {
-    let dir = tempfile::tempdir().unwrap();
-    let png = dir.path().join("g.png");
-    gradient_png(&png, 200, 150);
-    let mut h = harness(&png);
-    settle(&mut h);
+    let (_dir, _, mut h) = ready(200, 150);
     let dark = |img: &image::RgbaImage| {
         // The canvas: right of the side panel.
         img.enumerate_pixels()
@@ -246,11 +249,7 @@ fn a_new_image_shows_no_stale_dots() {
 fn exports_use_the_dot_colour_and_the_png_scale() {
     // Bug: with red dots on screen the SVG said fill="black" and the PNG
     // was grey; the PNG had no size control.
-    let dir = tempfile::tempdir().unwrap();
-    let png = dir.path().join("g.png");
-    gradient_png(&png, 160, 120);
-    let mut h = harness(&png);
-    settle(&mut h);
+    let (dir, _, mut h) = ready(160, 120);
     h.state_mut().settings.dot_color = [220, 30, 30];
     h.state_mut().settings.png_scale = 0.5;
     h.state_mut().export_path = dir.path().join("out").display().to_string();
@@ -279,11 +278,7 @@ fn exports_use_the_dot_colour_and_the_png_scale() {
 
 #[test]
 fn errors_sit_by_their_action_and_go_when_it_succeeds() {
-    let dir = tempfile::tempdir().unwrap();
-    let png = dir.path().join("g.png");
-    gradient_png(&png, 160, 120);
-    let mut h = harness(&png);
-    settle(&mut h);
+    let (dir, png, mut h) = ready(160, 120);
     // Open with an empty path: a plain message, not "cannot read ''".
     h.state_mut().open_path.clear();
     h.get_by_label("Open").click();
@@ -416,11 +411,7 @@ fn shortcuts_and_file_dialogs_work() {
 
 #[test]
 fn the_export_row_and_re_roll_stay_put() {
-    let dir = tempfile::tempdir().unwrap();
-    let png = dir.path().join("g.png");
-    gradient_png(&png, 200, 150);
-    let mut h = harness(&png);
-    settle(&mut h);
+    let (_dir, _, mut h) = ready(200, 150);
     let svg = h.get_by_label("SVG").rect();
     let reroll = h.get_by_label("Re-roll").rect();
     // Busy: the progress line shows; nothing below it moves.
@@ -444,11 +435,7 @@ fn the_export_row_and_re_roll_stay_put() {
 
 #[test]
 fn every_label_is_in_the_fonts_and_the_controls_explain_themselves() {
-    let dir = tempfile::tempdir().unwrap();
-    let png = dir.path().join("g.png");
-    gradient_png(&png, 200, 150);
-    let mut h = harness(&png);
-    settle(&mut h);
+    let (_dir, _, mut h) = ready(200, 150);
     h.ctx.all_styles_mut(|s| s.interaction.tooltip_delay = 0.0);
     h.state_mut().show_help = true;
     h.run_steps(2);
@@ -577,10 +564,10 @@ fn the_status_follows_the_job_on_the_gpu_backend() {
     // While a job runs, its elapsed time shows.
     h.state_mut().settings.points = 40_000;
     let start = Instant::now();
-    while !h
+    while h
         .state()
         .progress_shown()
-        .is_some_and(|l| !l.starts_with("waiting"))
+        .is_none_or(|l| l.starts_with("waiting"))
     {
         h.step();
         std::thread::sleep(Duration::from_millis(5));

@@ -41,7 +41,7 @@ fn py_err(e: &pixelpie::Error) -> PyErr {
     let text = message(e);
     match e {
         E::Sampler(sampler::Error::Cancelled) => PyKeyboardInterrupt::new_err(text),
-        E::Sampler(sampler::Error::Gpu(_)) => PyRuntimeError::new_err(text),
+        E::Sampler(e) if e.is_gpu() => PyRuntimeError::new_err(text),
         E::Importance(importance::Error::InvalidParameter(_))
         | E::Stipple(pixelpie::stipple::Error::InvalidParameter(_))
         | E::Io(pixelpie::io::Error::Invalid(_))

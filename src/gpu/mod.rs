@@ -11,11 +11,11 @@
 //! The sampler borrows the caller's `Device` and `Queue` (the app shares
 //! egui's), and keeps its pipelines and buffers across runs.
 
-pub mod compact;
-pub mod cover;
-pub mod cull;
+pub(crate) mod compact;
+pub(crate) mod cover;
+pub(crate) mod cull;
 mod resources;
-pub mod throw;
+pub(crate) mod throw;
 pub mod util;
 
 pub use resources::{Resources, S1Path};
@@ -109,7 +109,7 @@ impl GpuContext {
             power_preference: wgpu::PowerPreference::HighPerformance,
             ..Default::default()
         }))
-        .map_err(|e| Error::Gpu(format!("no GPU adapter: {e}")))?;
+        .map_err(|e| Error::gpu("no GPU adapter", e))?;
         check_adapter(&adapter)?;
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("pixelpie"),
@@ -117,7 +117,7 @@ impl GpuContext {
             required_limits: adapter.limits(),
             ..Default::default()
         }))
-        .map_err(|e| Error::Gpu(format!("cannot open the GPU device: {e}")))?;
+        .map_err(|e| Error::gpu("cannot open the GPU device", e))?;
         Ok(Self {
             device,
             queue,
@@ -176,7 +176,7 @@ impl GpuSampler {
             pollster::block_on(scope.pop()),
         ];
         if let Some(err) = errors.into_iter().flatten().next() {
-            return Err(Error::Gpu(format!("cannot build the pipelines: {err}")));
+            return Err(Error::gpu("cannot build the pipelines", err));
         }
         Ok(s)
     }
@@ -246,7 +246,7 @@ impl GpuSampler {
         ];
         if let Some(err) = errors.into_iter().flatten().next() {
             self.resources = None;
-            return Err(Error::Gpu(err.to_string()));
+            return Err(Error::gpu("a GPU command failed", err));
         }
         result
     }

@@ -516,10 +516,10 @@ impl Resources {
             });
         device
             .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| Error::Gpu(format!("device lost: {e}")))?;
+            .map_err(|e| Error::gpu("device lost", e))?;
         rx.recv()
-            .map_err(|e| Error::Gpu(e.to_string()))?
-            .map_err(|e| Error::Gpu(format!("cannot read back: {e}")))?;
+            .map_err(|e| Error::gpu("the read-back never answered", e))?
+            .map_err(|e| Error::gpu("cannot read back", e))?;
         let step = {
             let view = self
                 .staging

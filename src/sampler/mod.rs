@@ -90,9 +90,37 @@ pub enum Error {
     /// The caller cancelled the run.
     #[error("cancelled")]
     Cancelled,
-    /// The GPU backend failed.
+    /// The GPU backend cannot run, or failed.
     #[error("GPU: {0}")]
     Gpu(String),
+    /// A GPU operation failed; the source is wgpu's error.
+    #[error("GPU: {what}")]
+    GpuFailed {
+        /// What failed.
+        what: String,
+        /// wgpu's error.
+        #[source]
+        source: Box<dyn std::error::Error + Send + Sync>,
+    },
+}
+
+impl Error {
+    /// A GPU operation `what` that failed with `source`.
+    pub fn gpu(
+        what: impl Into<String>,
+        source: impl std::error::Error + Send + Sync + 'static,
+    ) -> Self {
+        Self::GpuFailed {
+            what: what.into(),
+            source: Box::new(source),
+        }
+    }
+
+    /// Whether the GPU failed (as opposed to bad parameters or a cancel).
+    #[must_use]
+    pub fn is_gpu(&self) -> bool {
+        matches!(self, Self::Gpu(_) | Self::GpuFailed { .. })
+    }
 }
 
 /// The sampler's result type.

@@ -103,16 +103,28 @@ pub const DOTS_KEYWORD: &str = "pixelpie:dots";
 /// the software and the drawing's number of `dots` ([`DOTS_KEYWORD`]), so
 /// that [`read_png_dots`] recognises our drawings.
 pub fn write_png(w: &mut dyn Write, img: &GrayImage, dots: usize) -> Result<()> {
+    encode(w, img, png::ColorType::Grayscale, img.as_raw(), dots)
+}
+
+/// Writes `data` (rows of `color` pixels, `img`'s size) as an 8-bit PNG with
+/// our text chunks.
+fn encode(
+    w: &mut dyn Write,
+    img: &GrayImage,
+    color: png::ColorType,
+    data: &[u8],
+    dots: usize,
+) -> Result<()> {
     let encode = |e: png::EncodingError| Error::Encode(e.to_string());
     let mut enc = png::Encoder::new(w, img.width(), img.height());
-    enc.set_color(png::ColorType::Grayscale);
+    enc.set_color(color);
     enc.set_depth(png::BitDepth::Eight);
     enc.add_text_chunk("Software".into(), "pixelpie".into())
         .map_err(encode)?;
     enc.add_text_chunk(DOTS_KEYWORD.into(), dots.to_string())
         .map_err(encode)?;
     let mut writer = enc.write_header().map_err(encode)?;
-    writer.write_image_data(img.as_raw()).map_err(encode)?;
+    writer.write_image_data(data).map_err(encode)?;
     writer.finish().map_err(encode)
 }
 
@@ -121,14 +133,6 @@ pub fn write_png(w: &mut dyn Write, img: &GrayImage, dots: usize) -> Result<()> 
 /// the ink's coverage, as [`write_png`] does in grey (black ink gives the
 /// same greys).
 pub fn write_png_ink(w: &mut dyn Write, img: &GrayImage, ink: [u8; 3], dots: usize) -> Result<()> {
-    let encode = |e: png::EncodingError| Error::Encode(e.to_string());
-    let mut enc = png::Encoder::new(w, img.width(), img.height());
-    enc.set_color(png::ColorType::Rgb);
-    enc.set_depth(png::BitDepth::Eight);
-    enc.add_text_chunk("Software".into(), "pixelpie".into())
-        .map_err(encode)?;
-    enc.add_text_chunk(DOTS_KEYWORD.into(), dots.to_string())
-        .map_err(encode)?;
     let rgb: Vec<u8> = img
         .as_raw()
         .iter()
@@ -137,9 +141,7 @@ pub fn write_png_ink(w: &mut dyn Write, img: &GrayImage, ink: [u8; 3], dots: usi
             ink.map(|c| ((u32::from(c) * (255 - paper) + 255 * paper + 127) / 255) as u8)
         })
         .collect();
-    let mut writer = enc.write_header().map_err(encode)?;
-    writer.write_image_data(&rgb).map_err(encode)?;
-    writer.finish().map_err(encode)
+    encode(w, img, png::ColorType::Rgb, &rgb, dots)
 }
 
 /// The dot count of a PNG drawing we wrote ([`write_png`]), or `None` for
