@@ -2,6 +2,7 @@
 //! the coverage bitmap the pixels each survivor covers under the policy.
 //! Shader: `shaders/cover.wgsl`; CPU mirror: `sampler::cpu::cover`.
 
+use super::resources::Bindings;
 use super::util;
 
 /// The cover kernel.
@@ -32,6 +33,21 @@ impl CoverStage {
             cover: util::compute(device, &pl, &module, "cover"),
             layout,
         }
+    }
+
+    /// Binds the stage to one run's resources.
+    pub fn bind(&self, device: &wgpu::Device, b: &Bindings<'_>) -> wgpu::BindGroup {
+        util::bind_group(
+            device,
+            &self.layout,
+            &[
+                b.config.as_entire_binding(),
+                b.survivors.as_entire_binding(),
+                b.survivor_count.as_entire_binding(),
+                b.coverage.as_entire_binding(),
+                wgpu::BindingResource::TextureView(b.radius),
+            ],
+        )
     }
 
     /// Covers the pixels of up to `darts` survivors whose reach is at most

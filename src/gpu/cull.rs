@@ -3,6 +3,7 @@
 //! key won; the flags are scanned and the survivors gathered in dart order.
 //! Shader: `shaders/cull.wgsl`; CPU mirror: `sampler::cpu::cull`.
 
+use super::resources::Bindings;
 use super::util;
 
 /// The cull and gather kernels.
@@ -36,6 +37,22 @@ impl CullStage {
             gather: util::compute(device, &pl, &module, "gather"),
             layout,
         }
+    }
+
+    /// Binds the stage to one run's resources.
+    pub fn bind(&self, device: &wgpu::Device, b: &Bindings<'_>) -> wgpu::BindGroup {
+        util::bind_group(
+            device,
+            &self.layout,
+            &[
+                b.config.as_entire_binding(),
+                b.darts.as_entire_binding(),
+                wgpu::BindingResource::TextureView(b.depth),
+                b.dart_flags.as_entire_binding(),
+                b.survivors.as_entire_binding(),
+                b.keys.as_entire_binding(),
+            ],
+        )
     }
 
     /// Flags the winners of `darts` darts, and ends the flags with a 0.

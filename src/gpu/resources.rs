@@ -7,7 +7,7 @@ use std::time::Instant;
 use super::compact::{CompactStage, ScanChain};
 use super::cover::CoverStage;
 use super::cull::CullStage;
-use super::throw::ThrowStage;
+use super::throw::{ThrowGroups, ThrowStage};
 use super::{Config, util};
 use crate::sampler::Dart;
 use crate::sampler::{Error, Plan, Result};
@@ -38,6 +38,63 @@ fn strip_rows(device: &wgpu::Device, plan: &Plan, path: S1Path, cap: Option<u32>
 
 /// The names of the stages whose seconds [`Iteration::seconds`] holds.
 pub const STAGES: [&str; 3] = ["throw", "cull", "compact"];
+/// Timestamp queries: the start and end of each stage's passes.
+const QUERIES: u32 = 2 * STAGES.len() as u32;
+/// Where the resolved timestamps land in the read-back, after the counts.
+const TIMESTAMPS_AT: u64 = 16;
+const _: () = assert!(TIMESTAMPS_AT + 8 * QUERIES as u64 <= HEADER);
+
+/// The buffers and views that the stages bind, for their `bind` functions.
+pub struct Bindings<'a> {
+    /// The run's configuration (uniform).
+    pub config: &'a wgpu::Buffer,
+    /// The batch's darts.
+    pub darts: &'a wgpu::Buffer,
+    /// The survivors, in dart order.
+    pub survivors: &'a wgpu::Buffer,
+    /// The coverage bitmap.
+    pub coverage: &'a wgpu::Buffer,
+    /// The scan of empty pixels per coverage word (the empty list's index).
+    pub empty_scan: &'a wgpu::Buffer,
+    /// The survivor flags and their scan.
+    pub dart_flags: &'a wgpu::Buffer,
+    /// The survivor count (the scan's total).
+    pub survivor_count: &'a wgpu::Buffer,
+    /// The compute path's key buffer.
+    pub keys: &'a wgpu::Buffer,
+    /// The raster path's depth map.
+    pub depth: &'a wgpu::TextureView,
+    /// The radius map.
+    pub radius: &'a wgpu::TextureView,
+}
+
+/// The first timestamp query of stage `name`: its passes write the stage's
+/// start there and its end at the next index.
+const fn stage_index(name: &str) -> u32 {
+    let mut i = 0;
+    while i < STAGES.len() {
+        if str_eq(STAGES[i], name) {
+            return 2 * i as u32;
+        }
+        i += 1;
+    }
+    panic!("no such stage")
+}
+
+const fn str_eq(a: &str, b: &str) -> bool {
+    let (a, b) = (a.as_bytes(), b.as_bytes());
+    if a.len() != b.len() {
+        return false;
+    }
+    let mut i = 0;
+    while i < a.len() {
+        if a[i] != b[i] {
+            return false;
+        }
+        i += 1;
+    }
+    true
+}
 
 /// What one iteration returns.
 pub struct Iteration {
@@ -71,7 +128,6 @@ pub struct Resources {
     /// Rows per strip of the key buffer (compute path; the height if whole).
     strip_rows: u32,
     keys: wgpu::Buffer,
-    splat_group: wgpu::BindGroup,
     /// The run's configuration (uniform).
     pub config: wgpu::Buffer,
     survivors: wgpu::Buffer,
@@ -85,8 +141,7 @@ pub struct Resources {
     radius: wgpu::Texture,
     staging: wgpu::Buffer,
     queries: Option<(wgpu::QuerySet, wgpu::Buffer)>,
-    throw_group: wgpu::BindGroup,
-    raster_group: wgpu::BindGroup,
+    throw_groups: ThrowGroups,
     cull_group: wgpu::BindGroup,
     cover_group: wgpu::BindGroup,
     bytes: u64,
@@ -207,60 +262,31 @@ impl Resources {
             let set = device.create_query_set(&wgpu::QuerySetDescriptor {
                 label: Some("stage timestamps"),
                 ty: wgpu::QueryType::Timestamp,
-                count: 6,
+                count: QUERIES,
             });
-            let resolve = util::buffer_of(device, "timestamps", 48, B::QUERY_RESOLVE | B::COPY_SRC);
+            let resolve = util::buffer_of(
+                device,
+                "timestamps",
+                8 * u64::from(QUERIES),
+                B::QUERY_RESOLVE | B::COPY_SRC,
+            );
             (set, resolve)
         });
-        let tex = wgpu::BindingResource::TextureView;
-        let throw_group = util::bind_group(
-            device,
-            &throw.layout,
-            &[
-                config.as_entire_binding(),
-                darts.as_entire_binding(),
-                coverage.as_entire_binding(),
-                word_scan.levels[0].as_entire_binding(),
-                tex(&radius_view),
-            ],
-        );
-        let raster_group = util::bind_group(
-            device,
-            &throw.raster_layout,
-            &[config.as_entire_binding(), darts.as_entire_binding()],
-        );
-        let cull_group = util::bind_group(
-            device,
-            &cull.layout,
-            &[
-                config.as_entire_binding(),
-                darts.as_entire_binding(),
-                tex(&depth),
-                dart_scan.levels[0].as_entire_binding(),
-                survivors.as_entire_binding(),
-                keys.as_entire_binding(),
-            ],
-        );
-        let splat_group = util::bind_group(
-            device,
-            &throw.splat_layout,
-            &[
-                config.as_entire_binding(),
-                darts.as_entire_binding(),
-                keys.as_entire_binding(),
-            ],
-        );
-        let cover_group = util::bind_group(
-            device,
-            &cover.layout,
-            &[
-                config.as_entire_binding(),
-                survivors.as_entire_binding(),
-                dart_scan.total().as_entire_binding(),
-                coverage.as_entire_binding(),
-                tex(&radius_view),
-            ],
-        );
+        let bindings = Bindings {
+            config: &config,
+            darts: &darts,
+            survivors: &survivors,
+            coverage: &coverage,
+            empty_scan: &word_scan.levels[0],
+            dart_flags: &dart_scan.levels[0],
+            survivor_count: dart_scan.total(),
+            keys: &keys,
+            depth: &depth,
+            radius: &radius_view,
+        };
+        let throw_groups = throw.bind(device, &bindings);
+        let cull_group = cull.bind(device, &bindings);
+        let cover_group = cover.bind(device, &bindings);
         let map_bytes = if has_map {
             4 - 2 * u64::from(narrow)
         } else {
@@ -286,7 +312,6 @@ impl Resources {
             path,
             strip_rows,
             keys,
-            splat_group,
             config,
             survivors,
             coverage,
@@ -297,8 +322,7 @@ impl Resources {
             radius,
             staging,
             queries,
-            throw_group,
-            raster_group,
+            throw_groups,
             cull_group,
             cover_group,
             bytes,
@@ -368,6 +392,8 @@ impl Resources {
         );
     }
 
+    /// The timestamp writes of a pass that is all of the stage whose first
+    /// query is `first` ([`stage_index`]).
     fn pass_writes(&self, first: u32) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
         self.queries
             .as_ref()
@@ -422,12 +448,12 @@ impl Resources {
                     }
                 }),
             });
-            throw.encode_throw(&mut pass, &self.throw_group, darts);
+            throw.encode_throw(&mut pass, &self.throw_groups.throw, darts);
         }
         match self.path {
             S1Path::Raster => throw.encode_raster(
                 &mut encoder,
-                &self.raster_group,
+                &self.throw_groups.raster,
                 &self.depth,
                 darts,
                 plan,
@@ -466,7 +492,12 @@ impl Resources {
                             }
                         }),
                     });
-                    throw.encode_splat(&mut pass, &self.splat_group, darts, plan.radius_range.1);
+                    throw.encode_splat(
+                        &mut pass,
+                        &self.throw_groups.splat,
+                        darts,
+                        plan.radius_range.1,
+                    );
                     if strips > 1 {
                         cull.encode_cull(&mut pass, &self.cull_group, darts);
                     }
@@ -478,7 +509,7 @@ impl Resources {
         {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("S2 cull"),
-                timestamp_writes: self.pass_writes(2),
+                timestamp_writes: self.pass_writes(const { stage_index("cull") }),
             });
             if strips == 1 {
                 cull.encode_cull(&mut pass, &self.cull_group, darts);
@@ -492,7 +523,7 @@ impl Resources {
         {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("PP compact"),
-                timestamp_writes: self.pass_writes(4),
+                timestamp_writes: self.pass_writes(const { stage_index("compact") }),
             });
             self.word_scan.encode_count(&mut pass, compact, self.words);
             self.word_scan.encode_scan(&mut pass, compact, self.words);
@@ -501,8 +532,14 @@ impl Resources {
         encoder.copy_buffer_to_buffer(self.word_scan.total(), 0, &self.staging, 0, 4);
         encoder.copy_buffer_to_buffer(self.dart_scan.total(), 0, &self.staging, 4, 4);
         if let Some((set, resolve)) = &self.queries {
-            encoder.resolve_query_set(set, 0..6, resolve, 0);
-            encoder.copy_buffer_to_buffer(resolve, 0, &self.staging, 16, 48);
+            encoder.resolve_query_set(set, 0..QUERIES, resolve, 0);
+            encoder.copy_buffer_to_buffer(
+                resolve,
+                0,
+                &self.staging,
+                TIMESTAMPS_AT,
+                8 * u64::from(QUERIES),
+            );
         }
         let dart_bytes = u64::from(darts) * DART_BYTES;
         encoder.copy_buffer_to_buffer(&self.survivors, 0, &self.staging, HEADER, dart_bytes);
@@ -530,10 +567,18 @@ impl Resources {
             if timestamps {
                 // Each stage runs from its first pass's start to the next
                 // stage's start (PP: to its end), so no gap goes uncounted.
-                let ts: &[u64] = bytemuck::cast_slice(&view[16..64]);
+                let at = TIMESTAMPS_AT as usize;
+                let ts: &[u64] = bytemuck::cast_slice(&view[at..at + 8 * QUERIES as usize]);
                 let period = f64::from(queue.get_timestamp_period()) * 1e-9;
-                let bounds = [(0, 2), (2, 4), (4, 5)];
-                for (s, (a, b)) in seconds.iter_mut().zip(bounds) {
+                for (i, s) in seconds.iter_mut().enumerate() {
+                    let (a, b) = (
+                        2 * i,
+                        if i + 1 < STAGES.len() {
+                            2 * i + 2
+                        } else {
+                            2 * i + 1
+                        },
+                    );
                     *s = ts[b].saturating_sub(ts[a]) as f64 * period;
                 }
             }

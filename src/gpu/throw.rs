@@ -9,8 +9,19 @@
 //! Shaders: `shaders/throw.wgsl`, `shaders/raster.wgsl`, `shaders/splat.wgsl`;
 //! CPU mirror: `sampler::cpu::throw`.
 
+use super::resources::Bindings;
 use super::util;
 use crate::sampler::Plan;
+
+/// S1's bind groups on one run's resources.
+pub struct ThrowGroups {
+    /// The dart kernel's.
+    pub throw: wgpu::BindGroup,
+    /// The raster draw's.
+    pub raster: wgpu::BindGroup,
+    /// The splat kernel's.
+    pub splat: wgpu::BindGroup,
+}
 
 /// The dart kernel and the two raster pipelines (Less, Greater).
 pub struct ThrowStage {
@@ -109,6 +120,37 @@ impl ThrowStage {
             throw,
             layout,
             raster_layout,
+        }
+    }
+
+    /// Binds the stage to one run's resources.
+    pub fn bind(&self, device: &wgpu::Device, b: &Bindings<'_>) -> ThrowGroups {
+        ThrowGroups {
+            throw: util::bind_group(
+                device,
+                &self.layout,
+                &[
+                    b.config.as_entire_binding(),
+                    b.darts.as_entire_binding(),
+                    b.coverage.as_entire_binding(),
+                    b.empty_scan.as_entire_binding(),
+                    wgpu::BindingResource::TextureView(b.radius),
+                ],
+            ),
+            raster: util::bind_group(
+                device,
+                &self.raster_layout,
+                &[b.config.as_entire_binding(), b.darts.as_entire_binding()],
+            ),
+            splat: util::bind_group(
+                device,
+                &self.splat_layout,
+                &[
+                    b.config.as_entire_binding(),
+                    b.darts.as_entire_binding(),
+                    b.keys.as_entire_binding(),
+                ],
+            ),
         }
     }
 
