@@ -50,7 +50,8 @@
 //!   rounds run; voids left after them end the run, not maximal. A repair
 //!   is a rejection after the fact of a dart that closed a region to less
 //!   than one position: the set is RSA's with those darts refused.
-//!   Measured: about 1 sample in 30 000 at r = 8.5, 1 in 7 000 at r = 2.
+//!   Measured at 4096²: 4 samples taken back among 486K over three seeds
+//!   at r = 8.5 px, 177 among 2.92M at r = 2 px.
 //! * **Stopping.** The run ends when no cell is active and no void is left:
 //!   the set is then maximal in the continuous domain, since every point of
 //!   the closed domain lies in a closed cell that some disk, or the union of
