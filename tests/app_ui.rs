@@ -334,6 +334,19 @@ impl app::dialogs::FileDialogs for Answers {
     }
 }
 
+/// Whether some text on screen holds `text` (wrapped text is read as runs
+/// of one line each, in their values).
+fn shows(h: &Harness<'_, PixelPieApp>, text: &str) -> bool {
+    h.query_all_by(|n| {
+        [n.label(), n.value()]
+            .into_iter()
+            .flatten()
+            .any(|l| l.contains(text))
+    })
+    .count()
+        > 0
+}
+
 /// A node's accessible label.
 fn label(n: &egui_kittest::Node<'_>) -> Option<String> {
     use egui_kittest::kittest::NodeT;
@@ -467,16 +480,7 @@ fn every_label_is_in_the_fonts_and_the_controls_explain_themselves() {
         h.run_steps(2);
         h.get_all_by_label(control).next().unwrap().hover();
         h.run_steps(2);
-        let tip = h
-            .query_all_by(|n| {
-                // Wrapped text is read as runs of one line each.
-                [n.label(), n.value()]
-                    .into_iter()
-                    .flatten()
-                    .any(|l| l.contains(words))
-            })
-            .count();
-        if tip == 0 {
+        if !shows(&h, words) {
             missing.push((control, words));
         }
     }
@@ -486,15 +490,7 @@ fn every_label_is_in_the_fonts_and_the_controls_explain_themselves() {
     h.run_steps(2);
     h.get_by_label_contains("S1 ").hover();
     h.run_steps(2);
-    let tip = h
-        .query_all_by(|n| {
-            [n.label(), n.value()]
-                .into_iter()
-                .flatten()
-                .any(|l| l.contains("S1 throws darts"))
-        })
-        .count();
-    assert!(tip > 0, "S1/S2/PP are not explained");
+    assert!(shows(&h, "S1 throws darts"), "S1/S2/PP are not explained");
 }
 
 #[test]
@@ -546,16 +542,7 @@ fn the_status_follows_the_job_on_the_gpu_backend() {
     let mut h = harness(&png);
     h.state_mut().settings.backend = pixelpie::backend::BackendChoice::Gpu;
     settle(&mut h);
-    let has = |h: &Harness<'_, PixelPieApp>, text: &str| {
-        h.query_all_by(|n| {
-            [n.label(), n.value()]
-                .into_iter()
-                .flatten()
-                .any(|l| l.contains(text))
-        })
-        .count()
-            > 0
-    };
+    let has = shows;
     assert!(!has(&h, "sampling"), "a finished job still says sampling");
     h.get_by_label("ready");
     let o = h.state().outcome.as_ref().unwrap();
