@@ -217,12 +217,7 @@ pub fn sample_with(
                 notice(Notice::Adapter(gpu.adapter()));
                 match gpu.sample(params, ctl) {
                     Err(e) if e.is_gpu() => {
-                        let mut why = e.to_string();
-                        let mut source = std::error::Error::source(&e);
-                        while let Some(s) = source {
-                            why = format!("{why}: {s}");
-                            source = s.source();
-                        }
+                        let why = crate::one_line(&e);
                         notice(Notice::Fallback(format!("the GPU failed: {why}")));
                         sampler::cpu::sample(params, ctl)
                     }

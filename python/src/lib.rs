@@ -23,22 +23,10 @@ use pixelpie::importance::{self, ImportanceMap, ImportanceOptions, Mapping, Tone
 use pixelpie::sampler::{self, Control, Params, Policy, Progress, RadiusMap, SampleSet};
 use pixelpie::stipple::{DotMode, Order, StippleOptions};
 
-/// A library error's message with its causes, as the CLI prints it.
-fn message(e: &dyn std::error::Error) -> String {
-    let mut text = e.to_string();
-    let mut source = e.source();
-    while let Some(s) = source {
-        text.push_str(": ");
-        text.push_str(&s.to_string());
-        source = s.source();
-    }
-    text
-}
-
 /// The Python exception for a library error.
 fn py_err(e: &pixelpie::Error) -> PyErr {
     use pixelpie::Error as E;
-    let text = message(e);
+    let text = pixelpie::one_line(e);
     match e {
         E::Sampler(sampler::Error::Cancelled) => PyKeyboardInterrupt::new_err(text),
         E::Sampler(e) if e.is_gpu() => PyRuntimeError::new_err(text),
@@ -171,26 +159,21 @@ fn run_sample(
         }
         Radii::Map(w, h, values) => {
             let make = |s: f64| -> pixelpie::Result<Params> {
-                let scaled: Vec<f32> = values.iter().map(|&r| (f64::from(r) * s) as f32).collect();
-                let map = RadiusMap::from_pixels(w, h, &scaled)?;
+                let map = RadiusMap::from_pixels_scaled(w, h, &values, s)?;
                 Ok(base.clone().with_radius_map(Arc::new(map)))
             };
             return Ok(pixelpie::count::sample_scaled(1.0, points, make, &mut run)?.0);
         }
-        Radii::ImageFile(path) => (ImageMap::File(path), Tones::Display),
-        Radii::ImageValues(w, h, values) => (
-            ImageMap::Values(ImportanceMap::from_values(w, h, values)?),
-            // An array is the grey to reproduce, as it is.
-            Tones::Linear,
-        ),
+        Radii::ImageFile(path) => (ImportanceMap::open(&path, None)?, Tones::Display),
+        // An array is the grey to reproduce, as it is.
+        Radii::ImageValues(w, h, values) => {
+            (ImportanceMap::from_values(w, h, values)?, Tones::Linear)
+        }
     };
+    let (map, tones) = image;
     let mut opts = ImportanceOptions::default();
-    opts.tones = image.1;
+    opts.tones = tones;
     opts.min_radius = radius;
-    let map = match image.0 {
-        ImageMap::File(path) => ImportanceMap::open(&path, None)?,
-        ImageMap::Values(map) => map,
-    };
     let prepared = opts.prepare_map(
         map,
         |w, h| fit_size((w, h), Some(width), Some(height)),
@@ -198,11 +181,6 @@ fn run_sample(
         points.is_some(),
     )?;
     Ok(prepared.sample(&base, points, run)?.set)
-}
-
-enum ImageMap {
-    File(PathBuf),
-    Values(ImportanceMap),
 }
 
 /// The native `sample`; see `pixelpie.sample`.
@@ -240,12 +218,12 @@ fn sample<'py>(
     if let Some(m) = max_iterations {
         base = base.with_max_iterations(m);
     }
-    let maps = [
-        radius_map.is_some(),
-        importance_path.is_some(),
-        importance_values.is_some(),
-    ];
-    if maps.iter().filter(|&&m| m).count() > 1 {
+    let importance = importance_path.is_some() || importance_values.is_some();
+    if usize::from(radius_map.is_some())
+        + usize::from(importance_path.is_some())
+        + usize::from(importance_values.is_some())
+        > 1
+    {
         return Err(bad("give at most one of radius_map and importance"));
     }
     let radii = if let Some(a) = &radius_map {
@@ -277,7 +255,7 @@ fn sample<'py>(
             _ => Radii::Uniform(radius),
         }
     };
-    if (importance_values.is_some() || maps[1]) && radius.is_none() && points.is_none() {
+    if importance && radius.is_none() && points.is_none() {
         return Err(bad(
             "give points or radius (the black pixels' radius) with an importance map",
         ));

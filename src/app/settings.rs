@@ -7,18 +7,7 @@ use serde::{Deserialize, Serialize};
 use crate::backend::BackendChoice;
 use crate::importance::Tones;
 use crate::sampler::Policy;
-
-/// How the dots are sized.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-pub enum DotMode {
-    /// All dots alike, calibrated to the tones.
-    Fixed,
-    /// Small dots in light areas, larger in dark ones, calibrated.
-    #[default]
-    Sized,
-    /// A fraction of each sample's radius (does not reproduce tones).
-    Proportional,
-}
+pub use crate::stipple::DotMode;
 
 /// What is drawn behind the dots.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]

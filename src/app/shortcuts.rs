@@ -66,18 +66,6 @@ impl History {
         self.last_change = None;
         Some(back)
     }
-
-    /// Undo steps available.
-    #[must_use]
-    pub fn len(&self) -> usize {
-        self.steps.len()
-    }
-
-    /// Whether nothing can be undone.
-    #[must_use]
-    pub fn is_empty(&self) -> bool {
-        self.steps.is_empty()
-    }
 }
 
 impl PixelPieApp {

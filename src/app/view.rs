@@ -496,10 +496,10 @@ impl PixelPieApp {
     /// How big the dots are drawn and exported.
     pub fn dot_size(&self) -> DotSize {
         let s = &self.settings;
-        match s.dot_mode {
-            DotMode::Fixed | DotMode::Sized => DotSize::Calibrated(s.dot_factor),
-            DotMode::Proportional => DotSize::Proportional(s.dot_scale),
-        }
+        s.dot_mode.size(match s.dot_mode {
+            DotMode::Proportional => s.dot_scale,
+            DotMode::Fixed | DotMode::Sized => s.dot_factor,
+        })
     }
 
     /// The dots as drawn: the view's and the exports'.

@@ -7,7 +7,7 @@ use std::sync::{Arc, Mutex};
 
 use egui_wgpu::wgpu;
 
-use super::settings::{DotMode, Settings};
+use super::settings::Settings;
 use crate::backend::BackendChoice;
 use crate::gpu::GpuSampler;
 use crate::importance::{Adjust, ImportanceMap, Mapping, Prepared, RadiusRange};
@@ -216,10 +216,10 @@ fn compute(
             .toned(s.tones)
             .adjusted(&adjust)
             .map_err(|e| e.to_string())?,
-        mapping: match (s.tone, s.dot_mode) {
-            (false, _) => Mapping::Linear,
-            (true, DotMode::Sized) => Mapping::ToneSized(s.dot_ratio.clamp(0.05, 1.0)),
-            (true, _) => Mapping::Tone,
+        mapping: if s.tone {
+            s.dot_mode.mapping(s.dot_ratio.clamp(0.05, 1.0))
+        } else {
+            Mapping::Linear
         },
         range: RadiusRange::new(s.r_min, s.r_max).map_err(|e| e.to_string())?,
         cutoff: (s.cutoff < 1.0).then_some(s.cutoff),

@@ -251,11 +251,7 @@ pub fn run(a: &SampleArgs) -> Result<()> {
     let make = |scale: f64| -> Result<Params> {
         Ok(match &map {
             Some((w, h, radii, path)) => {
-                let scaled: Vec<f32> = radii
-                    .iter()
-                    .map(|&r| (f64::from(r) * scale) as f32)
-                    .collect();
-                let m = RadiusMap::from_pixels(*w, *h, &scaled)
+                let m = RadiusMap::from_pixels_scaled(*w, *h, radii, scale)
                     .with_context(|| format!("radius map '{}'", path.display()))?;
                 base.clone().with_radius_map(Arc::new(m))
             }

@@ -139,6 +139,21 @@ impl RadiusMap {
         })
     }
 
+    /// [`Self::from_pixels`] of `radii` × `scale` (each product rounded to
+    /// `f32`): the map that `--points` scales to a count.
+    ///
+    /// ```
+    /// let map = pixelpie::sampler::RadiusMap::from_pixels_scaled(2, 1, &[2.0, 3.5], 2.0).unwrap();
+    /// assert_eq!(map.radius_px(1, 0), 7.0);
+    /// ```
+    pub fn from_pixels_scaled(width: u32, height: u32, radii: &[f32], scale: f64) -> Result<Self> {
+        let scaled: Vec<f32> = radii
+            .iter()
+            .map(|&r| (f64::from(r) * scale) as f32)
+            .collect();
+        Self::from_pixels(width, height, &scaled)
+    }
+
     /// Width in pixels.
     #[must_use]
     pub fn width(&self) -> u32 {

@@ -24,17 +24,50 @@ pub const DEFAULT_DOT_RATIO: f32 = 0.3;
 /// The default domain's longer side is at least this many pixels.
 pub const MIN_DOMAIN_SIDE: u32 = 1024;
 
-/// Dot sizing.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+/// Dot sizing (the CLI's `--dot`, the app's Dots control).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, serde::Deserialize)]
 #[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum DotMode {
     /// All dots the same size (calibrated).
     Fixed,
     /// Dots sized by tone, small in light areas (calibrated).
+    #[default]
     Sized,
     /// Dot radius proportional to the sample's radius (does not reproduce tones).
     Proportional,
+}
+
+impl DotMode {
+    /// The calibrated tone mapping for these dots: sized dots with the
+    /// lightest dots `ratio` of the darkest's, else equal dots.
+    #[must_use]
+    pub fn mapping(self, ratio: f32) -> Mapping {
+        match self {
+            Self::Sized => Mapping::ToneSized(ratio),
+            Self::Fixed | Self::Proportional => Mapping::Tone,
+        }
+    }
+
+    /// How the dots are drawn: `factor` × the calibrated radius, or × the
+    /// sample's radius for proportional dots.
+    #[must_use]
+    pub fn size(self, factor: f32) -> DotSize {
+        match self {
+            Self::Fixed | Self::Sized => DotSize::Calibrated(factor),
+            Self::Proportional => DotSize::Proportional(factor),
+        }
+    }
+
+    /// The default factor of [`Self::size`]: 1 reproduces the tones; 0.5
+    /// makes the closest proportional dots touch.
+    #[must_use]
+    pub fn default_factor(self) -> f32 {
+        match self {
+            Self::Fixed | Self::Sized => 1.0,
+            Self::Proportional => 0.5,
+        }
+    }
 }
 
 /// Drawing order.
@@ -272,17 +305,20 @@ impl StippleOptions {
     ) -> crate::Result<Stipple> {
         let t0 = std::time::Instant::now();
         let map = ImportanceMap::open(image, self.importance.hdr_white)?;
-        self.run_map(map, t0, sample, relaxed)
+        let opened = t0.elapsed().as_secs_f64();
+        let mut drawing = self.run_map(map, sample, relaxed)?;
+        drawing.seconds.0 += opened;
+        Ok(drawing)
     }
 
     /// [`Self::run`] for a picture already in memory.
     pub fn run_map(
         &self,
         map: ImportanceMap,
-        t0: std::time::Instant,
         sample: impl FnMut(&Params) -> crate::Result<SampleSet>,
         relaxed: impl FnMut(u32) -> bool,
     ) -> crate::Result<Stipple> {
+        let t0 = std::time::Instant::now();
         self.check()?;
         // The dots' own radius sets the sample radii, or the count does; a
         // pen alone sets the darkest dots to its width.
@@ -296,10 +332,7 @@ impl StippleOptions {
             (None, None) => Some(DEFAULT_POINTS),
         };
         let dot = self.dot_mode();
-        let mapping = match dot {
-            DotMode::Sized => Mapping::ToneSized(self.dot_ratio),
-            DotMode::Fixed | DotMode::Proportional => Mapping::Tone,
-        };
+        let mapping = dot.mapping(self.dot_ratio);
         let mut prepared = self.importance.prepare_map(
             map,
             |w, h| match (self.width, self.height) {
@@ -340,10 +373,7 @@ impl StippleOptions {
             set = set.with_points(moved);
         }
         let t_relax = t0.elapsed().as_secs_f64() - t_load - t_sample;
-        let size = match dot {
-            DotMode::Fixed | DotMode::Sized => DotSize::Calibrated(self.dot_factor.unwrap_or(1.0)),
-            DotMode::Proportional => DotSize::Proportional(self.dot_factor.unwrap_or(0.5)),
-        };
+        let size = dot.size(self.dot_factor.unwrap_or(dot.default_factor()));
         size.validate()?;
         let (points, tour) = match self.order {
             Order::None => (set.points.clone(), None),
