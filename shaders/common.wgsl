@@ -26,12 +26,25 @@ struct Config {
     pad0: u32,
 }
 
-// Mirrors `sampler::cpu::throw::Dart`.
+// Mirrors `sampler::Dart` (src/sampler/run.rs).
 struct Dart {
     x: u32,
     y: u32,
     pixel: u32,
     radius: u32,
+}
+
+// Exact mode's configuration (exact.wgsl, cover.wgsl). Mirrors
+// `gpu::exact::ExactConfig`.
+struct Exact {
+    frac: u32,      // F
+    g: u32,         // grid cell side in pixels
+    cols: u32,      // grid cells per row
+    cells: u32,     // grid cells
+    cap: u32,       // darts the state arrays hold
+    base: u32,      // samples accepted before this iteration
+    period_x: u32,  // 1/2^F px, 0 = not periodic
+    period_y: u32,
 }
 
 const POS_FRAC_BITS: u32 = 8u;

@@ -2,13 +2,16 @@
 //
 // One thread per survivor and row of its reach; each row's span comes from an
 // exact integer square root, and the bits of the coverage map are set a word
-// at a time with atomicOr.
+// at a time with atomicOr. `cover` marks the pixels whose centre a survivor's
+// disk holds; `cover_exact`, exact mode's pixel pass, those whose four
+// corners it holds (src/sampler/exact/mod.rs, `cover_band`), in 1/2^F px.
 
 @group(0) @binding(0) var<uniform> cfg: Config;
 @group(0) @binding(1) var<storage, read> survivors: array<Dart>;
 @group(0) @binding(2) var<storage, read> survivor_count: array<u32>;
 @group(0) @binding(3) var<storage, read_write> coverage: array<atomic<u32>>;
 @group(0) @binding(4) var radius_map: texture_2d<u32>;
+@group(0) @binding(5) var<uniform> ex: Exact;
 
 fn radius_at(x: u32, y: u32) -> u32 {
     if cfg.uniform_radius != 0u {
@@ -55,6 +58,80 @@ fn cover(
             let dx = u32(abs(qx * 256 + 128 - cx));
             let f = coverage_radius(cfg.policy, s.radius, radius_at(u32(x), u32(y)));
             covered = inside(dx, dy, f);
+        }
+        if covered {
+            let p = u32(y) * cfg.width + u32(x);
+            if (p >> 5u) != word {
+                if mask != 0u {
+                    atomicOr(&coverage[word], mask);
+                }
+                word = p >> 5u;
+                mask = 0u;
+            }
+            mask |= 1u << (p & 31u);
+        }
+    }
+    if mask != 0u {
+        atomicOr(&coverage[word], mask);
+    }
+}
+
+// Thread (k, row): row `row` of the pixels that survivor k (in 1/2^F px)
+// holds whole. Dispatched as (ceil(darts / 256), rows of the largest reach).
+@compute @workgroup_size(256)
+fn cover_exact(
+    @builtin(workgroup_id) wg: vec3<u32>,
+    @builtin(local_invocation_index) local: u32,
+) {
+    let k = wg.x * 256u + local;
+    if k >= survivor_count[0] {
+        return;
+    }
+    let s = survivors[k];
+    let shift = ex.frac - RADIUS_FRAC_BITS;
+    var reach = s.radius;
+    if cfg.policy == POLICY_CURRENT || cfg.policy == POLICY_BIGGER {
+        reach = max(s.radius, cfg.max_radius << shift);
+    }
+    let one = 1 << ex.frac;
+    let sx = i32(s.x);
+    let sy = i32(s.y);
+    let r = i32(reach);
+    let qy = ((sy - r) >> ex.frac) + i32(wg.y);
+    if qy > (sy + r) >> ex.frac {
+        return;
+    }
+    var y = qy;
+    if ex.period_y != 0u {
+        y = wrap(qy, cfg.height);
+    } else if qy < 0 || qy >= i32(cfg.height) {
+        return;
+    }
+    let dy = u32(max(abs(qy * one - sy), abs(qy * one + one - sy)));
+    if dy >= reach {
+        return;
+    }
+    let m = sub64(sub64(mul_wide(reach, reach), mul_wide(dy, dy)), vec2<u32>(1u, 0u));
+    let dx_max = i32(isqrt64(m));
+    // The pixels whose both x corners lie within dx_max of sx.
+    var x0 = (sx - dx_max + one - 1) >> ex.frac;
+    var x1 = ((sx + dx_max) >> ex.frac) - 1;
+    if ex.period_x == 0u {
+        x0 = max(x0, 0);
+        x1 = min(x1, i32(cfg.width) - 1);
+    }
+    var word = 0xffffffffu;
+    var mask = 0u;
+    for (var qx = x0; qx <= x1; qx++) {
+        var x = qx;
+        if ex.period_x != 0u {
+            x = wrap(qx, cfg.width);
+        }
+        var covered = cfg.policy == POLICY_PRIOR;
+        if !covered {
+            let dx = u32(max(abs(qx * one - sx), abs(qx * one + one - sx)));
+            let f = coverage_radius(cfg.policy, s.radius, radius_at(u32(x), u32(y)) << shift);
+            covered = lt64(add64(mul_wide(dx, dx), mul_wide(dy, dy)), mul_wide(f, f));
         }
         if covered {
             let p = u32(y) * cfg.width + u32(x);

@@ -153,7 +153,7 @@ pub fn sample(
 ) -> sampler::Result<SampleSet> {
     #[cfg(feature = "gpu")]
     {
-        let wants_gpu = choice != BackendChoice::Cpu && !params.exact;
+        let wants_gpu = choice != BackendChoice::Cpu;
         let mut gpu = if wants_gpu {
             SharedGpu::get()
         } else {
@@ -178,12 +178,12 @@ pub fn sample(
 /// The fallback policy, the same for the CLI and the app:
 ///
 /// * `cpu` runs the CPU backend;
-/// * `gpu` runs the GPU and reports its errors; exact mode, whose refinement
-///   runs on the CPU only, is refused;
+/// * `gpu` runs the GPU and reports its errors (in exact mode the GPU runs
+///   the pixel pass and the CPU the refinement below the pixel);
 /// * `auto` runs the GPU when there is a hardware adapter, and the CPU when
 ///   there is none, when the adapter is a software rasterizer (slower than
-///   the CPU backend itself), when the GPU fails during the run, or in exact
-///   mode; `notice` hears why.
+///   the CPU backend itself), or when the GPU fails during the run; `notice`
+///   hears why.
 pub fn sample_with(
     params: &Params,
     choice: BackendChoice,
@@ -193,17 +193,10 @@ pub fn sample_with(
 ) -> sampler::Result<SampleSet> {
     match choice {
         BackendChoice::Cpu => sampler::cpu::sample(params, ctl),
-        BackendChoice::Gpu if params.exact => Err(Error::InvalidParameter(
-            "exact mode runs on the CPU backend; choose --backend cpu or auto".into(),
-        )),
         BackendChoice::Gpu => {
             let gpu = gpu.map_err(Error::Gpu)?;
             notice(Notice::Adapter(gpu.adapter()));
             gpu.sample(params, ctl)
-        }
-        BackendChoice::Auto if params.exact => {
-            notice(Notice::Fallback("exact mode runs on the CPU".into()));
-            sampler::cpu::sample(params, ctl)
         }
         BackendChoice::Auto => match gpu {
             Ok(gpu) if gpu.is_software() => {

@@ -319,29 +319,30 @@ fn a_run_cut_short_is_reported_not_maximal() {
 }
 
 #[test]
-fn exact_mode_on_the_gpu_backend_is_refused_and_auto_runs_on_the_cpu() {
-    use pixelpie::backend::{BackendChoice, sample_with};
+fn exact_mode_without_a_gpu_fails_on_gpu_and_falls_back_on_auto() {
+    use pixelpie::backend::{BackendChoice, Notice, sample_with};
     let p = Params::new(64, 64).with_radius(4.0).with_exact(true);
     let err = sample_with(
         &p,
         BackendChoice::Gpu,
-        Err("none".into()),
+        Err("no adapter here".into()),
         Control::default(),
         &mut |_| {},
     )
     .unwrap_err();
-    assert!(err.to_string().contains("CPU"), "{err}");
+    assert!(err.is_gpu() && err.to_string().contains("no adapter here"), "{err}");
     let mut notices = Vec::new();
     let set = sample_with(
         &p,
         BackendChoice::Auto,
-        Err("none".into()),
+        Err("no adapter here".into()),
         Control::default(),
         &mut |n| notices.push(n),
     )
     .unwrap();
     assert_eq!(set.points, run(&p).points);
-    assert_eq!(notices.len(), 1);
+    assert!(set.stats.exact && set.stats.backend == "cpu");
+    assert!(matches!(&notices[..], [Notice::Fallback(_)]), "{notices:?}");
 }
 
 #[test]

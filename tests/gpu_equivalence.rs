@@ -232,3 +232,77 @@ fn a_chunked_key_buffer_matches_reference_implementation() {
     s.set_strip_cap(None);
     s.set_path(None);
 }
+
+/// Exact mode: the GPU's pixel pass, then the CPU's refinement, gives the
+/// CPU's points bit for bit.
+fn assert_exact_identical(params: &Params, what: &str) {
+    assert_identical(&params.clone().with_exact(true), what);
+    if let Some((g, c)) = both(&params.clone().with_exact(true)) {
+        assert_eq!(g.stats.backend, "gpu-exact", "{what}");
+        assert!(g.stats.exact && g.stats.repaired == c.stats.repaired, "{what}");
+    }
+}
+
+#[test]
+fn exact_mode_matches_reference_implementation() {
+    for periodic in [false, true] {
+        assert_exact_identical(
+            &Params::new(300, 200)
+                .with_radius(6.5)
+                .with_periodic(periodic)
+                .with_seed(42),
+            &format!("exact uniform periodic {periodic}"),
+        );
+    }
+    let (w, h) = (160, 120);
+    for (name, radii) in [("step", step_radii(w, h)), ("smooth", smooth_radii(w, h))] {
+        let map = Arc::new(RadiusMap::from_pixels(w, h, &radii).unwrap());
+        for policy in Policy::ALL {
+            for periodic in [false, true] {
+                let params = Params::new(w, h)
+                    .with_radius_map(map.clone())
+                    .with_policy(policy)
+                    .with_periodic(periodic)
+                    .with_seed(7);
+                assert_exact_identical(
+                    &params,
+                    &format!("exact {name} map {policy:?} periodic {periodic}"),
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn exact_mode_with_repairs_small_batches_and_caps_matches_reference_implementation() {
+    // This seed leaves a void that the CPU's repair fills (tests/exact.rs).
+    let repaired = Params::new(512, 512)
+        .with_radius(2.0)
+        .with_periodic(true)
+        .with_seed(1);
+    assert_exact_identical(&repaired, "exact 512² r = 2 seed 1");
+    if let Some((g, _)) = both(&repaired.clone().with_exact(true)) {
+        assert!(g.stats.repaired > 0, "the void is repaired");
+    }
+    // Many GPU iterations before the handover, a narrow domain, and a run
+    // cut short on the GPU (not maximal).
+    assert_exact_identical(
+        &Params::new(257, 131)
+            .with_radius(4.0)
+            .with_batch(37)
+            .with_seed(5),
+        "exact odd sizes, small batch",
+    );
+    assert_exact_identical(
+        &Params::new(1000, 7).with_radius(3.0).with_seed(9),
+        "exact 1000x7",
+    );
+    let capped = Params::new(256, 256)
+        .with_radius(3.0)
+        .with_max_iterations(2)
+        .with_seed(4);
+    assert_exact_identical(&capped, "exact capped");
+    if let Some((g, _)) = both(&capped.with_exact(true)) {
+        assert!(!g.maximal() && g.iterations() == 2);
+    }
+}

@@ -1,6 +1,8 @@
 //! Coverage (paper §3.2, second half of S2) on wgpu: a compute pass marks in
-//! the coverage bitmap the pixels each survivor covers under the policy.
-//! Shader: `shaders/cover.wgsl`; CPU mirror: `sampler::cpu::cover`.
+//! the coverage bitmap the pixels each survivor covers under the policy (in
+//! exact mode: holds whole, by the corner rule).
+//! Shader: `shaders/cover.wgsl`; CPU mirrors: `sampler::cpu::cover`, and
+//! `cover_band` in `sampler::exact`.
 
 use super::resources::Bindings;
 use super::util;
@@ -9,29 +11,42 @@ use super::util;
 pub struct CoverStage {
     /// The layout: config, survivors, survivor count, coverage, radius map.
     pub layout: wgpu::BindGroupLayout,
+    /// Exact mode's layout: the same, and its configuration.
+    pub exact_layout: wgpu::BindGroupLayout,
     cover: wgpu::ComputePipeline,
+    cover_exact: wgpu::ComputePipeline,
 }
 
 impl CoverStage {
     /// Compiles the kernel.
     pub fn new(device: &wgpu::Device) -> Self {
         let c = wgpu::ShaderStages::COMPUTE;
-        let layout = util::layout(
-            device,
-            "cover",
-            &[
-                util::uniform(0, c),
-                util::storage(1, c, true),
-                util::storage(2, c, true),
-                util::storage(3, c, false),
-                util::texture(4, wgpu::TextureSampleType::Uint),
-            ],
-        );
-        let pl = util::pipeline_layout(device, &layout);
+        let entries = [
+            util::uniform(0, c),
+            util::storage(1, c, true),
+            util::storage(2, c, true),
+            util::storage(3, c, false),
+            util::texture(4, wgpu::TextureSampleType::Uint),
+            util::uniform(5, c),
+        ];
+        let layout = util::layout(device, "cover", &entries[..5]);
+        let exact_layout = util::layout(device, "cover exact", &entries);
         let module = util::module(device, "cover.wgsl", util::SHADERS[3].1);
         Self {
-            cover: util::compute(device, &pl, &module, "cover"),
+            cover: util::compute(
+                device,
+                &util::pipeline_layout(device, &layout),
+                &module,
+                "cover",
+            ),
+            cover_exact: util::compute(
+                device,
+                &util::pipeline_layout(device, &exact_layout),
+                &module,
+                "cover_exact",
+            ),
             layout,
+            exact_layout,
         }
     }
 
@@ -48,6 +63,42 @@ impl CoverStage {
                 wgpu::BindingResource::TextureView(b.radius),
             ],
         )
+    }
+
+    /// Binds exact mode's kernel: the config, the survivors, their count,
+    /// the coverage bitmap, the radius map and exact mode's configuration.
+    pub fn bind_exact(
+        &self,
+        device: &wgpu::Device,
+        [config, survivors, count, coverage, exact]: [&wgpu::Buffer; 5],
+        radius: &wgpu::TextureView,
+    ) -> wgpu::BindGroup {
+        util::bind_group(
+            device,
+            &self.exact_layout,
+            &[
+                config.as_entire_binding(),
+                survivors.as_entire_binding(),
+                count.as_entire_binding(),
+                coverage.as_entire_binding(),
+                wgpu::BindingResource::TextureView(radius),
+                exact.as_entire_binding(),
+            ],
+        )
+    }
+
+    /// Exact mode: covers the pixels that up to `darts` survivors (in
+    /// 1/2^F px) hold whole, for a reach of at most `reach` (1/64 px).
+    pub fn encode_exact(
+        &self,
+        pass: &mut wgpu::ComputePass<'_>,
+        group: &wgpu::BindGroup,
+        darts: u32,
+        reach: u32,
+    ) {
+        pass.set_pipeline(&self.cover_exact);
+        pass.set_bind_group(0, group, &[]);
+        util::dispatch_rows(pass, darts, util::disk_rows(reach));
     }
 
     /// Covers the pixels of up to `darts` survivors whose reach is at most

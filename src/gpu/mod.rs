@@ -7,6 +7,7 @@
 //! | S2 conflict removal (transform feedback) | [`cull`]: depth read at each dart, scan, gather | `cull.wgsl` |
 //! | S2 coverage map | [`cover`]: compute rasterization into a coverage bitmap | `cover.wgsl` |
 //! | PP Thrust compaction | [`compact`]: prefix-sum scans | `compact.wgsl` |
+//! | exact mode's pixel pass (S1, S2 in 1/2^F px) | [`exact`], then the CPU's refinement | `exact.wgsl`, `cover.wgsl` |
 //!
 //! The sampler borrows the caller's `Device` and `Queue` (the app shares
 //! egui's), and keeps its pipelines and buffers across runs.
@@ -14,6 +15,7 @@
 pub(crate) mod compact;
 pub(crate) mod cover;
 pub(crate) mod cull;
+pub mod exact;
 mod resources;
 pub(crate) mod throw;
 pub mod util;
@@ -146,6 +148,8 @@ pub struct GpuSampler {
     cover: cover::CoverStage,
     compact: compact::CompactStage,
     resources: Option<Resources>,
+    /// Exact mode's kernels (compiled on its first run) and memory.
+    exact: Option<(exact::ExactStage, Option<exact::ExactResources>)>,
     adapter: String,
     /// The S1 path chosen by the caller, or `None` to pick by measurement.
     path: Option<S1Path>,
@@ -166,6 +170,7 @@ impl GpuSampler {
             cover: cover::CoverStage::new(device),
             compact: compact::CompactStage::new(device),
             resources: None,
+            exact: None,
             adapter: adapter.into(),
             path: None,
             measured: None,
@@ -246,6 +251,7 @@ impl GpuSampler {
         ];
         if let Some(err) = errors.into_iter().flatten().next() {
             self.resources = None;
+            self.exact = None;
             return Err(Error::gpu("a GPU command failed", err));
         }
         result
@@ -271,6 +277,9 @@ impl GpuSampler {
             return Err(Error::Gpu(
                 "radii above 32766 px exceed the GPU's row dispatch".into(),
             ));
+        }
+        if plan.exact {
+            return self.run_exact(device, queue, &plan, ctl);
         }
         let path = self.path_for(device, queue)?;
         let cap = plan.batch.min(plan.pixels()).min(plan.layout.max_batch());
@@ -298,7 +307,7 @@ impl GpuSampler {
         let Some(res) = self.resources.as_ref() else {
             return Err(Error::Gpu("no resources".into()));
         };
-        res.upload_map(queue, &plan);
+        res.radius.upload(queue, &plan);
         let mut config = Config::new(&plan);
         config.splat = u32::from(path == S1Path::Compute);
         let mut encoder = device.create_command_encoder(&Default::default());
@@ -327,6 +336,60 @@ impl GpuSampler {
             timestamps,
         };
         run::run(&plan, &mut stepper, stats, ctl)
+    }
+}
+
+impl GpuSampler {
+    /// Runs exact mode: the pixel pass here, the refinement on the CPU.
+    fn run_exact(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        plan: &Plan,
+        ctl: Control<'_>,
+    ) -> Result<SampleSet> {
+        if plan.radius_range.1 > exact::MAX_RADIUS_PX * crate::sampler::fixed::RADIUS_ONE {
+            return Err(Error::Gpu(format!(
+                "exact mode on the GPU takes radii up to {} px",
+                exact::MAX_RADIUS_PX
+            )));
+        }
+        let cap = plan
+            .batch
+            .min(plan.pixels())
+            .min(crate::sampler::fixed::MAX_BATCH);
+        let (stage, slot) = self
+            .exact
+            .get_or_insert_with(|| (exact::ExactStage::new(device), None));
+        if !slot.as_ref().is_some_and(|r| r.fits(plan, cap)) {
+            *slot = None;
+            *slot = Some(exact::ExactResources::new(
+                device,
+                queue,
+                exact::Kernels {
+                    exact: stage,
+                    cover: &self.cover,
+                    compact: &self.compact,
+                },
+                plan,
+                cap,
+            )?);
+        }
+        let Some(res) = slot.as_mut() else {
+            return Err(Error::Gpu("no resources".into()));
+        };
+        let stats = Stats {
+            backend: "gpu-exact".into(),
+            device: self.adapter.clone(),
+            ..Stats::default()
+        };
+        let kernels = exact::Kernels {
+            exact: stage,
+            cover: &self.cover,
+            compact: &self.compact,
+        };
+        let mut stepper = exact::ExactGpuStepper::new(device, queue, kernels, res, plan);
+        run::run(plan, &mut stepper, stats, ctl)
     }
 }
 

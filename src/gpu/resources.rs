@@ -17,11 +17,6 @@ use crate::sampler::{Error, Plan, Result};
 const HEADER: u64 = 64;
 const DART_BYTES: u64 = std::mem::size_of::<Dart>() as u64;
 
-/// Whether the plan's radii fit a 16-bit texture.
-fn narrow_radii(plan: &Plan) -> bool {
-    plan.radius_range.1 <= u32::from(u16::MAX)
-}
-
 /// Rows per strip of the key buffer for `path`: every row for the raster
 /// path (no key buffer) and wherever the whole buffer fits one storage
 /// binding; otherwise as many rows as fit, and never more than `cap`. 0 when
@@ -121,8 +116,6 @@ pub enum S1Path {
 pub struct Resources {
     width: u32,
     height: u32,
-    has_map: bool,
-    narrow: bool,
     capacity: u32,
     path: S1Path,
     /// Rows per strip of the key buffer (compute path; the height if whole).
@@ -138,7 +131,8 @@ pub struct Resources {
     /// The scan of the survivor flags.
     pub dart_scan: ScanChain,
     depth: wgpu::TextureView,
-    radius: wgpu::Texture,
+    /// The radius map.
+    pub radius: RadiusTexture,
     staging: wgpu::Buffer,
     queries: Option<(wgpu::QuerySet, wgpu::Buffer)>,
     throw_groups: ThrowGroups,
@@ -237,21 +231,8 @@ impl Resources {
             wgpu::TextureFormat::Depth32Float,
             T::RENDER_ATTACHMENT | T::TEXTURE_BINDING,
         );
-        let has_map = plan.map.is_some();
-        let map_size = if has_map { (width, height) } else { (1, 1) };
-        let narrow = narrow_radii(plan);
-        let radius = texture(
-            "radius map",
-            map_size,
-            if narrow {
-                wgpu::TextureFormat::R16Uint
-            } else {
-                wgpu::TextureFormat::R32Uint
-            },
-            T::TEXTURE_BINDING | T::COPY_DST,
-        );
+        let radius = RadiusTexture::new(device, plan);
         let depth = depth.create_view(&Default::default());
-        let radius_view = radius.create_view(&Default::default());
         let staging = util::buffer_of(
             device,
             "read-back",
@@ -282,23 +263,18 @@ impl Resources {
             survivor_count: dart_scan.total(),
             keys: &keys,
             depth: &depth,
-            radius: &radius_view,
+            radius: &radius.view,
         };
         let throw_groups = throw.bind(device, &bindings);
         let cull_group = cull.bind(device, &bindings);
         let cover_group = cover.bind(device, &bindings);
-        let map_bytes = if has_map {
-            4 - 2 * u64::from(narrow)
-        } else {
-            0
-        };
         let s1_bytes = if splat {
             keys.size()
         } else {
             4 * u64::from(width) * u64::from(height)
         };
         let bytes = s1_bytes
-            + map_bytes * u64::from(width) * u64::from(height)
+            + radius.bytes(plan)
             + 3 * dart_bytes
             + coverage.size()
             + word_scan.bytes()
@@ -306,8 +282,6 @@ impl Resources {
         Ok(Self {
             width,
             height,
-            has_map,
-            narrow,
             capacity,
             path,
             strip_rows,
@@ -339,57 +313,15 @@ impl Resources {
         path: S1Path,
         strip_cap: Option<u32>,
     ) -> bool {
-        (
-            self.width,
-            self.height,
-            self.has_map,
-            self.narrow,
-            self.path,
-        ) == (
-            plan.width,
-            plan.height,
-            plan.map.is_some(),
-            narrow_radii(plan),
-            path,
-        ) && capacity <= self.capacity
+        (self.width, self.height, self.path) == (plan.width, plan.height, path)
+            && self.radius.fits(plan)
+            && capacity <= self.capacity
             && self.strip_rows == strip_rows(device, plan, path, strip_cap)
     }
 
     /// Device memory held, in bytes.
     pub fn bytes(&self) -> u64 {
         self.bytes
-    }
-
-    /// Uploads the plan's radius map, if any: 16-bit radii when they fit
-    /// (below 1024 px), so that the map costs 2 bytes per pixel.
-    pub fn upload_map(&self, queue: &wgpu::Queue, plan: &Plan) {
-        let Some(map) = &plan.map else { return };
-        let narrow: Vec<u16>;
-        let (data, texel): (&[u8], u32) = if self.narrow {
-            narrow = map.radii_fx().iter().map(|&r| r as u16).collect();
-            (bytemuck::cast_slice(&narrow), 2)
-        } else {
-            (bytemuck::cast_slice(map.radii_fx()), 4)
-        };
-        queue.write_texture(
-            wgpu::TexelCopyTextureInfo {
-                texture: &self.radius,
-                mip_level: 0,
-                origin: wgpu::Origin3d::ZERO,
-                aspect: wgpu::TextureAspect::All,
-            },
-            data,
-            wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(texel * plan.width),
-                rows_per_image: Some(plan.height),
-            },
-            wgpu::Extent3d {
-                width: plan.width,
-                height: plan.height,
-                depth_or_array_layers: 1,
-            },
-        );
     }
 
     /// The timestamp writes of a pass that is all of the stage whose first
@@ -545,53 +477,132 @@ impl Resources {
         encoder.copy_buffer_to_buffer(&self.survivors, 0, &self.staging, HEADER, dart_bytes);
         queue.submit([encoder.finish()]);
 
-        let len = HEADER + dart_bytes;
-        let (tx, rx) = std::sync::mpsc::channel();
-        self.staging
-            .map_async(wgpu::MapMode::Read, 0..len, move |r| {
-                let _ = tx.send(r);
-            });
-        device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| Error::gpu("device lost", e))?;
-        rx.recv()
-            .map_err(|e| Error::gpu("the read-back never answered", e))?
-            .map_err(|e| Error::gpu("cannot read back", e))?;
-        let step = {
-            let view = self
-                .staging
-                .get_mapped_range(0..len)
-                .map_err(|e| Error::Gpu(format!("cannot read back: {e:?}")))?;
-            let header: &[u32] = bytemuck::cast_slice(&view[..HEADER as usize]);
-            let (empty, count) = (header[0], header[1].min(darts));
-            if timestamps {
-                // Each stage runs from its first pass's start to the next
-                // stage's start (PP: to its end), so no gap goes uncounted.
-                let at = TIMESTAMPS_AT as usize;
-                let ts: &[u64] = bytemuck::cast_slice(&view[at..at + 8 * QUERIES as usize]);
-                let period = f64::from(queue.get_timestamp_period()) * 1e-9;
-                for (i, s) in seconds.iter_mut().enumerate() {
-                    let (a, b) = (
-                        2 * i,
-                        if i + 1 < STAGES.len() {
-                            2 * i + 2
-                        } else {
-                            2 * i + 1
-                        },
-                    );
-                    *s = ts[b].saturating_sub(ts[a]) as f64 * period;
-                }
+        let view = util::read_back(device, &self.staging, HEADER + dart_bytes)?;
+        let header: Vec<u32> = bytemuck::pod_collect_to_vec(&view[..HEADER as usize]);
+        let (empty, count) = (header[0], header[1].min(darts));
+        if timestamps {
+            // Each stage runs from its first pass's start to the next
+            // stage's start (PP: to its end), so no gap goes uncounted.
+            let at = TIMESTAMPS_AT as usize;
+            let ts: Vec<u64> = bytemuck::pod_collect_to_vec(&view[at..at + 8 * QUERIES as usize]);
+            let period = f64::from(queue.get_timestamp_period()) * 1e-9;
+            for (i, s) in seconds.iter_mut().enumerate() {
+                let (a, b) = (
+                    2 * i,
+                    if i + 1 < STAGES.len() {
+                        2 * i + 2
+                    } else {
+                        2 * i + 1
+                    },
+                );
+                *s = ts[b].saturating_sub(ts[a]) as f64 * period;
             }
-            let survivors: &[Dart] = bytemuck::cast_slice(
-                &view[HEADER as usize..(HEADER + u64::from(count) * DART_BYTES) as usize],
-            );
-            Iteration {
-                empty,
-                survivors: survivors.to_vec(),
-                seconds,
-            }
+        }
+        let survivors = bytemuck::pod_collect_to_vec(
+            &view[HEADER as usize..(HEADER + u64::from(count) * DART_BYTES) as usize],
+        );
+        Ok(Iteration {
+            empty,
+            survivors,
+            seconds,
+        })
+    }
+}
+
+/// The radius map as a texture, in 1/64 px: 16-bit radii when they fit
+/// (below 1024 px), so that the map costs 2 bytes per pixel; 1×1 without a
+/// map.
+pub struct RadiusTexture {
+    texture: wgpu::Texture,
+    /// Its view, for bind groups.
+    pub view: wgpu::TextureView,
+    has_map: bool,
+    narrow: bool,
+}
+
+impl RadiusTexture {
+    /// A texture for `plan`'s map.
+    pub fn new(device: &wgpu::Device, plan: &Plan) -> Self {
+        let has_map = plan.map.is_some();
+        let narrow = Self::narrow(plan);
+        let size = if has_map {
+            (plan.width, plan.height)
+        } else {
+            (1, 1)
         };
-        self.staging.unmap();
-        Ok(step)
+        let texture = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("radius map"),
+            size: wgpu::Extent3d {
+                width: size.0,
+                height: size.1,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: if narrow {
+                wgpu::TextureFormat::R16Uint
+            } else {
+                wgpu::TextureFormat::R32Uint
+            },
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        });
+        let view = texture.create_view(&Default::default());
+        Self {
+            texture,
+            view,
+            has_map,
+            narrow,
+        }
+    }
+
+    fn narrow(plan: &Plan) -> bool {
+        plan.radius_range.1 <= u32::from(u16::MAX)
+    }
+
+    /// Whether the texture serves `plan`.
+    pub fn fits(&self, plan: &Plan) -> bool {
+        (self.has_map, self.narrow) == (plan.map.is_some(), Self::narrow(plan))
+    }
+
+    /// Bytes held for `plan`'s domain.
+    pub fn bytes(&self, plan: &Plan) -> u64 {
+        if self.has_map {
+            (4 - 2 * u64::from(self.narrow)) * u64::from(plan.width) * u64::from(plan.height)
+        } else {
+            0
+        }
+    }
+
+    /// Uploads the plan's radius map, if any.
+    pub fn upload(&self, queue: &wgpu::Queue, plan: &Plan) {
+        let Some(map) = &plan.map else { return };
+        let narrow: Vec<u16>;
+        let (data, texel): (&[u8], u32) = if self.narrow {
+            narrow = map.radii_fx().iter().map(|&r| r as u16).collect();
+            (bytemuck::cast_slice(&narrow), 2)
+        } else {
+            (bytemuck::cast_slice(map.radii_fx()), 4)
+        };
+        queue.write_texture(
+            wgpu::TexelCopyTextureInfo {
+                texture: &self.texture,
+                mip_level: 0,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::All,
+            },
+            data,
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(texel * plan.width),
+                rows_per_image: Some(plan.height),
+            },
+            wgpu::Extent3d {
+                width: plan.width,
+                height: plan.height,
+                depth_or_array_layers: 1,
+            },
+        );
     }
 }

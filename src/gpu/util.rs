@@ -6,14 +6,28 @@ use std::borrow::Cow;
 /// The WGSL shared by every stage (prepended to each).
 pub const COMMON: &str = include_str!("../../shaders/common.wgsl");
 
-/// Every shader of the pipeline, by file name, without the common prelude.
-pub const SHADERS: [(&str, &str); 6] = [
-    ("throw.wgsl", include_str!("../../shaders/throw.wgsl")),
+/// Every shader of the pipeline, by file name, without the common prelude
+/// (throw.wgsl and exact.wgsl with `empty.wgsl` appended).
+pub const SHADERS: [(&str, &str); 7] = [
+    (
+        "throw.wgsl",
+        concat!(
+            include_str!("../../shaders/throw.wgsl"),
+            include_str!("../../shaders/empty.wgsl")
+        ),
+    ),
     ("raster.wgsl", include_str!("../../shaders/raster.wgsl")),
     ("cull.wgsl", include_str!("../../shaders/cull.wgsl")),
     ("cover.wgsl", include_str!("../../shaders/cover.wgsl")),
     ("compact.wgsl", include_str!("../../shaders/compact.wgsl")),
     ("splat.wgsl", include_str!("../../shaders/splat.wgsl")),
+    (
+        "exact.wgsl",
+        concat!(
+            include_str!("../../shaders/exact.wgsl"),
+            include_str!("../../shaders/empty.wgsl")
+        ),
+    ),
 ];
 
 /// The full source of a stage's shader: the common prelude and the stage.
@@ -178,4 +192,30 @@ pub fn buffer_of(
         usage,
         mapped_at_creation: false,
     })
+}
+
+/// Waits for the submitted work and copies the first `len` bytes of a
+/// `MAP_READ` buffer out.
+pub fn read_back(
+    device: &wgpu::Device,
+    staging: &wgpu::Buffer,
+    len: u64,
+) -> crate::sampler::Result<Vec<u8>> {
+    use crate::sampler::Error;
+    let (tx, rx) = std::sync::mpsc::channel();
+    staging.map_async(wgpu::MapMode::Read, 0..len, move |r| {
+        let _ = tx.send(r);
+    });
+    device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| Error::gpu("device lost", e))?;
+    rx.recv()
+        .map_err(|e| Error::gpu("the read-back never answered", e))?
+        .map_err(|e| Error::gpu("cannot read back", e))?;
+    let bytes = staging
+        .get_mapped_range(0..len)
+        .map_err(|e| Error::Gpu(format!("cannot read back: {e:?}")))?
+        .to_vec();
+    staging.unmap();
+    Ok(bytes)
 }

@@ -160,6 +160,41 @@ impl<'p> ExactStepper<'p> {
         }
     }
 
+    /// The run after a pixel pass done elsewhere: the GPU backend's level 0
+    /// (`gpu::exact`), which follows these semantics bit for bit. `samples`
+    /// are the accepted samples in acceptance order, as (x, y) in 1/2^F px
+    /// and pixel index; `coverage` marks the pixels one of them holds whole
+    /// (bit p % 64 of word p / 64, set beyond the last pixel). With `refine`, the pass's last iteration
+    /// accepted fewer than 1/[`REFINE_BELOW`] of its darts, and the cells are
+    /// refined as that iteration would have done here.
+    #[must_use]
+    pub fn resume(
+        plan: &'p Plan,
+        samples: &[(u32, u32, u32)],
+        coverage: Vec<u64>,
+        refine: bool,
+    ) -> Self {
+        let mut st = Self::new(plan);
+        for (i, &(x, y, pixel)) in samples.iter().enumerate() {
+            st.grid.insert(i as u32, pixel % plan.width, pixel / plan.width);
+            st.samples.push(Sample {
+                x,
+                y,
+                pixel,
+                r: st.r_at(pixel),
+            });
+        }
+        st.coverage = coverage;
+        st.empty.compact(&st.coverage);
+        if refine {
+            st.refine();
+            if st.level == st.frac {
+                st.settle_finest();
+            }
+        }
+        st
+    }
+
     fn active(&self) -> u64 {
         if self.level == 0 {
             u64::from(self.empty.len())
