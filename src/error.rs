@@ -36,5 +36,12 @@ pub fn one_line(e: &dyn std::error::Error) -> String {
         text.push_str(&s.to_string());
         source = s.source();
     }
-    text
+    single_line(&text)
+}
+
+/// `text` on one line: each run of whitespace, line breaks included, becomes
+/// one space (wgpu's and some decoders' messages span lines).
+#[must_use]
+pub fn single_line(text: &str) -> String {
+    text.split_whitespace().collect::<Vec<_>>().join(" ")
 }

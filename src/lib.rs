@@ -43,4 +43,4 @@ pub mod io;
 pub mod sampler;
 pub mod stipple;
 
-pub use error::{Error, Result, one_line};
+pub use error::{Error, Result, one_line, single_line};

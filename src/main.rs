@@ -27,7 +27,7 @@ fn main() -> ExitCode {
     match cli::run(args) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            eprintln!("error: {}", pixelpie::single_line(&format!("{e:#}")));
             ExitCode::FAILURE
         }
     }

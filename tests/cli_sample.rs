@@ -391,3 +391,58 @@ fn the_stats_count_the_points_written() {
     assert!(out.status.success());
     assert!(std::fs::read_to_string(&all).unwrap().lines().count() - 1 > rows);
 }
+
+#[test]
+fn exact_mode_on_the_gpu_backend_writes_the_cpus_points() {
+    let dir = tmp();
+    let run = |backend: &str| {
+        let csv = dir.path().join(format!("{backend}.csv"));
+        let stats = dir.path().join(format!("{backend}.json"));
+        let out = pixelpie(&[
+            "sample",
+            "--width",
+            "180",
+            "--height",
+            "140",
+            "--radius",
+            "3.5",
+            "--periodic",
+            "--exact",
+            "--seed",
+            "8",
+            "--backend",
+            backend,
+            "-o",
+            csv.to_str().unwrap(),
+            "--stats",
+            stats.to_str().unwrap(),
+        ]);
+        (out, csv, stats)
+    };
+    let (out, gpu_csv, gpu_stats) = run("gpu");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    if !out.status.success() && stderr.contains("no GPU adapter") {
+        assert!(
+            std::env::var("PIXELPIE_EXPECT_GPU").as_deref() != Ok("1"),
+            "a GPU adapter is expected: {stderr}"
+        );
+        eprintln!("skipping GPU test: {stderr}");
+        return;
+    }
+    assert!(out.status.success(), "{stderr}");
+    let (out, cpu_csv, _) = run("cpu");
+    assert!(out.status.success());
+    let (g, c) = (
+        std::fs::read(&gpu_csv).unwrap(),
+        std::fs::read(&cpu_csv).unwrap(),
+    );
+    assert!(
+        c.len() > 1000 && g == c,
+        "the GPU's CSV differs from the CPU's"
+    );
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&gpu_stats).unwrap()).unwrap();
+    assert_eq!(s["backend"].as_str(), Some("gpu-exact"));
+    assert_eq!(s["exact"].as_bool(), Some(true));
+    assert_eq!(s["maximal"].as_bool(), Some(true));
+}

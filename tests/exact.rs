@@ -330,7 +330,10 @@ fn exact_mode_without_a_gpu_fails_on_gpu_and_falls_back_on_auto() {
         &mut |_| {},
     )
     .unwrap_err();
-    assert!(err.is_gpu() && err.to_string().contains("no adapter here"), "{err}");
+    assert!(
+        err.is_gpu() && err.to_string().contains("no adapter here"),
+        "{err}"
+    );
     let mut notices = Vec::new();
     let set = sample_with(
         &p,

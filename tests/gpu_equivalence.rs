@@ -239,7 +239,10 @@ fn assert_exact_identical(params: &Params, what: &str) {
     assert_identical(&params.clone().with_exact(true), what);
     if let Some((g, c)) = both(&params.clone().with_exact(true)) {
         assert_eq!(g.stats.backend, "gpu-exact", "{what}");
-        assert!(g.stats.exact && g.stats.repaired == c.stats.repaired, "{what}");
+        assert!(
+            g.stats.exact && g.stats.repaired == c.stats.repaired,
+            "{what}"
+        );
     }
 }
 

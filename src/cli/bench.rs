@@ -1,5 +1,6 @@
 //! `pixelpie bench`: the paper's Table 1 (r = 8.5 px, batch N/2) with the GPU
-//! and CPU backends side by side, as a Markdown table on stdout.
+//! and CPU backends side by side, pixel mode and exact mode, as a Markdown
+//! table on stdout.
 
 use anyhow::Result;
 use clap::Args;
@@ -26,6 +27,10 @@ pub struct BenchArgs {
     /// Skip the GPU backend.
     #[arg(long)]
     no_gpu: bool,
+    /// Skip exact mode (its GPU pixel pass with the CPU's refinement, and
+    /// the CPU alone).
+    #[arg(long)]
+    no_exact: bool,
     /// Seed.
     #[arg(long, default_value_t = 1)]
     seed: u64,
@@ -49,13 +54,21 @@ fn row(label: &str, side: u32, batch: u32, s: &SampleSet) {
     let st = &s.stats;
     let px = f64::from(side) * f64::from(side);
     println!(
-        "| {label} | {side}² | {:.2}K | {:.2}K | {} | {:.1} | {:.1} | {:.1} | {:.1} | {:.2}M | {:.1} | {} |",
+        "| {label} | {side}² | {:.2}K | {:.2}K | {} | {:.1} | {:.1} | {:.1} | {} | {:.1} | {:.2}M | {:.1} | {} |",
         f64::from(batch) / 1e3,
         s.points.len() as f64 / 1e3,
         st.iterations,
         st.stages.get("throw") * 1e3,
         st.stages.get("cull") * 1e3,
         st.stages.get("compact") * 1e3,
+        if st.exact {
+            format!(
+                "{:.1}",
+                (st.stages.get("refine") + st.stages.get("repair")) * 1e3
+            )
+        } else {
+            "–".into()
+        },
         st.seconds * 1e3,
         s.points.len() as f64 / st.seconds / 1e6,
         st.bytes_per_pixel * px / (1 << 20) as f64,
@@ -88,9 +101,9 @@ pub fn run(a: &BenchArgs) -> Result<()> {
         rayon::current_num_threads()
     );
     println!(
-        "| backend | domain | batch | points | iter | S1 ms | S2 ms | PP ms | total ms | rate (samples/s) | MB | maximal |"
+        "| backend | domain | batch | points | iter | S1 ms | S2 ms | PP ms | refine ms | total ms | rate (samples/s) | MB | maximal |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for side in sizes {
         let params = Params::new(side, side)
             .with_radius(a.radius)
@@ -112,6 +125,23 @@ pub fn run(a: &BenchArgs) -> Result<()> {
         if !a.no_cpu {
             let s = best(a.reps, || sampler::cpu::sample(&params, Control::default()))?;
             row("CPU", side, batch, &s);
+        }
+        if a.no_exact {
+            continue;
+        }
+        // Exact mode: on the GPU, S2 is throw and acceptance, PP the
+        // coverage and scans, and "refine" the CPU's part after the pixel
+        // pass.
+        let exact = params.clone().with_exact(true);
+        if let Some(g) = gpu {
+            match best(a.reps, || g.sample_on(&exact, None, Control::default())) {
+                Ok(s) => row("GPU exact", side, batch, &s),
+                Err(e) => eprintln!("GPU exact {side}²: {e:#}"),
+            }
+        }
+        if !a.no_cpu {
+            let s = best(a.reps, || sampler::cpu::sample(&exact, Control::default()))?;
+            row("CPU exact", side, batch, &s);
         }
     }
     Ok(())

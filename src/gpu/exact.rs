@@ -225,8 +225,15 @@ impl ExactResources {
             device,
             stage,
             [
-                &config, &darts, &coverage, &word_scan.levels[0], &ex_buffer, &samples, &grid,
-                &dart_scan.levels[0], &survivors,
+                &config,
+                &darts,
+                &coverage,
+                &word_scan.levels[0],
+                &ex_buffer,
+                &samples,
+                &grid,
+                &dart_scan.levels[0],
+                &survivors,
             ],
             &radius.view,
         );
@@ -348,13 +355,7 @@ impl ExactResources {
         let cap = (u64::from(n).max(2 * u64::from(self.sample_cap))).min(max) as u32;
         let samples = Self::sample_buffer(device, cap);
         let mut encoder = device.create_command_encoder(&Default::default());
-        encoder.copy_buffer_to_buffer(
-            &self.samples,
-            0,
-            &samples,
-            0,
-            u64::from(kept) * DART_BYTES,
-        );
+        encoder.copy_buffer_to_buffer(&self.samples, 0, &samples, 0, u64::from(kept) * DART_BYTES);
         queue.submit([encoder.finish()]);
         self.group = Self::bind(
             device,

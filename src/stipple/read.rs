@@ -51,7 +51,7 @@ pub fn read_svg(text: &str) -> Result<Drawing, String> {
     let mut doc = Document::default();
     loop {
         let event = reader.read_event().map_err(|e| {
-            one_line(&format!(
+            crate::single_line(&format!(
                 "not valid XML (near byte {}): {e}",
                 reader.error_position()
             ))
@@ -80,11 +80,6 @@ fn is_our_comment(text: &str) -> bool {
         words.as_slice(),
         [n, "dots,", "made", "by", "pixelpie"] if n.bytes().all(|b| b.is_ascii_digit())
     )
-}
-
-/// Replaces line breaks so that an error stays on one line.
-fn one_line(s: &str) -> String {
-    s.split_whitespace().collect::<Vec<_>>().join(" ")
 }
 
 /// The viewBox: origin and size.
@@ -240,7 +235,7 @@ struct Attrs(Vec<(String, String)>);
 impl Attrs {
     /// Reads and unescapes the attributes of `e`.
     fn read(e: &BytesStart<'_>, reader: &Reader<&[u8]>) -> Result<Self, String> {
-        let bad = |e: &dyn std::fmt::Display| one_line(&format!("not valid XML: {e}"));
+        let bad = |e: &dyn std::fmt::Display| crate::single_line(&format!("not valid XML: {e}"));
         let mut out = Vec::new();
         for attr in e.attributes() {
             let attr = attr.map_err(|e| bad(&e))?;

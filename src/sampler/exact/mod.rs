@@ -176,7 +176,8 @@ impl<'p> ExactStepper<'p> {
     ) -> Self {
         let mut st = Self::new(plan);
         for (i, &(x, y, pixel)) in samples.iter().enumerate() {
-            st.grid.insert(i as u32, pixel % plan.width, pixel / plan.width);
+            st.grid
+                .insert(i as u32, pixel % plan.width, pixel / plan.width);
             st.samples.push(Sample {
                 x,
                 y,
