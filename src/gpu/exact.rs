@@ -15,8 +15,9 @@
 //! its darts, the semantics refine the cells; the samples (already read back
 //! in order) and the coverage bitmap go to [`ExactStepper::resume`], which
 //! refines, and the CPU runs every later iteration. The pixel pass holds
-//! nearly all of the samples (at 4096², r = 8.5 px: 97%), so this is where
-//! the GPU helps; below the pixel the cells are few and scattered.
+//! most of the samples (at 4096²: 94% at r = 8.5 px, 75% at r = 2 px) and
+//! most of the CPU's time at the larger radii (80% at r = 8.5 px, 36% at
+//! r = 2 px); below the pixel the cells are few and scattered.
 
 use std::time::Instant;
 
