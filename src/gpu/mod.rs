@@ -20,7 +20,7 @@ mod resources;
 pub(crate) mod throw;
 pub mod util;
 
-pub use resources::{Resources, S1Path};
+pub use resources::{Resources, S1Path, Shape, Stages};
 
 use crate::sampler::Dart;
 use crate::sampler::fixed::iteration_key;
@@ -284,25 +284,25 @@ impl GpuSampler {
         let path = self.path_for(device, queue)?;
         let cap = plan.batch.min(plan.pixels()).min(plan.layout.max_batch());
         let timestamps = device.features().contains(wgpu::Features::TIMESTAMP_QUERY);
+        let shape = Shape {
+            capacity: cap,
+            timestamps,
+            path,
+            strip_cap: self.strip_cap,
+        };
+        let stages = Stages {
+            throw: &self.throw,
+            cull: &self.cull,
+            cover: &self.cover,
+            compact: &self.compact,
+        };
         let fits = self
             .resources
             .as_ref()
-            .is_some_and(|r| r.fits(device, &plan, cap, path, self.strip_cap));
+            .is_some_and(|r| r.fits(device, &plan, shape));
         if !fits {
             self.resources = None;
-            self.resources = Some(Resources::new(
-                device,
-                queue,
-                &self.throw,
-                &self.cull,
-                &self.cover,
-                &self.compact,
-                &plan,
-                cap,
-                timestamps,
-                path,
-                self.strip_cap,
-            )?);
+            self.resources = Some(Resources::new(device, queue, stages, &plan, shape)?);
         }
         let Some(res) = self.resources.as_ref() else {
             return Err(Error::Gpu("no resources".into()));
@@ -329,11 +329,10 @@ impl GpuSampler {
         let mut stepper = GpuStepper {
             device,
             queue,
-            stages: (&self.throw, &self.cull, &self.cover, &self.compact),
+            stages,
             res,
             plan: &plan,
             config,
-            timestamps,
         };
         run::run(&plan, &mut stepper, stats, ctl)
     }
@@ -398,16 +397,10 @@ impl GpuSampler {
 struct GpuStepper<'a> {
     device: &'a wgpu::Device,
     queue: &'a wgpu::Queue,
-    stages: (
-        &'a throw::ThrowStage,
-        &'a cull::CullStage,
-        &'a cover::CoverStage,
-        &'a compact::CompactStage,
-    ),
+    stages: Stages<'a>,
     res: &'a Resources,
     plan: &'a Plan,
     config: Config,
-    timestamps: bool,
 }
 
 impl Stepper for GpuStepper<'_> {
@@ -419,14 +412,9 @@ impl Stepper for GpuStepper<'_> {
         self.config.iteration_key = iteration_key(self.plan.seed_key, iteration);
         self.config.darts = darts;
         self.res.dart_scan.set_len(self.queue, darts + 1, 0);
-        let it = self.res.iterate(
-            self.device,
-            self.queue,
-            self.stages,
-            self.plan,
-            self.config,
-            self.timestamps,
-        )?;
+        let it = self
+            .res
+            .iterate(self.device, self.queue, self.stages, self.plan, self.config)?;
         self.config.empty = it.empty;
         self.config.first = 0;
         let mut stages = StageTimes::default();

@@ -112,6 +112,73 @@ pub enum S1Path {
     Compute,
 }
 
+/// The pixel pass's four stages, as the resources bind and encode them.
+#[derive(Clone, Copy)]
+pub struct Stages<'a> {
+    /// S1.
+    pub throw: &'a ThrowStage,
+    /// S2, conflict removal.
+    pub cull: &'a CullStage,
+    /// S2, coverage.
+    pub cover: &'a CoverStage,
+    /// PP.
+    pub compact: &'a CompactStage,
+}
+
+/// What a run's resources are sized for, besides the plan.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Shape {
+    /// Darts per batch, at most.
+    pub capacity: u32,
+    /// Whether the stages are timed by timestamp queries.
+    pub timestamps: bool,
+    /// How S1 rasterizes.
+    pub path: S1Path,
+    /// A cap on the rows per strip of the compute path's key buffer (tests).
+    pub strip_cap: Option<u32>,
+}
+
+/// S1's target: the compute path's key buffer (one strip of `strip_rows`
+/// rows) or the raster path's depth map, and a stand-in for the other.
+fn s1_target(
+    device: &wgpu::Device,
+    plan: &Plan,
+    path: S1Path,
+    strip_rows: u32,
+) -> (wgpu::Buffer, wgpu::TextureView) {
+    let splat = path == S1Path::Compute;
+    let keys = util::buffer_of(
+        device,
+        "splat keys",
+        if splat {
+            4 * u64::from(plan.width) * u64::from(strip_rows)
+        } else {
+            16
+        },
+        wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+    );
+    let (w, h) = if splat {
+        (1, 1)
+    } else {
+        (plan.width, plan.height)
+    };
+    let depth = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("depth"),
+        size: wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Depth32Float,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+        view_formats: &[],
+    });
+    (keys, depth.create_view(&Default::default()))
+}
+
 /// Buffers, textures and bind groups of one domain size.
 pub struct Resources {
     width: u32,
@@ -142,27 +209,23 @@ pub struct Resources {
 }
 
 impl Resources {
-    /// Allocates everything a `plan` with batches of up to `capacity` darts
-    /// needs. The compute path's key buffer is cut into strips of rows when
-    /// the whole would exceed the adapter's largest storage binding, or when
-    /// `strip_cap` (rows; for tests) asks for it.
-    #[expect(
-        clippy::too_many_arguments,
-        reason = "the four stages and the run's shape"
-    )]
+    /// Allocates everything a `plan` of `shape` needs. The compute path's
+    /// key buffer is cut into strips of rows when the whole would exceed the
+    /// adapter's largest storage binding, or when `shape.strip_cap` (rows;
+    /// for tests) asks for it.
     pub fn new(
         device: &wgpu::Device,
         queue: &wgpu::Queue,
-        throw: &ThrowStage,
-        cull: &CullStage,
-        cover: &CoverStage,
-        compact: &CompactStage,
+        stages: Stages<'_>,
         plan: &Plan,
-        capacity: u32,
-        timestamps: bool,
-        path: S1Path,
-        strip_cap: Option<u32>,
+        shape: Shape,
     ) -> Result<Self> {
+        let Shape {
+            capacity,
+            timestamps,
+            path,
+            strip_cap,
+        } = shape;
         use wgpu::BufferUsages as B;
         let (width, height) = (plan.width, plan.height);
         let words = plan.pixels().div_ceil(32);
@@ -193,46 +256,13 @@ impl Resources {
             4 * u64::from(words),
             B::STORAGE | B::COPY_DST,
         );
-        let word_scan = ScanChain::new(device, compact, "word scan", words, Some(&coverage));
+        let word_scan = ScanChain::new(device, stages.compact, "word scan", words, Some(&coverage));
         word_scan.set_len(queue, words, plan.pixels());
         // One more flag than darts: the 0 that ends them (see cull.wgsl).
-        let dart_scan = ScanChain::new(device, compact, "dart scan", capacity + 1, None);
-        let texture = |label, size: (u32, u32), format, usage| {
-            device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d {
-                    width: size.0,
-                    height: size.1,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage,
-                view_formats: &[],
-            })
-        };
-        use wgpu::TextureUsages as T;
+        let dart_scan = ScanChain::new(device, stages.compact, "dart scan", capacity + 1, None);
         let splat = path == S1Path::Compute;
-        let keys = util::buffer_of(
-            device,
-            "splat keys",
-            if splat {
-                4 * u64::from(width) * u64::from(strip_rows)
-            } else {
-                16
-            },
-            B::STORAGE | B::COPY_DST,
-        );
-        let depth = texture(
-            "depth",
-            if splat { (1, 1) } else { (width, height) },
-            wgpu::TextureFormat::Depth32Float,
-            T::RENDER_ATTACHMENT | T::TEXTURE_BINDING,
-        );
+        let (keys, depth) = s1_target(device, plan, path, strip_rows);
         let radius = RadiusTexture::new(device, plan);
-        let depth = depth.create_view(&Default::default());
         let staging = util::buffer_of(
             device,
             "read-back",
@@ -265,9 +295,9 @@ impl Resources {
             depth: &depth,
             radius: &radius.view,
         };
-        let throw_groups = throw.bind(device, &bindings);
-        let cull_group = cull.bind(device, &bindings);
-        let cover_group = cover.bind(device, &bindings);
+        let throw_groups = stages.throw.bind(device, &bindings);
+        let cull_group = stages.cull.bind(device, &bindings);
+        let cover_group = stages.cover.bind(device, &bindings);
         let s1_bytes = if splat {
             keys.size()
         } else {
@@ -303,20 +333,13 @@ impl Resources {
         })
     }
 
-    /// Whether these resources serve `plan` with batches of `capacity` darts,
-    /// with the strips that `strip_cap` asks for.
-    pub fn fits(
-        &self,
-        device: &wgpu::Device,
-        plan: &Plan,
-        capacity: u32,
-        path: S1Path,
-        strip_cap: Option<u32>,
-    ) -> bool {
-        (self.width, self.height, self.path) == (plan.width, plan.height, path)
+    /// Whether these resources serve `plan` of `shape`.
+    pub fn fits(&self, device: &wgpu::Device, plan: &Plan, shape: Shape) -> bool {
+        (self.width, self.height, self.path) == (plan.width, plan.height, shape.path)
             && self.radius.fits(plan)
-            && capacity <= self.capacity
-            && self.strip_rows == strip_rows(device, plan, path, strip_cap)
+            && shape.capacity <= self.capacity
+            && self.queries.is_some() == shape.timestamps
+            && self.strip_rows == strip_rows(device, plan, shape.path, shape.strip_cap)
     }
 
     /// Device memory held, in bytes.
@@ -342,12 +365,17 @@ impl Resources {
         &self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
-        stages: (&ThrowStage, &CullStage, &CoverStage, &CompactStage),
+        stages: Stages<'_>,
         plan: &Plan,
         config: Config,
-        timestamps: bool,
     ) -> Result<Iteration> {
-        let (throw, cull, cover, compact) = stages;
+        let Stages {
+            throw,
+            cull,
+            cover,
+            compact,
+        } = stages;
+        let timestamps = self.queries.is_some();
         let darts = config.darts;
         let mut config = config;
         config.strip_y0 = 0;
