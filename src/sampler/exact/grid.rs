@@ -1,8 +1,10 @@
 //! The accepted samples of an exact run, binned by square cells of `G` px
 //! with `G` = ⌈r_max⌉ + 1: every sample whose disk can reach a point (or a
 //! sub-pixel cell) of pixel p lies in a cell overlapping pixels p ± G.
-//! Cells are linked lists, newest sample first.
+//! Cells are linked lists, newest sample first, whose nodes hold the samples
+//! themselves (one memory access per hop).
 
+use super::Sample;
 use crate::sampler::Plan;
 use crate::sampler::cpu::cull::cells_along;
 use crate::sampler::fixed::RADIUS_ONE;
@@ -18,7 +20,14 @@ pub struct SampleGrid {
     height: u32,
     periodic: bool,
     head: Vec<u32>,
-    next: Vec<u32>,
+    nodes: Vec<Node>,
+}
+
+/// A sample and the next one of its cell.
+#[derive(Clone, Copy)]
+struct Node {
+    sample: Sample,
+    next: u32,
 }
 
 impl SampleGrid {
@@ -33,37 +42,44 @@ impl SampleGrid {
             height: plan.height,
             periodic: plan.periodic,
             head: vec![NONE; (cols * rows) as usize],
-            next: Vec::new(),
+            nodes: Vec::new(),
         }
     }
 
-    /// Adds sample `index` (the next one: indices come in order) in pixel
-    /// (px, py).
-    pub fn insert(&mut self, index: u32, px: u32, py: u32) {
-        debug_assert_eq!(index as usize, self.next.len());
-        let c = ((py / self.g) * self.cols + px / self.g) as usize;
-        self.next.push(self.head[c]);
-        self.head[c] = index;
+    /// The cell of `s`'s pixel.
+    fn cell_of(&self, s: &Sample) -> usize {
+        let (px, py) = (s.pixel % self.width, s.pixel / self.width);
+        ((py / self.g) * self.cols + px / self.g) as usize
     }
 
-    /// Takes sample `index`, in pixel (px, py), out of the grid. Its slot
-    /// stays (indices are acceptance order), unlinked from its cell's list.
-    pub fn remove(&mut self, index: u32, px: u32, py: u32) {
-        let c = ((py / self.g) * self.cols + px / self.g) as usize;
-        let after = self.next[index as usize];
+    /// Adds `s`, the next sample (indices are acceptance order).
+    pub fn insert(&mut self, s: Sample) {
+        let c = self.cell_of(&s);
+        self.nodes.push(Node {
+            sample: s,
+            next: self.head[c],
+        });
+        self.head[c] = (self.nodes.len() - 1) as u32;
+    }
+
+    /// Takes sample `index` out of the grid. Its slot stays (indices are
+    /// acceptance order), unlinked from its cell's list.
+    pub fn remove(&mut self, index: u32) {
+        let c = self.cell_of(&self.nodes[index as usize].sample);
+        let after = self.nodes[index as usize].next;
         if self.head[c] == index {
             self.head[c] = after;
         } else {
             let mut i = self.head[c];
             while i != NONE {
-                if self.next[i as usize] == index {
-                    self.next[i as usize] = after;
+                if self.nodes[i as usize].next == index {
+                    self.nodes[i as usize].next = after;
                     break;
                 }
-                i = self.next[i as usize];
+                i = self.nodes[i as usize].next;
             }
         }
-        self.next[index as usize] = NONE;
+        self.nodes[index as usize].next = NONE;
     }
 
     /// Cell side in pixels.
@@ -93,20 +109,27 @@ impl SampleGrid {
         }
     }
 
-    /// Calls `f` with every sample index of at least `from` that may reach
-    /// pixel (px, py), newest first within a cell, until `f` returns true;
-    /// returns whether one did.
-    pub fn any_near(&self, px: u32, py: u32, from: u32, mut f: impl FnMut(u32) -> bool) -> bool {
+    /// Calls `f` with every sample (and its index) of index at least `from`
+    /// that may reach pixel (px, py), newest first within a cell, until `f`
+    /// returns true; returns whether one did.
+    pub fn any_near(
+        &self,
+        px: u32,
+        py: u32,
+        from: u32,
+        mut f: impl FnMut(u32, &Sample) -> bool,
+    ) -> bool {
         let (cols, nc) = cells_along(px, self.g, self.width, self.g, self.periodic);
         let (rows, nr) = cells_along(py, self.g, self.height, self.g, self.periodic);
         for &cy in &rows[..nr] {
             for &cx in &cols[..nc] {
                 let mut i = self.head[(cy * self.cols + cx) as usize];
                 while i != NONE && i >= from {
-                    if f(i) {
+                    let node = &self.nodes[i as usize];
+                    if f(i, &node.sample) {
                         return true;
                     }
-                    i = self.next[i as usize];
+                    i = node.next;
                 }
             }
         }
@@ -115,6 +138,6 @@ impl SampleGrid {
 
     /// Bytes held.
     pub fn bytes(&self) -> usize {
-        4 * (self.head.capacity() + self.next.capacity())
+        4 * self.head.capacity() + std::mem::size_of::<Node>() * self.nodes.capacity()
     }
 }

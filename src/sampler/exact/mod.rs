@@ -179,15 +179,15 @@ impl<'p> ExactStepper<'p> {
         refine: bool,
     ) -> Self {
         let mut st = Self::new(plan);
-        for (i, &(x, y, pixel)) in samples.iter().enumerate() {
-            st.grid
-                .insert(i as u32, pixel % plan.width, pixel / plan.width);
-            st.samples.push(Sample {
+        for &(x, y, pixel) in samples {
+            let s = Sample {
                 x,
                 y,
                 pixel,
                 r: st.r_at(pixel),
-            });
+            };
+            st.grid.insert(s);
+            st.samples.push(s);
         }
         st.coverage = coverage;
         st.empty.compact(&st.coverage);
@@ -259,8 +259,7 @@ impl<'p> ExactStepper<'p> {
     fn free(&self, d: &Sample) -> bool {
         let policy = self.plan.policy;
         let (px, py) = self.pixel_xy(d.x, d.y);
-        !self.grid.any_near(px, py, 0, |i| {
-            let s = &self.samples[i as usize];
+        !self.grid.any_near(px, py, 0, |_, s| {
             self.within((s.x, s.y), (d.x, d.y), policy.coverage_radius(s.r, d.r))
         })
     }
@@ -356,9 +355,8 @@ impl<'p> ExactStepper<'p> {
         let k = self.corners(c);
         let (px, py) = self.pixel_xy(k.0, k.1);
         let r_cell = self.r_at(py * self.plan.width + px);
-        self.grid.any_near(px, py, from, |i| {
-            self.covers(&self.samples[i as usize], k, r_cell)
-        })
+        self.grid
+            .any_near(px, py, from, |_, s| self.covers(s, k, r_cell))
     }
 
     /// Level 0: marks the pixels that the samples from `from` on cover.
@@ -478,8 +476,7 @@ impl<'p> ExactStepper<'p> {
                 let xs = [x0, x0 + half, x0 + 2 * half];
                 let ys = [y0, y0 + half, y0 + 2 * half];
                 let mut covered = [false; 4];
-                this.grid.any_near(px, py, 0, |i| {
-                    let s = &this.samples[i as usize];
+                this.grid.any_near(px, py, 0, |_, s| {
                     for (n, cov) in covered.iter_mut().enumerate() {
                         let (a, b) = (n % 2, n / 2);
                         *cov = *cov || this.covers(s, (xs[a], ys[b], xs[a + 1], ys[b + 1]), r_cell);
@@ -509,8 +506,7 @@ impl<'p> ExactStepper<'p> {
             let k = this.corners(c);
             let (px, py) = this.pixel_xy(k.0, k.1);
             let r_cell = this.r_at(py * this.plan.width + px);
-            !this.grid.any_near(px, py, 0, |i| {
-                let s = &this.samples[i as usize];
+            !this.grid.any_near(px, py, 0, |_, s| {
                 this.within((s.x, s.y), (k.0, k.1), policy.coverage_radius(s.r, r_cell))
             })
         });
@@ -545,8 +541,7 @@ impl<'p> ExactStepper<'p> {
             };
             (c + d) as f64
         };
-        self.grid.any_near(px, py, 0, |i| {
-            let s = &self.samples[i as usize];
+        self.grid.any_near(px, py, 0, |_, s| {
             disks.push(union::Disk {
                 x: unwrap(s.x, k.0, self.periods.0) / one,
                 y: unwrap(s.y, k.1, self.periods.1) / one,
@@ -583,8 +578,7 @@ impl<'p> ExactStepper<'p> {
                 let (px, py) = self.pixel_xy(k.0, k.1);
                 let r_cell = self.r_at(py * w + px);
                 let mut latest = None;
-                self.grid.any_near(px, py, 0, |i| {
-                    let s = &self.samples[i as usize];
+                self.grid.any_near(px, py, 0, |i, s| {
                     let f = policy.coverage_radius(s.r, r_cell) + 2;
                     if self.within((s.x, s.y), (k.0, k.1), f) {
                         latest = latest.max(Some(i));
@@ -600,7 +594,7 @@ impl<'p> ExactStepper<'p> {
         let mut reopen = Vec::new();
         for &v in &victims {
             let s = self.samples[v as usize];
-            self.grid.remove(v, s.pixel % w, s.pixel / w);
+            self.grid.remove(v);
             let r = i64::from(self.reach_max(&s));
             let span = |c: u32, n: u32| {
                 let (a, b) = (
@@ -674,9 +668,7 @@ impl Stepper for ExactStepper<'_> {
         let accepted = self.accept(&batch);
         let from = self.samples.len();
         for s in &accepted {
-            let i = self.samples.len() as u32;
-            self.grid
-                .insert(i, s.pixel % self.plan.width, s.pixel / self.plan.width);
+            self.grid.insert(*s);
             self.samples.push(*s);
         }
         let t2 = Instant::now();
@@ -785,7 +777,7 @@ mod tests {
                         pixel,
                         r: st.r_at(pixel),
                     };
-                    st.grid.insert(k, pixel % w, pixel / w);
+                    st.grid.insert(s);
                     st.samples.push(s);
                 }
                 st.cover_pixels(0);
