@@ -179,7 +179,8 @@ pub fn sample(
 ///
 /// * `cpu` runs the CPU backend;
 /// * `gpu` runs the GPU and reports its errors (in exact mode the GPU runs
-///   the pixel pass and the CPU the refinement below the pixel);
+///   the pixel pass and the CPU the refinement below the pixel; radii above
+///   `gpu::exact::MAX_RADIUS_PX` (100 px) are refused there);
 /// * `auto` runs the GPU when there is a hardware adapter, and the CPU when
 ///   there is none, when the adapter is a software rasterizer (slower than
 ///   the CPU backend itself), or when the GPU fails during the run; `notice`

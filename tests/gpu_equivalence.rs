@@ -300,6 +300,18 @@ fn exact_mode_with_repairs_small_batches_and_caps_matches_reference_implementati
         &Params::new(1000, 7).with_radius(3.0).with_seed(9),
         "exact 1000x7",
     );
+    // Radii beyond the GPU pass's reach are refused with a GPU error (which
+    // `auto` answers with the CPU).
+    if let Some(g) = gpu() {
+        let big = Params::new(600, 600).with_radius(120.0).with_exact(true);
+        let err = g
+            .sampler
+            .lock()
+            .unwrap()
+            .sample(&g.ctx.device, &g.ctx.queue, &big, Control::default())
+            .unwrap_err();
+        assert!(err.is_gpu() && err.to_string().contains("100 px"), "{err}");
+    }
     let capped = Params::new(256, 256)
         .with_radius(3.0)
         .with_max_iterations(2)

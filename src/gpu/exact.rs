@@ -34,9 +34,11 @@ use crate::sampler::{Dart, Error, Plan, Point, Result};
 /// undecided (random darts settle in a few).
 const ROUNDS: u32 = 8;
 
-/// The largest radius, in pixels, that the GPU's pixel pass takes: a grid
-/// cell of a larger one holds too many darts for one thread to walk (and
-/// llvmpipe stops loops at 65535 iterations).
+/// The largest radius, in pixels, that the GPU's pixel pass takes. One
+/// thread walks the lists of nine grid cells of g = r_max + 1 px: a cell
+/// holds at most (g / r_min + 1)² samples and, on average, one dart per
+/// pixel, about 10⁴ of each at 100 px; llvmpipe stops a loop after 65535
+/// iterations, and a longer walk gains nothing on a GPU over the CPU.
 pub const MAX_RADIUS_PX: u32 = 100;
 
 /// Bytes of one dart or sample.
@@ -186,9 +188,15 @@ impl ExactResources {
         let words = plan.pixels().div_ceil(32);
         let dart_bytes = u64::from(cap) * DART_BYTES;
         let max = device.limits().max_storage_buffer_binding_size;
-        if dart_bytes > max || 4 * ex.grid_words() > max {
+        if dart_bytes > max {
             return Err(Error::Gpu(format!(
                 "the batch of {cap} darts exceeds the adapter's storage binding size"
+            )));
+        }
+        if 4 * ex.grid_words() > max {
+            return Err(Error::Gpu(format!(
+                "the sample grid of {} cells exceeds the adapter's storage binding size",
+                ex.cells
             )));
         }
         let uniform = |label, size| util::buffer_of(device, label, size, B::UNIFORM | B::COPY_DST);
@@ -210,9 +218,13 @@ impl ExactResources {
             4 * ex.grid_words(),
             B::STORAGE | B::COPY_DST | B::COPY_SRC,
         );
+        // Room for the expected count and a margin, grown when a batch could
+        // overflow it ([`Self::reserve`]).
+        let most = (max / DART_BYTES).min(u64::from(u32::MAX)) as f64;
         let sample_cap = (plan.expected_points * 1.25)
-            .clamp(1024.0, (max / DART_BYTES) as f64)
-            .max(f64::from(cap.min((max / DART_BYTES) as u32))) as u32;
+            .max(1024.0)
+            .max(f64::from(cap))
+            .min(most) as u32;
         let samples = Self::sample_buffer(device, sample_cap);
         let survivors = util::buffer_of(device, "survivors", dart_bytes, B::STORAGE | B::COPY_SRC);
         let staging = util::buffer_of(
@@ -428,11 +440,13 @@ impl<'a> ExactGpuStepper<'a> {
         util::read_back(self.device, &self.res.staging, len)
     }
 
-    /// Runs resolve rounds until no dart is undecided.
+    /// Runs resolve rounds until no dart is undecided. Each round decides
+    /// at least the first undecided dart, so `darts` rounds always suffice;
+    /// more mean a broken device.
     fn resolve(&self, mut encoder: wgpu::CommandEncoder, darts: u32) -> Result<()> {
         let (res, stage) = (&*self.res, self.kernels.exact);
         let count_at = 4 * (res.ex.grid_words() - 1);
-        loop {
+        for _ in 0..=darts.div_ceil(ROUNDS) {
             encoder.clear_buffer(&res.grid, count_at, Some(4));
             {
                 let mut pass = encoder.begin_compute_pass(&Default::default());
@@ -448,6 +462,9 @@ impl<'a> ExactGpuStepper<'a> {
             }
             encoder = self.device.create_command_encoder(&Default::default());
         }
+        Err(Error::Gpu(
+            "the batch's acceptance order did not settle on the GPU".into(),
+        ))
     }
 
     /// The coverage bitmap in the CPU's layout.
@@ -580,7 +597,8 @@ impl Stepper for ExactGpuStepper<'_> {
         let mut finished = false;
         if (count as usize) * REFINE_BELOW < darts as usize {
             let coverage = self.coverage()?;
-            let cpu = ExactStepper::resume(self.plan, &self.samples, coverage, true);
+            let samples = std::mem::take(&mut self.samples);
+            let cpu = ExactStepper::resume(self.plan, &samples, coverage, true);
             left = cpu.empty();
             finished = left == 0;
             self.cpu = Some(cpu);

@@ -24,7 +24,8 @@ pub struct SamplerOptions {
     pub periodic: bool,
     /// Exact mode: the disk condition between the samples themselves with no
     /// sub-pixel slack, maximal in the continuous domain, at the RSA density
-    /// (runs on the CPU).
+    /// (on the GPU backend the pixel pass runs there, the refinement below
+    /// the pixel on the CPU).
     #[cfg_attr(feature = "cli", arg(long))]
     pub exact: bool,
 }

@@ -172,7 +172,7 @@ impl<'p> ExactStepper<'p> {
     /// accepted fewer than 1/[`REFINE_BELOW`] of its darts, and the cells are
     /// refined as that iteration would have done here.
     #[must_use]
-    pub fn resume(
+    pub(crate) fn resume(
         plan: &'p Plan,
         samples: &[(u32, u32, u32)],
         coverage: Vec<u64>,
