@@ -568,3 +568,36 @@ fn the_status_follows_the_job_on_the_gpu_backend() {
     settle(&mut h);
     assert!(!has(&h, "sampling") && h.state().progress_shown().is_none());
 }
+
+#[test]
+fn exact_spacing_gives_sets_without_slack() {
+    let (_dir, _png, mut h) = ready(200, 150);
+    assert!(!h.state().outcome.as_ref().unwrap().set.stats.exact);
+    h.get_by_label("Exact spacing").click();
+    settle(&mut h);
+    let set = &h.state().outcome.as_ref().unwrap().set;
+    assert!(set.stats.exact && set.maximal(), "{:?}", set.stats);
+    // The app's policy is Smaller: every pair at least min(r_i, r_j) apart,
+    // exactly (the values are dyadic, their squares exact in f64).
+    let p = &set.points;
+    assert!(p.len() > 1000);
+    for i in 0..p.len() {
+        for j in 0..i {
+            let (dx, dy) = (
+                f64::from(p[i].x) - f64::from(p[j].x),
+                f64::from(p[i].y) - f64::from(p[j].y),
+            );
+            let f = f64::from(p[i].radius.min(p[j].radius));
+            assert!(dx * dx + dy * dy >= f * f, "points {j} and {i} too close");
+        }
+    }
+    // On egui's own device the GPU runs the pixel pass: the same dots.
+    let on_cpu = set.points.clone();
+    h.state_mut().settings.backend = pixelpie::backend::BackendChoice::Gpu;
+    settle(&mut h);
+    let set = &h.state().outcome.as_ref().unwrap().set;
+    if h.state().adapter().is_some() {
+        assert_eq!(set.stats.backend, "gpu-exact");
+        assert_eq!(set.points, on_cpu);
+    }
+}

@@ -57,6 +57,8 @@ pub struct Settings {
     pub seed: u64,
     /// Wrap-around domain.
     pub periodic: bool,
+    /// Exact mode: no sub-pixel slack in the spacing, no gaps.
+    pub exact: bool,
     /// The backend.
     pub backend: BackendChoice,
     /// How the dots are sized.
@@ -102,6 +104,7 @@ impl Default for Settings {
             subpixel_bits: crate::sampler::DEFAULT_SUBPIXEL_BITS,
             seed: 1,
             periodic: false,
+            exact: false,
             backend: BackendChoice::Auto,
             dot_mode: DotMode::Sized,
             dot_scale: 0.35,
@@ -134,6 +137,7 @@ pub struct SamplingKey {
     subpixel_bits: u32,
     seed: u64,
     periodic: bool,
+    exact: bool,
     backend: BackendChoice,
 }
 
@@ -160,6 +164,7 @@ impl Settings {
             subpixel_bits: self.subpixel_bits,
             seed: self.seed,
             periodic: self.periodic,
+            exact: self.exact,
             backend: self.backend,
         }
     }

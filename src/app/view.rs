@@ -156,19 +156,27 @@ impl PixelPieApp {
             })
             .response
             .on_hover_text("Which grey the ink reproduces");
-        egui::ComboBox::from_label("Policy")
-            .selected_text(format!("{:?}", s.policy))
-            .show_ui(ui, |ui| {
-                for p in Policy::ALL {
-                    ui.selectable_value(&mut s.policy, p, format!("{p:?}"))
-                        .on_hover_text(policy_help(p));
-                }
-            })
-            .response
-            .on_hover_text(
-                "The disk policy (paper §3.4): how far apart two dots of different sizes \
-                 must be. Smaller keeps dark areas crisp; Bigger keeps light areas open.",
+        ui.horizontal(|ui| {
+            egui::ComboBox::from_label("Policy")
+                .selected_text(format!("{:?}", s.policy))
+                .show_ui(ui, |ui| {
+                    for p in Policy::ALL {
+                        ui.selectable_value(&mut s.policy, p, format!("{p:?}"))
+                            .on_hover_text(policy_help(p));
+                    }
+                })
+                .response
+                .on_hover_text(
+                    "The disk policy (paper §3.4): how far apart two dots of different \
+                     sizes must be. Smaller keeps dark areas crisp; Bigger keeps light \
+                     areas open.",
+                );
+            ui.checkbox(&mut s.exact, "Exact spacing").on_hover_text(
+                "No two dot centres closer than the policy allows, not even by a \
+                 fraction of a pixel, and no gap left that a dot would fit in (exact \
+                 mode; about half the speed)",
             );
+        });
         ui.add(
             egui::Slider::new(&mut s.gamma, 0.2..=5.0)
                 .logarithmic(true)
@@ -184,11 +192,15 @@ impl PixelPieApp {
             .on_hover_text("Light parts get the dots (white ink on black paper)");
         ui.add(egui::Slider::new(&mut s.cutoff, 0.0..=1.0).text("White cutoff"))
             .on_hover_text("No dots where the picture is lighter than this (1 = off)");
-        ui.add(egui::Slider::new(&mut s.subpixel_bits, 0..=7).text("Sub-pixel bits"))
-            .on_hover_text(
-                "Dart positions inside a pixel: 0 puts every dot on a pixel centre (the \
-                 paper's darts, a faint grid); each bit halves the grid's spacing",
-            );
+        ui.add_enabled(
+            !s.exact,
+            egui::Slider::new(&mut s.subpixel_bits, 0..=7).text("Sub-pixel bits"),
+        )
+        .on_hover_text(
+            "Dart positions inside a pixel: 0 puts every dot on a pixel centre (the \
+             paper's darts, a faint grid); each bit halves the grid's spacing",
+        )
+        .on_disabled_hover_text("Exact spacing places darts anywhere, to 1/2^F px");
         let mut reroll = false;
         ui.horizontal(|ui| {
             let l = ui.label("Seed");

@@ -228,7 +228,8 @@ fn compute(
         .with_policy(s.policy)
         .with_seed(s.seed)
         .with_subpixel_bits(s.subpixel_bits)
-        .with_periodic(s.periodic);
+        .with_periodic(s.periodic)
+        .with_exact(s.exact);
     let mut note = None;
     let points = s.use_count.then_some(s.points as usize);
     let fitted = prepared
