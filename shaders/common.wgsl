@@ -45,6 +45,10 @@ struct Exact {
     base: u32,      // samples accepted before this iteration
     period_x: u32,  // 1/2^F px, 0 = not periodic
     period_y: u32,
+    level: u32,     // the cells' level: 0 = pixels
+    live: u32,      // level >= 1: active cells; in a refinement: its parents
+    pad0: u32,
+    pad1: u32,
 }
 
 const POS_FRAC_BITS: u32 = 8u;

@@ -22,7 +22,14 @@
 //   0; counts the darts still undecided (more rounds run while any is).
 // * `exact_gather`: the accepted darts, in dart order, to the survivors and
 //   to the sample grid.
-// Coverage by the corner rule is `cover_exact` in cover.wgsl.
+// Coverage of pixels by the corner rule is `cover_exact` in cover.wgsl.
+// Below the pixel (level L >= 1, cells of 2^(F - L) units):
+// * `exact_keep`, then the scan and `exact_pack`: the active cells that no
+//   new sample holds whole stay, in order;
+// * `exact_split`, the scan and `exact_emit`: refinement, each parent (an
+//   empty pixel at level 0) split in four, children in the order (0,0),
+//   (1,0), (0,1), (1,1), those that one sample holds whole dropped.
+// Cells ping-pong between `cells_in` and `cells_out`.
 // `select_empty` and `radius_at` come from empty.wgsl, appended.
 
 // An accepted sample: position and radius in 1/2^F px, and the next sample
@@ -51,6 +58,10 @@ const REFUSED: u32 = 2u;
 @group(0) @binding(7) var<storage, read_write> grid: array<atomic<u32>>;
 @group(0) @binding(8) var<storage, read_write> flags: array<u32>;
 @group(0) @binding(9) var<storage, read_write> survivors: array<Dart>;
+@group(0) @binding(10) var<storage, read> cells_in: array<vec2<u32>>;
+@group(0) @binding(11) var<storage, read_write> cells_out: array<vec2<u32>>;
+// The cells' keep flags or child counts, scanned in place (compact.wgsl).
+@group(0) @binding(12) var<storage, read_write> cell_flags: array<u32>;
 
 fn dart_heads() -> u32 {
     return ex.cells;
@@ -154,12 +165,20 @@ fn exact_throw(
         return;
     }
     let h = dart_hash(cfg.iteration_key, k);
-    let pixel = select_empty(pick(h, cfg.empty));
+    var c: vec2<u32>;
+    if ex.level == 0u {
+        let p = select_empty(pick(h, cfg.empty));
+        c = vec2<u32>(p % cfg.width, p / cfg.width);
+    } else {
+        c = cells_in[pick(h, ex.live)];
+    }
     let o = offset_hash(h);
-    let mask = (1u << ex.frac) - 1u;
+    let shift = ex.frac - ex.level;
+    let mask = (1u << shift) - 1u;
     var d: Dart;
-    d.x = ((pixel % cfg.width) << ex.frac) | (o & mask);
-    d.y = ((pixel / cfg.width) << ex.frac) | ((o >> 16u) & mask);
+    d.x = (c.x << shift) | (o & mask);
+    d.y = (c.y << shift) | ((o >> 16u) & mask);
+    let pixel = (d.y >> ex.frac) * cfg.width + (d.x >> ex.frac);
     d.pixel = pixel;
     d.radius = radius_at(pixel) << (ex.frac - RADIUS_FRAC_BITS);
     darts[k] = d;
@@ -250,4 +269,141 @@ fn exact_gather(
     let i = ex.base + flags[k];
     let next = atomicExchange(&grid[cell_of(d.pixel)], i + 1u);
     samples[i] = Sample(d.x, d.y, d.radius, next);
+}
+
+// Whether sample s holds the closed square (x0, y0)-(x1, y1), in a pixel of
+// radius r_cell (1/2^F px), strictly within the policy's distance.
+fn holds(s: Sample, x0: u32, y0: u32, x1: u32, y1: u32, r_cell: u32) -> bool {
+    let f = coverage_radius(cfg.policy, s.r, r_cell);
+    let dx = max(axis_delta(x0, s.x, ex.period_x), axis_delta(x1, s.x, ex.period_x));
+    let dy = max(axis_delta(y0, s.y, ex.period_y), axis_delta(y1, s.y, ex.period_y));
+    return lt64(add64(mul_wide(dx, dx), mul_wide(dy, dy)), mul_wide(f, f));
+}
+
+fn r_of_pixel(px: u32, py: u32) -> u32 {
+    return radius_at(py * cfg.width + px) << (ex.frac - RADIUS_FRAC_BITS);
+}
+
+@compute @workgroup_size(256)
+fn exact_keep(
+    @builtin(workgroup_id) wg: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) local: u32,
+) {
+    let i = thread_index(wg, groups, local);
+    if i == ex.live {
+        cell_flags[i] = 0u;
+    }
+    if i >= ex.live {
+        return;
+    }
+    let c = cells_in[i];
+    let shift = ex.frac - ex.level;
+    let x0 = c.x << shift;
+    let y0 = c.y << shift;
+    let x1 = x0 + (1u << shift);
+    let y1 = y0 + (1u << shift);
+    let px = x0 >> ex.frac;
+    let py = y0 >> ex.frac;
+    let r_cell = r_of_pixel(px, py);
+    let near = cells_near(py * cfg.width + px);
+    var covered = false;
+    for (var b = 0u; b < near[1].n && !covered; b++) {
+        for (var a = 0u; a < near[0].n && !covered; a++) {
+            var j = atomicLoad(&grid[near[1].c[b] * ex.cols + near[0].c[a]]);
+            while j != 0u && !covered {
+                let s = samples[j - 1u];
+                covered = j > ex.base && holds(s, x0, y0, x1, y1, r_cell);
+                j = s.next;
+            }
+        }
+    }
+    cell_flags[i] = select(1u, 0u, covered);
+}
+
+@compute @workgroup_size(256)
+fn exact_pack(
+    @builtin(workgroup_id) wg: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) local: u32,
+) {
+    let i = thread_index(wg, groups, local);
+    if i < ex.live && cell_flags[i + 1u] > cell_flags[i] {
+        cells_out[cell_flags[i]] = cells_in[i];
+    }
+}
+
+// Parent i of a refinement, in cells of the current level.
+fn parent(i: u32) -> vec2<u32> {
+    if ex.level == 0u {
+        let p = select_empty(i);
+        return vec2<u32>(p % cfg.width, p / cfg.width);
+    }
+    return cells_in[i];
+}
+
+// The children of `c` that no sample holds whole: bit n for child n.
+fn kept_children(c: vec2<u32>) -> u32 {
+    let shift = ex.frac - ex.level;
+    let x0 = c.x << shift;
+    let y0 = c.y << shift;
+    let half = 1u << (shift - 1u);
+    let px = x0 >> ex.frac;
+    let py = y0 >> ex.frac;
+    let r_cell = r_of_pixel(px, py);
+    let near = cells_near(py * cfg.width + px);
+    var covered = 0u;
+    for (var b = 0u; b < near[1].n && covered != 15u; b++) {
+        for (var a = 0u; a < near[0].n && covered != 15u; a++) {
+            var j = atomicLoad(&grid[near[1].c[b] * ex.cols + near[0].c[a]]);
+            while j != 0u && covered != 15u {
+                let s = samples[j - 1u];
+                for (var n = 0u; n < 4u; n++) {
+                    let cx = x0 + (n % 2u) * half;
+                    let cy = y0 + (n / 2u) * half;
+                    if holds(s, cx, cy, cx + half, cy + half, r_cell) {
+                        covered |= 1u << n;
+                    }
+                }
+                j = s.next;
+            }
+        }
+    }
+    return ~covered & 15u;
+}
+
+@compute @workgroup_size(256)
+fn exact_split(
+    @builtin(workgroup_id) wg: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) local: u32,
+) {
+    let i = thread_index(wg, groups, local);
+    if i == ex.live {
+        cell_flags[i] = 0u;
+    }
+    if i < ex.live {
+        cell_flags[i] = countOneBits(kept_children(parent(i)));
+    }
+}
+
+@compute @workgroup_size(256)
+fn exact_emit(
+    @builtin(workgroup_id) wg: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) local: u32,
+) {
+    let i = thread_index(wg, groups, local);
+    if i >= ex.live || cell_flags[i + 1u] == cell_flags[i] {
+        return;
+    }
+    let c = parent(i);
+    let kept = kept_children(c);
+    var at = cell_flags[i];
+    for (var n = 0u; n < 4u; n++) {
+        if ((kept >> n) & 1u) == 1u {
+            cells_out[at] = vec2<u32>(2u * c.x + n % 2u, 2u * c.y + n / 2u);
+            at += 1u;
+        }
+    }
 }

@@ -56,6 +56,9 @@ struct ExactConfig {
     base: u32,
     period_x: u32,
     period_y: u32,
+    level: u32,
+    live: u32,
+    pad: [u32; 2],
 }
 
 impl ExactConfig {
@@ -77,6 +80,9 @@ impl ExactConfig {
             base: 0,
             period_x,
             period_y,
+            level: 0,
+            live: 0,
+            pad: [0; 2],
         }
     }
 
@@ -94,6 +100,10 @@ pub struct ExactStage {
     resolve: wgpu::ComputePipeline,
     flags: wgpu::ComputePipeline,
     gather: wgpu::ComputePipeline,
+    keep: wgpu::ComputePipeline,
+    pack: wgpu::ComputePipeline,
+    split: wgpu::ComputePipeline,
+    emit: wgpu::ComputePipeline,
 }
 
 /// The kernels an exact run uses.
@@ -125,6 +135,9 @@ impl ExactStage {
                 util::storage(7, c, false),
                 util::storage(8, c, false),
                 util::storage(9, c, false),
+                util::storage(10, c, true),
+                util::storage(11, c, false),
+                util::storage(12, c, false),
             ],
         );
         let pl = util::pipeline_layout(device, &layout);
@@ -134,6 +147,10 @@ impl ExactStage {
             resolve: util::compute(device, &pl, &module, "exact_resolve"),
             flags: util::compute(device, &pl, &module, "exact_flags"),
             gather: util::compute(device, &pl, &module, "exact_gather"),
+            keep: util::compute(device, &pl, &module, "exact_keep"),
+            pack: util::compute(device, &pl, &module, "exact_pack"),
+            split: util::compute(device, &pl, &module, "exact_split"),
+            emit: util::compute(device, &pl, &module, "exact_emit"),
             layout,
         }
     }
@@ -168,8 +185,15 @@ pub struct ExactResources {
     /// Samples the sample buffer holds.
     sample_cap: u32,
     survivors: wgpu::Buffer,
+    /// The cells below the pixel, read from one and written to the other.
+    cells: [wgpu::Buffer; 2],
+    /// Cells each of `cells` holds.
+    cell_cap: u32,
+    /// The cells' flags and their scan.
+    cell_scan: ScanChain,
     staging: wgpu::Buffer,
-    group: wgpu::BindGroup,
+    /// Bind group `i` reads the cells from `cells[i]`.
+    groups: Vec<wgpu::BindGroup>,
     cover_group: wgpu::BindGroup,
 }
 
@@ -234,22 +258,8 @@ impl ExactResources {
             B::MAP_READ | B::COPY_DST,
         );
         let radius = RadiusTexture::new(device, plan);
-        let group = Self::bind(
-            device,
-            stage,
-            [
-                &config,
-                &darts,
-                &coverage,
-                &word_scan.levels[0],
-                &ex_buffer,
-                &samples,
-                &grid,
-                &dart_scan.levels[0],
-                &survivors,
-            ],
-            &radius.view,
-        );
+        let cells = [Self::cell_buffer(device, 2), Self::cell_buffer(device, 2)];
+        let cell_scan = ScanChain::new(device, compact, "cell scan", 3, None);
         let cover_group = kernels.cover.bind_exact(
             device,
             [
@@ -276,10 +286,89 @@ impl ExactResources {
             samples,
             sample_cap,
             survivors,
+            cells,
+            cell_cap: 2,
+            cell_scan,
             staging,
-            group,
+            groups: Vec::new(),
             cover_group,
-        })
+        }
+        .rebound(device, stage))
+    }
+
+    fn cell_buffer(device: &wgpu::Device, cap: u32) -> wgpu::Buffer {
+        use wgpu::BufferUsages as B;
+        util::buffer_of(
+            device,
+            "exact cells",
+            8 * u64::from(cap),
+            B::STORAGE | B::COPY_SRC | B::COPY_DST,
+        )
+    }
+
+    /// These resources with their bind groups built anew.
+    fn rebound(mut self, device: &wgpu::Device, stage: &ExactStage) -> Self {
+        self.rebind(device, stage);
+        self
+    }
+
+    /// Builds the two bind groups from the current buffers.
+    fn rebind(&mut self, device: &wgpu::Device, stage: &ExactStage) {
+        let group = |i: usize| {
+            util::bind_group(
+                device,
+                &stage.layout,
+                &[
+                    self.config.as_entire_binding(),
+                    self.darts.as_entire_binding(),
+                    self.coverage.as_entire_binding(),
+                    self.word_scan.levels[0].as_entire_binding(),
+                    wgpu::BindingResource::TextureView(&self.radius.view),
+                    self.ex_buffer.as_entire_binding(),
+                    self.samples.as_entire_binding(),
+                    self.grid.as_entire_binding(),
+                    self.dart_scan.levels[0].as_entire_binding(),
+                    self.survivors.as_entire_binding(),
+                    self.cells[i].as_entire_binding(),
+                    self.cells[1 - i].as_entire_binding(),
+                    self.cell_scan.levels[0].as_entire_binding(),
+                ],
+            )
+        };
+        self.groups = vec![group(0), group(1)];
+    }
+
+    /// Grows the cell buffers to hold `n` cells, keeping the first `kept` of
+    /// `cells[from]`.
+    fn reserve_cells(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        kernels: Kernels<'_>,
+        (n, kept, from): (u32, u32, usize),
+    ) -> Result<()> {
+        if n <= self.cell_cap {
+            return Ok(());
+        }
+        let max = device.limits().max_storage_buffer_binding_size / 8;
+        if u64::from(n) > max {
+            return Err(Error::Gpu(format!(
+                "{n} cells exceed the adapter's storage binding size"
+            )));
+        }
+        let cap = (u64::from(n).max(2 * u64::from(self.cell_cap))).min(max) as u32;
+        let cells = [
+            Self::cell_buffer(device, cap),
+            Self::cell_buffer(device, cap),
+        ];
+        let mut encoder = device.create_command_encoder(&Default::default());
+        encoder.copy_buffer_to_buffer(&self.cells[from], 0, &cells[from], 0, 8 * u64::from(kept));
+        queue.submit([encoder.finish()]);
+        self.cells = cells;
+        self.cell_cap = cap;
+        self.cell_scan = ScanChain::new(device, kernels.compact, "cell scan", cap + 1, None);
+        self.rebind(device, kernels.exact);
+        Ok(())
     }
 
     fn sample_buffer(device: &wgpu::Device, cap: u32) -> wgpu::Buffer {
@@ -289,31 +378,6 @@ impl ExactResources {
             "exact samples",
             u64::from(cap) * DART_BYTES,
             B::STORAGE | B::COPY_SRC | B::COPY_DST,
-        )
-    }
-
-    /// The bind group: buffers in binding order, the radius map at 4.
-    fn bind(
-        device: &wgpu::Device,
-        stage: &ExactStage,
-        b: [&wgpu::Buffer; 9],
-        radius: &wgpu::TextureView,
-    ) -> wgpu::BindGroup {
-        util::bind_group(
-            device,
-            &stage.layout,
-            &[
-                b[0].as_entire_binding(),
-                b[1].as_entire_binding(),
-                b[2].as_entire_binding(),
-                b[3].as_entire_binding(),
-                wgpu::BindingResource::TextureView(radius),
-                b[4].as_entire_binding(),
-                b[5].as_entire_binding(),
-                b[6].as_entire_binding(),
-                b[7].as_entire_binding(),
-                b[8].as_entire_binding(),
-            ],
         )
     }
 
@@ -339,12 +403,15 @@ impl ExactResources {
             &self.grid,
             &self.samples,
             &self.survivors,
+            &self.cells[0],
+            &self.cells[1],
         ]
         .iter()
         .map(|b| b.size())
         .sum::<u64>()
             + self.word_scan.bytes()
             + self.dart_scan.bytes()
+            + self.cell_scan.bytes()
     }
 
     /// Grows the sample buffer to hold `n` samples, keeping the first `kept`.
@@ -370,30 +437,15 @@ impl ExactResources {
         let mut encoder = device.create_command_encoder(&Default::default());
         encoder.copy_buffer_to_buffer(&self.samples, 0, &samples, 0, u64::from(kept) * DART_BYTES);
         queue.submit([encoder.finish()]);
-        self.group = Self::bind(
-            device,
-            stage,
-            [
-                &self.config,
-                &self.darts,
-                &self.coverage,
-                &self.word_scan.levels[0],
-                &self.ex_buffer,
-                &samples,
-                &self.grid,
-                &self.dart_scan.levels[0],
-                &self.survivors,
-            ],
-            &self.radius.view,
-        );
         self.samples = samples;
         self.sample_cap = cap;
+        self.rebind(device, stage);
         Ok(())
     }
 }
 
-/// The exact pixel pass between iterations, and the CPU's run once the
-/// cells are refined.
+/// An exact run between iterations: the GPU's state, and the CPU's run
+/// once the finest level is reached.
 pub struct ExactGpuStepper<'a> {
     device: &'a wgpu::Device,
     queue: &'a wgpu::Queue,
@@ -401,9 +453,13 @@ pub struct ExactGpuStepper<'a> {
     res: &'a mut ExactResources,
     plan: &'a Plan,
     config: Config,
+    /// The level, its active cells and the samples before this iteration.
+    ex: ExactConfig,
+    /// Which of `res.cells` holds the active cells.
+    cells_in: usize,
     /// The accepted samples in order: x, y (1/2^F px) and pixel.
     samples: Vec<(u32, u32, u32)>,
-    /// The CPU's run, from the first refinement on.
+    /// The CPU's run, from the finest level on.
     cpu: Option<ExactStepper<'a>>,
 }
 
@@ -421,6 +477,7 @@ impl<'a> ExactGpuStepper<'a> {
         encoder.clear_buffer(&res.coverage, 0, None);
         encoder.clear_buffer(&res.grid, 0, None);
         queue.submit([encoder.finish()]);
+        let ex = res.ex;
         Self {
             device,
             queue,
@@ -428,8 +485,32 @@ impl<'a> ExactGpuStepper<'a> {
             res,
             plan,
             config: Config::new(plan),
+            ex,
+            cells_in: 0,
             samples: Vec::new(),
             cpu: None,
+        }
+    }
+
+    /// The bind group that reads the active cells.
+    fn group(&self) -> &wgpu::BindGroup {
+        &self.res.groups[self.cells_in]
+    }
+
+    /// Uploads the configurations.
+    fn upload(&self) {
+        self.queue
+            .write_buffer(&self.res.config, 0, bytemuck::bytes_of(&self.config));
+        self.queue
+            .write_buffer(&self.res.ex_buffer, 0, bytemuck::bytes_of(&self.ex));
+    }
+
+    /// Active pixels (level 0) or cells.
+    fn active(&self) -> u32 {
+        if self.ex.level == 0 {
+            self.config.empty
+        } else {
+            self.ex.live
         }
     }
 
@@ -451,9 +532,9 @@ impl<'a> ExactGpuStepper<'a> {
             {
                 let mut pass = encoder.begin_compute_pass(&Default::default());
                 for _ in 0..ROUNDS {
-                    stage.dispatch(&mut pass, &res.group, &stage.resolve, darts);
+                    stage.dispatch(&mut pass, self.group(), &stage.resolve, darts);
                 }
-                stage.dispatch(&mut pass, &res.group, &stage.flags, darts + 1);
+                stage.dispatch(&mut pass, self.group(), &stage.flags, darts + 1);
             }
             encoder.copy_buffer_to_buffer(&res.grid, count_at, &res.staging, 0, 4);
             let left = self.finish(encoder, 4)?;
@@ -489,13 +570,73 @@ impl<'a> ExactGpuStepper<'a> {
         }
         Ok(map)
     }
+
+    /// Refines the active cells (the empty pixels at level 0) on the GPU:
+    /// the level goes one down.
+    fn refine(&mut self) -> Result<()> {
+        let parents = self.active();
+        self.res.reserve_cells(
+            self.device,
+            self.queue,
+            self.kernels,
+            (
+                4 * parents,
+                if self.ex.level == 0 { 0 } else { parents },
+                self.cells_in,
+            ),
+        )?;
+        self.ex.live = parents;
+        self.upload();
+        let (res, stage) = (&*self.res, self.kernels.exact);
+        res.cell_scan.set_len(self.queue, parents + 1, 0);
+        let mut encoder = self.device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_compute_pass(&Default::default());
+            stage.dispatch(&mut pass, self.group(), &stage.split, parents + 1);
+            res.cell_scan
+                .encode_scan(&mut pass, self.kernels.compact, parents + 1);
+            stage.dispatch(&mut pass, self.group(), &stage.emit, parents);
+        }
+        encoder.copy_buffer_to_buffer(
+            &res.cell_scan.levels[0],
+            4 * u64::from(parents),
+            &res.staging,
+            0,
+            4,
+        );
+        let count = self.finish(encoder, 4)?;
+        self.ex.live = bytemuck::pod_read_unaligned(&count[..4]);
+        self.ex.level += 1;
+        self.cells_in = 1 - self.cells_in;
+        Ok(())
+    }
+
+    /// The active cells, read back.
+    fn cells(&self) -> Result<Vec<(u32, u32)>> {
+        let n = u64::from(self.ex.live);
+        if n == 0 {
+            return Ok(Vec::new());
+        }
+        let staging = util::buffer_of(
+            self.device,
+            "cells read-back",
+            8 * n,
+            wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        );
+        let mut encoder = self.device.create_command_encoder(&Default::default());
+        encoder.copy_buffer_to_buffer(&self.res.cells[self.cells_in], 0, &staging, 0, 8 * n);
+        self.queue.submit([encoder.finish()]);
+        let bytes = util::read_back(self.device, &staging, 8 * n)?;
+        let cells: Vec<[u32; 2]> = bytemuck::pod_collect_to_vec(&bytes);
+        Ok(cells.into_iter().map(|[x, y]| (x, y)).collect())
+    }
 }
 
 impl Stepper for ExactGpuStepper<'_> {
     fn empty(&self) -> u64 {
         match &self.cpu {
             Some(cpu) => cpu.empty(),
-            None => u64::from(self.config.empty),
+            None => u64::from(self.active()),
         }
     }
 
@@ -518,45 +659,60 @@ impl Stepper for ExactGpuStepper<'_> {
         )?;
         self.config.iteration_key = iteration_key(self.plan.seed_key, iteration);
         self.config.darts = darts;
-        let mut ex = self.res.ex;
-        ex.base = base;
+        self.ex.base = base;
+        self.upload();
+        let level = self.ex.level;
+        let active = self.active();
         let (res, stage, compact) = (&*self.res, self.kernels.exact, self.kernels.compact);
-        self.queue
-            .write_buffer(&res.config, 0, bytemuck::bytes_of(&self.config));
-        self.queue
-            .write_buffer(&res.ex_buffer, 0, bytemuck::bytes_of(&ex));
         res.dart_scan.set_len(self.queue, darts + 1, 0);
         // Throw, then settle the batch's order.
         let mut encoder = self.device.create_command_encoder(&Default::default());
-        encoder.clear_buffer(
-            &res.grid,
-            4 * u64::from(ex.cells),
-            Some(4 * u64::from(ex.cells)),
-        );
+        let cells = u64::from(self.ex.cells);
+        encoder.clear_buffer(&res.grid, 4 * cells, Some(4 * cells));
         {
             let mut pass = encoder.begin_compute_pass(&Default::default());
-            stage.dispatch(&mut pass, &res.group, &stage.throw, darts);
+            stage.dispatch(&mut pass, self.group(), &stage.throw, darts);
         }
         self.resolve(encoder, darts)?;
         let t1 = Instant::now();
-        // Gather the accepted darts, cover, count the empty pixels.
+        // Gather the accepted darts; cover the pixels or keep the cells that
+        // no new sample holds, and count what is left.
+        if level > 0 {
+            res.cell_scan.set_len(self.queue, active + 1, 0);
+        }
         let mut encoder = self.device.create_command_encoder(&Default::default());
         {
             let mut pass = encoder.begin_compute_pass(&Default::default());
             res.dart_scan.encode_scan(&mut pass, compact, darts + 1);
-            stage.dispatch(&mut pass, &res.group, &stage.gather, darts);
-            self.kernels.cover.encode_exact(
-                &mut pass,
-                &res.cover_group,
-                darts,
-                self.plan.radius_range.1,
-            );
-            res.word_scan
-                .encode_count(&mut pass, compact, self.config.words);
-            res.word_scan
-                .encode_scan(&mut pass, compact, self.config.words);
+            stage.dispatch(&mut pass, self.group(), &stage.gather, darts);
+            if level == 0 {
+                self.kernels.cover.encode_exact(
+                    &mut pass,
+                    &res.cover_group,
+                    darts,
+                    self.plan.radius_range.1,
+                );
+                res.word_scan
+                    .encode_count(&mut pass, compact, self.config.words);
+                res.word_scan
+                    .encode_scan(&mut pass, compact, self.config.words);
+            } else {
+                stage.dispatch(&mut pass, self.group(), &stage.keep, active + 1);
+                res.cell_scan.encode_scan(&mut pass, compact, active + 1);
+                stage.dispatch(&mut pass, self.group(), &stage.pack, active);
+            }
         }
-        encoder.copy_buffer_to_buffer(res.word_scan.total(), 0, &res.staging, 0, 4);
+        if level == 0 {
+            encoder.copy_buffer_to_buffer(res.word_scan.total(), 0, &res.staging, 0, 4);
+        } else {
+            encoder.copy_buffer_to_buffer(
+                &res.cell_scan.levels[0],
+                4 * u64::from(active),
+                &res.staging,
+                0,
+                4,
+            );
+        }
         encoder.copy_buffer_to_buffer(
             &res.dart_scan.levels[0],
             4 * u64::from(darts),
@@ -573,10 +729,10 @@ impl Stepper for ExactGpuStepper<'_> {
         );
         let view = self.finish(encoder, 16 + u64::from(darts) * DART_BYTES)?;
         let head: Vec<u32> = bytemuck::pod_collect_to_vec(&view[..8]);
-        let (empty, count) = (head[0], head[1].min(darts));
+        let (left, count) = (head[0], head[1].min(darts));
         let survivors: Vec<Dart> =
             bytemuck::pod_collect_to_vec(&view[16..16 + count as usize * DART_BYTES as usize]);
-        let one = (1u32 << ex.frac) as f32;
+        let one = (1u32 << self.ex.frac) as f32;
         let accepted: Vec<Point> = survivors
             .iter()
             .map(|d| Point {
@@ -587,30 +743,42 @@ impl Stepper for ExactGpuStepper<'_> {
             .collect();
         self.samples
             .extend(survivors.iter().map(|d| (d.x, d.y, d.pixel)));
-        self.config.empty = empty;
-        self.config.first = 0;
-        let t2 = Instant::now();
-        let mut stages = StageTimes::default();
-        stages.add("cull", (t1 - t0).as_secs_f64());
-        stages.add("compact", (t2 - t1).as_secs_f64());
-        let mut left = u64::from(empty);
-        let mut finished = false;
-        if (count as usize) * REFINE_BELOW < darts as usize {
-            let coverage = self.coverage()?;
-            let samples = std::mem::take(&mut self.samples);
-            let cpu = ExactStepper::resume(self.plan, &samples, coverage, true);
-            left = cpu.empty();
-            finished = left == 0;
-            self.cpu = Some(cpu);
-            stages.add("refine", t2.elapsed().as_secs_f64());
+        if level == 0 {
+            self.config.empty = left;
+            self.config.first = 0;
+        } else {
+            self.ex.live = left;
+            self.cells_in = 1 - self.cells_in;
         }
-        Ok(Step {
-            empty: left,
+        let t2 = Instant::now();
+        // Refine; at the finest level the CPU takes over.
+        let mut step = Step {
+            empty: u64::from(left),
             accepted,
-            stages,
-            finished,
+            stages: StageTimes::default(),
+            finished: false,
             removed: Vec::new(),
-        })
+        };
+        if self.ex.level < self.ex.frac && (count as usize) * REFINE_BELOW < darts as usize {
+            self.refine()?;
+            step.empty = u64::from(self.ex.live);
+            if self.ex.level == self.ex.frac {
+                let coverage = self.coverage()?;
+                let cells = self.cells()?;
+                let samples = std::mem::take(&mut self.samples);
+                let (cpu, removed) =
+                    ExactStepper::resume(self.plan, &samples, coverage, self.ex.level, cells);
+                step.empty = cpu.left();
+                step.finished = cpu.empty() == 0;
+                step.removed = removed;
+                self.cpu = Some(cpu);
+            }
+        }
+        let t3 = Instant::now();
+        step.stages.add("cull", (t1 - t0).as_secs_f64());
+        step.stages.add("compact", (t2 - t1).as_secs_f64());
+        step.stages.add("refine", (t3 - t2).as_secs_f64());
+        Ok(step)
     }
 
     fn bytes(&self) -> usize {

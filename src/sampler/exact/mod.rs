@@ -164,20 +164,22 @@ impl<'p> ExactStepper<'p> {
         }
     }
 
-    /// The run after a pixel pass done elsewhere: the GPU backend's level 0
-    /// (`gpu::exact`), which follows these semantics bit for bit. `samples`
-    /// are the accepted samples in acceptance order, as (x, y) in 1/2^F px
-    /// and pixel index; `coverage` marks the pixels one of them holds whole
-    /// (bit p % 64 of word p / 64, set beyond the last pixel). With `refine`, the pass's last iteration
-    /// accepted fewer than 1/[`REFINE_BELOW`] of its darts, and the cells are
-    /// refined as that iteration would have done here.
-    #[must_use]
+    /// The run after iterations done elsewhere: the GPU backend
+    /// (`gpu::exact`), which follows these semantics bit for bit up to and
+    /// including an iteration's refinement. `samples` are the accepted
+    /// samples in acceptance order, as (x, y) in 1/2^F px and pixel index;
+    /// `coverage` marks the pixels one of them holds whole (bit p % 64 of
+    /// word p / 64, set beyond the last pixel); `level` and `cells` are the
+    /// level and, above 0, its active cells in order. The iteration's rest
+    /// (the finest level's cells set aside, a repair) runs here, and the
+    /// samples it takes back are returned.
     pub(crate) fn resume(
         plan: &'p Plan,
         samples: &[(u32, u32, u32)],
         coverage: Vec<u64>,
-        refine: bool,
-    ) -> Self {
+        level: u32,
+        cells: Vec<(u32, u32)>,
+    ) -> (Self, Vec<u32>) {
         let mut st = Self::new(plan);
         for &(x, y, pixel) in samples {
             let s = Sample {
@@ -191,13 +193,29 @@ impl<'p> ExactStepper<'p> {
         }
         st.coverage = coverage;
         st.empty.compact(&st.coverage);
-        if refine {
-            st.refine();
-            if st.level == st.frac {
-                st.settle_finest();
-            }
+        st.level = level;
+        st.cells = cells.into_iter().map(|(x, y)| Cell { x, y }).collect();
+        if st.level == st.frac {
+            st.settle_finest();
         }
-        st
+        let removed = st.repair_voids();
+        (st, removed)
+    }
+
+    /// An iteration's end: with no cell active and voids left, a repair.
+    /// Returns the samples taken back.
+    fn repair_voids(&mut self) -> Vec<u32> {
+        if self.active() == 0 && !self.unfillable.is_empty() && self.repairs < MAX_REPAIRS {
+            self.repair()
+        } else {
+            Vec::new()
+        }
+    }
+
+    /// What is left: the active cells and the cells set aside (a step's
+    /// `empty`).
+    pub(crate) fn left(&self) -> u64 {
+        self.active() + self.unfillable.len() as u64
     }
 
     fn active(&self) -> u64 {
@@ -693,12 +711,7 @@ impl Stepper for ExactStepper<'_> {
             self.settle_finest();
         }
         let t4 = Instant::now();
-        let removed =
-            if self.active() == 0 && !self.unfillable.is_empty() && self.repairs < MAX_REPAIRS {
-                self.repair()
-            } else {
-                Vec::new()
-            };
+        let removed = self.repair_voids();
         let t5 = Instant::now();
         self.peak_bytes = self.peak_bytes.max(
             self.empty.bytes()
@@ -715,7 +728,7 @@ impl Stepper for ExactStepper<'_> {
         stages.add("repair", (t5 - t4).as_secs_f64());
         let active = self.active();
         Ok(Step {
-            empty: active + self.unfillable.len() as u64,
+            empty: self.left(),
             accepted: accepted.iter().map(|s| self.point(s)).collect(),
             stages,
             finished: active == 0,
