@@ -178,9 +178,9 @@ pub fn sample(
 /// The fallback policy, the same for the CLI and the app:
 ///
 /// * `cpu` runs the CPU backend;
-/// * `gpu` runs the GPU and reports its errors (in exact mode the GPU runs
-///   the pixel pass and the CPU the refinement below the pixel; radii above
-///   `gpu::exact::MAX_RADIUS_PX` (100 px) are refused there);
+/// * `gpu` runs the GPU and reports its errors (in exact mode the CPU runs
+///   the finest level; radii above `gpu::exact::MAX_RADIUS_PX` (100 px) are
+///   refused there);
 /// * `auto` runs the GPU when there is a hardware adapter, and the CPU when
 ///   there is none, when the adapter is a software rasterizer (slower than
 ///   the CPU backend itself), or when the GPU fails during the run; `notice`

@@ -1,23 +1,25 @@
-//! Exact mode on wgpu: the pixel pass (level 0 of [`crate::sampler::exact`])
-//! as compute passes, bit-identical to the CPU's, then the refinement below
-//! the pixel on the CPU. Shader: `shaders/exact.wgsl`.
+//! Exact mode on wgpu: the iterations of [`crate::sampler::exact`] as
+//! compute passes, bit-identical to the CPU's, down to the finest level,
+//! where the CPU takes over. Shader: `shaders/exact.wgsl` (and `cover_exact`
+//! in `shaders/cover.wgsl`).
 //!
 //! | exact mode's semantics | here |
 //! |---|---|
-//! | darts, F-bit offsets in empty pixels | `exact_throw` |
+//! | darts, F − L-bit offsets in the active pixels or cells | `exact_throw` |
 //! | acceptance against the accepted samples | `exact_throw`, over the sample grid |
 //! | acceptance in dart order within the batch | `exact_resolve` rounds over the dart grid, `exact_flags` |
 //! | the accepted darts, in order, join the set | the scan of `compact.wgsl`, `exact_gather` |
-//! | coverage of pixels by the corner rule | `cover_exact` (`cover.wgsl`), then the empty-pixel scan |
-//! | refinement, finest level, repair | on the CPU, from the iteration that first refines |
+//! | level 0: coverage of pixels by the corner rule | `cover_exact`, then the empty-pixel scan |
+//! | levels 1 and on: the active cells no new sample holds stay | `exact_keep`, the scan, `exact_pack` |
+//! | refinement: four children each, those one sample holds dropped | `exact_split`, the scan, `exact_emit` |
+//! | the finest level (union of disks, in `f64`), repair | on the CPU |
 //!
-//! The handover: when an iteration accepts fewer than 1/[`REFINE_BELOW`] of
-//! its darts, the semantics refine the cells; the samples (already read back
-//! in order) and the coverage bitmap go to [`ExactStepper::resume`], which
-//! refines, and the CPU runs every later iteration. The pixel pass holds
-//! most of the samples (at 4096²: 94% at r = 8.5 px, 75% at r = 2 px) and
-//! most of the CPU's time at the larger radii (80% at r = 8.5 px, 36% at
-//! r = 2 px); below the pixel the cells are few and scattered.
+//! The handover: when a refinement reaches the finest level F, the samples
+//! (read back in order every iteration), the coverage bitmap and the active
+//! cells go to [`ExactStepper::resume`], which sets aside the cells whose one
+//! position is covered (a test in `f64`, which WGSL lacks), repairs voids,
+//! and runs every later iteration. By then nearly every sample is placed;
+//! the finest cells are a few dozen at 4096², r = 8.5 px.
 
 use std::time::Instant;
 
@@ -444,8 +446,9 @@ impl ExactResources {
     }
 }
 
-/// An exact run between iterations: the GPU's state, and the CPU's run
-/// once the finest level is reached.
+/// An exact run between iterations: the GPU's state (the level, its pixels
+/// or cells, the samples), and the CPU's run once the finest level is
+/// reached.
 pub struct ExactGpuStepper<'a> {
     device: &'a wgpu::Device,
     queue: &'a wgpu::Queue,

@@ -7,7 +7,7 @@
 //! | S2 conflict removal (transform feedback) | [`cull`]: depth read at each dart, scan, gather | `cull.wgsl` |
 //! | S2 coverage map | [`cover`]: compute rasterization into a coverage bitmap | `cover.wgsl` |
 //! | PP Thrust compaction | [`compact`]: prefix-sum scans | `compact.wgsl` |
-//! | exact mode's pixel pass (S1, S2 in 1/2^F px) | [`exact`], then the CPU's refinement | `exact.wgsl`, `cover.wgsl` |
+//! | exact mode (S1, S2 and the refinement, in 1/2^F px) | [`exact`], the finest level on the CPU | `exact.wgsl`, `cover.wgsl` |
 //!
 //! The sampler borrows the caller's `Device` and `Queue` (the app shares
 //! egui's), and keeps its pipelines and buffers across runs.
@@ -339,7 +339,7 @@ impl GpuSampler {
 }
 
 impl GpuSampler {
-    /// Runs exact mode: the pixel pass here, the refinement on the CPU.
+    /// Runs exact mode: down to the finest level here, then on the CPU.
     fn run_exact(
         &mut self,
         device: &wgpu::Device,

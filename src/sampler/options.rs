@@ -24,8 +24,7 @@ pub struct SamplerOptions {
     pub periodic: bool,
     /// Exact mode: the disk condition between the samples themselves with no
     /// sub-pixel slack, maximal in the continuous domain, at the RSA density
-    /// (on the GPU backend the pixel pass runs there, the refinement below
-    /// the pixel on the CPU).
+    /// (on the GPU backend all but the finest level runs there).
     #[cfg_attr(feature = "cli", arg(long))]
     pub exact: bool,
 }

@@ -61,9 +61,9 @@
 //! * **Periodic domain.** Distances take the short way round, as in pixel
 //!   mode.
 //! * **Backends.** This module is the CPU's run. The GPU backend
-//!   (`gpu::exact`) runs level 0, the iterations before the first
-//!   refinement, bit for bit as above, and hands its samples and coverage
-//!   to [`ExactStepper::resume`], which runs the rest here.
+//!   (`gpu::exact`) runs the iterations bit for bit as above until a
+//!   refinement reaches level F, and hands its samples, coverage and cells
+//!   to `ExactStepper::resume`, which runs the rest here.
 
 mod grid;
 pub mod union;
