@@ -173,6 +173,7 @@ impl<'p> ExactStepper<'p> {
     /// level and, above 0, its active cells in order. The iteration's rest
     /// (the finest level's cells set aside, a repair) runs here, and the
     /// samples it takes back are returned.
+    #[cfg(feature = "gpu")]
     pub(crate) fn resume(
         plan: &'p Plan,
         samples: &[(u32, u32, u32)],
