@@ -95,6 +95,11 @@ impl ExactConfig {
     }
 }
 
+/// Storage buffers that the kernels of `exact.wgsl` bind: above wgpu's
+/// default limit (8), within every desktop adapter's own; [`super::GpuContext`]
+/// and the app open their devices with the adapter's limits.
+pub const STORAGE_BUFFERS: u32 = 10;
+
 /// The kernels of `exact.wgsl`.
 pub struct ExactStage {
     layout: wgpu::BindGroupLayout,
@@ -787,5 +792,14 @@ impl Stepper for ExactGpuStepper<'_> {
     fn bytes(&self) -> usize {
         let gpu = usize::try_from(self.res.bytes()).unwrap_or(usize::MAX);
         gpu + self.cpu.as_ref().map_or(0, Stepper::bytes)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn the_configuration_has_its_wgsl_size() {
+        // `struct Exact` in common.wgsl: 12 u32.
+        assert_eq!(std::mem::size_of::<super::ExactConfig>(), 48);
     }
 }

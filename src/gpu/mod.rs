@@ -353,6 +353,14 @@ impl GpuSampler {
                 exact::MAX_RADIUS_PX
             )));
         }
+        let storage = device.limits().max_storage_buffers_per_shader_stage;
+        if storage < exact::STORAGE_BUFFERS {
+            return Err(Error::Gpu(format!(
+                "exact mode on the GPU binds {} storage buffers per shader stage; this device \
+                 allows {storage}",
+                exact::STORAGE_BUFFERS
+            )));
+        }
         let cap = plan
             .batch
             .min(plan.pixels())
