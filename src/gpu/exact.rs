@@ -195,7 +195,7 @@ pub struct ExactResources {
     /// The cells below the pixel, read from one and written to the other.
     cells: [wgpu::Buffer; 2],
     /// Cells each of `cells` holds.
-    cell_cap: u32,
+    cell_caps: [u32; 2],
     /// The cells' flags and their scan.
     cell_scan: ScanChain,
     staging: wgpu::Buffer,
@@ -294,7 +294,7 @@ impl ExactResources {
             sample_cap,
             survivors,
             cells,
-            cell_cap: 2,
+            cell_caps: [2; 2],
             cell_scan,
             staging,
             groups: Vec::new(),
@@ -345,36 +345,37 @@ impl ExactResources {
         self.groups = vec![group(0), group(1)];
     }
 
-    /// Grows the cell buffers to hold `n` cells, keeping the first `kept` of
-    /// `cells[from]`.
+    /// Makes `cells[out]`, the buffer a pass writes, hold `n` cells, and the
+    /// cell scan `scan` flags. Neither keeps its contents: the cells a pass
+    /// reads are in the other buffer, and the scan is filled anew.
     fn reserve_cells(
         &mut self,
         device: &wgpu::Device,
-        queue: &wgpu::Queue,
         kernels: Kernels<'_>,
-        (n, kept, from): (u32, u32, usize),
+        (out, n, scan): (usize, u32, u32),
     ) -> Result<()> {
-        if n <= self.cell_cap {
-            return Ok(());
-        }
         let max = device.limits().max_storage_buffer_binding_size / 8;
-        if u64::from(n) > max {
+        if u64::from(n.max(scan)) > max {
             return Err(Error::Gpu(format!(
-                "{n} cells exceed the adapter's storage binding size"
+                "{} cells exceed the adapter's storage binding size",
+                n.max(scan)
             )));
         }
-        let cap = (u64::from(n).max(2 * u64::from(self.cell_cap))).min(max) as u32;
-        let cells = [
-            Self::cell_buffer(device, cap),
-            Self::cell_buffer(device, cap),
-        ];
-        let mut encoder = device.create_command_encoder(&Default::default());
-        encoder.copy_buffer_to_buffer(&self.cells[from], 0, &cells[from], 0, 8 * u64::from(kept));
-        queue.submit([encoder.finish()]);
-        self.cells = cells;
-        self.cell_cap = cap;
-        self.cell_scan = ScanChain::new(device, kernels.compact, "cell scan", cap + 1, None);
-        self.rebind(device, kernels.exact);
+        let mut changed = false;
+        if n > self.cell_caps[out] {
+            let cap = (u64::from(n).max(2 * u64::from(self.cell_caps[out]))).min(max) as u32;
+            self.cells[out] = Self::cell_buffer(device, cap);
+            self.cell_caps[out] = cap;
+            changed = true;
+        }
+        if scan > self.cell_scan.capacity() {
+            let cap = (u64::from(scan).max(2 * u64::from(self.cell_scan.capacity()))).min(max);
+            self.cell_scan = ScanChain::new(device, kernels.compact, "cell scan", cap as u32, None);
+            changed = true;
+        }
+        if changed {
+            self.rebind(device, kernels.exact);
+        }
         Ok(())
     }
 
@@ -585,13 +586,8 @@ impl<'a> ExactGpuStepper<'a> {
         let parents = self.active();
         self.res.reserve_cells(
             self.device,
-            self.queue,
             self.kernels,
-            (
-                4 * parents,
-                if self.ex.level == 0 { 0 } else { parents },
-                self.cells_in,
-            ),
+            (1 - self.cells_in, 4 * parents, parents + 1),
         )?;
         self.ex.live = parents;
         self.upload();
@@ -671,6 +667,14 @@ impl Stepper for ExactGpuStepper<'_> {
         self.upload();
         let level = self.ex.level;
         let active = self.active();
+        if level > 0 {
+            // The cells that stay go to the other buffer.
+            self.res.reserve_cells(
+                self.device,
+                self.kernels,
+                (1 - self.cells_in, active, active + 1),
+            )?;
+        }
         let (res, stage, compact) = (&*self.res, self.kernels.exact, self.kernels.compact);
         res.dart_scan.set_len(self.queue, darts + 1, 0);
         // Throw, then settle the batch's order.
