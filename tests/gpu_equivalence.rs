@@ -300,6 +300,16 @@ fn exact_mode_with_repairs_small_batches_and_caps_matches_reference_implementati
         &Params::new(1000, 7).with_radius(3.0).with_seed(9),
         "exact 1000x7",
     );
+    // A batch far above the pixel count: every iteration throws one dart
+    // per active pixel or cell (the GPU's buffers are sized for the batch,
+    // since below the pixel the cells may outnumber the pixels).
+    assert_exact_identical(
+        &Params::new(64, 48)
+            .with_radius(6.0)
+            .with_batch(1 << 20)
+            .with_seed(2),
+        "exact, batch above the pixel count",
+    );
     // Radii beyond the GPU pass's reach are refused with a GPU error (which
     // `auto` answers with the CPU).
     if let Some(g) = gpu() {

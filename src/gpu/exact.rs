@@ -587,7 +587,7 @@ impl<'a> ExactGpuStepper<'a> {
         self.res.reserve_cells(
             self.device,
             self.kernels,
-            (1 - self.cells_in, 4 * parents, parents + 1),
+            (1 - self.cells_in, parents.saturating_mul(4), parents + 1),
         )?;
         self.ex.live = parents;
         self.upload();

@@ -361,10 +361,8 @@ impl GpuSampler {
                 exact::STORAGE_BUFFERS
             )));
         }
-        let cap = plan
-            .batch
-            .min(plan.pixels())
-            .min(crate::sampler::fixed::MAX_BATCH);
+        // Below the pixel a batch may outnumber the pixels (cells are finer).
+        let cap = plan.batch.min(crate::sampler::fixed::MAX_BATCH);
         let (stage, slot) = self
             .exact
             .get_or_insert_with(|| (exact::ExactStage::new(device), None));
