@@ -18,8 +18,8 @@
 //! (read back in order every iteration), the coverage bitmap and the active
 //! cells go to [`ExactStepper::resume`], which sets aside the cells whose one
 //! position is covered (a test in `f64`, which WGSL lacks), repairs voids,
-//! and runs every later iteration. By then nearly every sample is placed;
-//! the finest cells are a few dozen at 4096², r = 8.5 px.
+//! and runs every later iteration. By then nearly every sample is placed
+//! and the cells left are few.
 
 use std::time::Instant;
 
