@@ -1,6 +1,6 @@
-// Exact mode's pixel pass (level 0 of src/sampler/exact/mod.rs: "Darts",
-// "Acceptance" and "Coverage"), bit-identical to the CPU's. The refinement
-// below the pixel then runs on the CPU (src/gpu/exact.rs).
+// Exact mode's iterations (src/sampler/exact/mod.rs: "Darts", "Acceptance",
+// "Coverage", "Refinement"), bit-identical to the CPU's, down to the finest
+// level; the finest level and repairs run on the CPU (src/gpu/exact.rs).
 //
 // Positions and radii are in 1/2^F px, distances compared on 64-bit
 // integers (mul_wide). Accepted samples are binned in square cells of g px,
@@ -10,7 +10,8 @@
 // is a test over a whole list, so the results never do.
 //
 // Per iteration:
-// * `exact_throw`: dart k (hash, k-th draw of an empty pixel, F-bit offsets),
+// * `exact_throw`: dart k (hash, k-th draw of an empty pixel or active cell,
+//   F - L-bit offsets),
 //   valid when no accepted sample lies within the policy's distance; valid
 //   darts join the dart grid.
 // * `exact_resolve`, in rounds: the lexicographically first independent set
