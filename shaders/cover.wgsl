@@ -20,6 +20,22 @@ fn radius_at(x: u32, y: u32) -> u32 {
     return textureLoad(radius_map, vec2<i32>(i32(x), i32(y)), 0).x;
 }
 
+// A row's bits, set a word at a time: `run` holds the word being filled
+// and its mask, written with one atomicOr when the row leaves the word.
+fn mark(run: ptr<function, vec2<u32>>, p: u32) {
+    if (p >> 5u) != (*run).x {
+        flush(*run);
+        *run = vec2<u32>(p >> 5u, 0u);
+    }
+    (*run).y |= 1u << (p & 31u);
+}
+
+fn flush(run: vec2<u32>) {
+    if run.y != 0u {
+        atomicOr(&coverage[run.x], run.y);
+    }
+}
+
 // Thread (k, row) covers row `row` of survivor k's reach: one row per thread
 // keeps every loop short (llvmpipe caps a loop at 65535 iterations) and gives
 // a GPU many small tasks. Dispatched as (ceil(darts / 256), rows of the
@@ -46,8 +62,7 @@ fn cover(
     }
     let y = row.y;
     let dy = row.dy;
-    var word = 0xffffffffu;
-    var mask = 0u;
+    var run = vec2<u32>(0xffffffffu, 0u);
     for (var qx = row.x0; qx <= row.x1; qx++) {
         var x = qx;
         if cfg.period_x != 0u {
@@ -60,20 +75,10 @@ fn cover(
             covered = inside(dx, dy, f);
         }
         if covered {
-            let p = u32(y) * cfg.width + u32(x);
-            if (p >> 5u) != word {
-                if mask != 0u {
-                    atomicOr(&coverage[word], mask);
-                }
-                word = p >> 5u;
-                mask = 0u;
-            }
-            mask |= 1u << (p & 31u);
+            mark(&run, u32(y) * cfg.width + u32(x));
         }
     }
-    if mask != 0u {
-        atomicOr(&coverage[word], mask);
-    }
+    flush(run);
 }
 
 // Thread (k, row): row `row` of the pixels that survivor k (in 1/2^F px)
@@ -120,8 +125,7 @@ fn cover_exact(
         x0 = max(x0, 0);
         x1 = min(x1, i32(cfg.width) - 1);
     }
-    var word = 0xffffffffu;
-    var mask = 0u;
+    var run = vec2<u32>(0xffffffffu, 0u);
     for (var qx = x0; qx <= x1; qx++) {
         var x = qx;
         if ex.period_x != 0u {
@@ -134,18 +138,8 @@ fn cover_exact(
             covered = lt64(add64(mul_wide(dx, dx), mul_wide(dy, dy)), mul_wide(f, f));
         }
         if covered {
-            let p = u32(y) * cfg.width + u32(x);
-            if (p >> 5u) != word {
-                if mask != 0u {
-                    atomicOr(&coverage[word], mask);
-                }
-                word = p >> 5u;
-                mask = 0u;
-            }
-            mask |= 1u << (p & 31u);
+            mark(&run, u32(y) * cfg.width + u32(x));
         }
     }
-    if mask != 0u {
-        atomicOr(&coverage[word], mask);
-    }
+    flush(run);
 }
