@@ -22,6 +22,28 @@ pub enum BackendChoice {
     Gpu,
 }
 
+/// The facade over the backends: [`Params::generate`] lives here, above the
+/// contract, so that `sampler` knows no backend.
+impl Params {
+    /// Samples the set: the common case, as fast_poisson's `generate()`.
+    /// Runs on the GPU when the `gpu` feature finds a hardware adapter, on
+    /// the CPU otherwise; the points are the same either way.
+    ///
+    /// ```
+    /// use pixelpie::sampler::Params;
+    /// let set = Params::new(256, 256).with_radius(6.0).with_seed(3).generate().unwrap();
+    /// assert!(set.maximal() && set.points.len() > 400);
+    /// ```
+    pub fn generate(&self) -> sampler::Result<SampleSet> {
+        self.generate_with(Control::default())
+    }
+
+    /// [`Self::generate`] with progress reporting and cancellation.
+    pub fn generate_with(&self, ctl: Control<'_>) -> sampler::Result<SampleSet> {
+        sample(self, BackendChoice::Auto, ctl, &mut |_| {})
+    }
+}
+
 /// A process-wide headless GPU: opened on first use, kept for later runs so
 /// that pipelines and buffers are reused.
 #[cfg(feature = "gpu")]
@@ -80,10 +102,11 @@ impl SharedGpu {
         path: Option<S1Path>,
         ctl: Control<'_>,
     ) -> sampler::Result<SampleSet> {
-        let mut guard = self
-            .sampler
-            .lock()
-            .map_err(|_| Error::Gpu("the GPU sampler was poisoned by an earlier failure".into()))?;
+        let mut guard = self.sampler.lock().map_err(|_| {
+            crate::gpu::GpuError::Unusable(
+                "the GPU sampler was poisoned by an earlier failure".into(),
+            )
+        })?;
         if guard.is_none() {
             *guard = Some(GpuSampler::new(
                 &self.ctx.device,
@@ -91,12 +114,18 @@ impl SharedGpu {
             )?);
         }
         let Some(s) = guard.as_mut() else {
-            return Err(Error::Gpu("no GPU sampler".into()));
+            return Err(crate::gpu::GpuError::Unusable("no GPU sampler".into()).into());
         };
         s.set_path(path);
         s.sample(&self.ctx.device, &self.ctx.queue, params, ctl)
     }
 }
+
+/// The GPU backend cannot be used here: no adapter, or a build without the
+/// `gpu` feature.
+#[derive(Debug, thiserror::Error)]
+#[error("GPU: {0}")]
+pub struct NoGpu(pub String);
 
 /// A one-line message about the backend a run uses.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -117,6 +146,7 @@ impl std::fmt::Display for Notice {
     }
 }
 
+#[doc(hidden)]
 /// A GPU as the fallback policy sees it: the CLI's [`SharedGpu`], or the
 /// app's sampler on egui's device.
 pub trait GpuRun {
@@ -175,6 +205,7 @@ pub fn sample(
     )
 }
 
+#[doc(hidden)]
 /// The fallback policy, the same for the CLI and the app:
 ///
 /// * `cpu` runs the CPU backend;
@@ -195,7 +226,7 @@ pub fn sample_with(
     match choice {
         BackendChoice::Cpu => sampler::cpu::sample(params, ctl),
         BackendChoice::Gpu => {
-            let gpu = gpu.map_err(Error::Gpu)?;
+            let gpu = gpu.map_err(|why| Error::backend(NoGpu(why)))?;
             notice(Notice::Adapter(gpu.adapter()));
             gpu.sample(params, ctl)
         }
@@ -210,7 +241,7 @@ pub fn sample_with(
             Ok(gpu) => {
                 notice(Notice::Adapter(gpu.adapter()));
                 match gpu.sample(params, ctl) {
-                    Err(e) if e.is_gpu() => {
+                    Err(e) if e.is_backend() => {
                         let why = crate::one_line(&e);
                         notice(Notice::Fallback(format!("the GPU failed: {why}")));
                         sampler::cpu::sample(params, ctl)

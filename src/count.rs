@@ -13,7 +13,7 @@ pub const MAX_RUNS: usize = 8;
 /// Searches the scale `s` (radii multiply by `s`) for which `run(s)` returns
 /// about `target` points, starting at `initial`. Returns the best scale, its
 /// result and the number of runs made.
-pub fn fit_scale<T, E: From<Error>>(
+pub(crate) fn fit_scale<T, E: From<Error>>(
     target: usize,
     initial: f64,
     mut run: impl FnMut(f64) -> Result<(usize, T), E>,

@@ -30,6 +30,8 @@
 //! the binary's argument parsing and progress bars, `app` the interactive
 //! app (with `gpu`), `plots` the analysis figures.
 
+#![warn(missing_docs)]
+
 pub mod analyze;
 #[cfg(feature = "app")]
 pub mod app;
@@ -43,4 +45,6 @@ pub mod io;
 pub mod sampler;
 pub mod stipple;
 
-pub use error::{Error, Result, one_line, single_line};
+#[doc(hidden)]
+pub use error::single_line;
+pub use error::{Error, Result, one_line};

@@ -111,7 +111,7 @@ fn a_dropped_file_replaces_the_map() {
     assert_eq!(src.path.as_deref(), Some(second.as_path()));
     // Sampled on the image enlarged to the CLI's 1024 px domain.
     let outcome = app.outcome.as_ref().unwrap();
-    let set = &outcome.set;
+    let set = &outcome.drawing.set;
     assert_eq!((set.width, set.height), (1024, 683));
     assert!((outcome.scale - 1024.0 / 90.0).abs() < 1e-4);
     let (dw, dh) = (set.width as f32, set.height as f32);
@@ -120,7 +120,7 @@ fn a_dropped_file_replaces_the_map() {
     let bad = dir.path().join("bad.png");
     std::fs::write(&bad, b"not a png").unwrap();
     h.input_mut().dropped_files.push(Arc::new(Dropped(bad)));
-    h.run_steps(2);
+    settle(&mut h);
     assert!(
         h.state()
             .open_error
@@ -198,10 +198,18 @@ fn relaxation_runs_on_the_worker_and_can_be_cancelled() {
     gradient_png(&first, 200, 150);
     let mut h = harness(&first);
     settle(&mut h);
-    let before = h.state().outcome.as_ref().unwrap().set.points.clone();
+    let before = h
+        .state()
+        .outcome
+        .as_ref()
+        .unwrap()
+        .drawing
+        .set
+        .points
+        .clone();
     // A long relaxation, then Cancel: the worker stops, the drawing stays.
     h.state_mut().settings.points = 60_000;
-    h.state_mut().settings.relax = 30;
+    h.state_mut().settings.job.relax = 30;
     let start = Instant::now();
     while !h.state().busy() {
         h.step();
@@ -210,14 +218,23 @@ fn relaxation_runs_on_the_worker_and_can_be_cancelled() {
     h.state_mut().cancel_job();
     h.run_steps(3);
     assert!(!h.state().busy());
-    assert_eq!(h.state().status, "cancelled");
-    assert_eq!(h.state().outcome.as_ref().unwrap().set.points, before);
+    assert!(h.state().status.starts_with("cancelled"));
+    h.get_by_label("cancelled");
+    assert_eq!(
+        h.state().outcome.as_ref().unwrap().drawing.set.points,
+        before
+    );
+    // The controls show the drawing's settings again, not the cancelled ones.
+    assert_eq!(h.state().settings.points, 10_000);
+    assert_eq!(h.state().settings.job.relax, 0);
+    h.run_steps(3);
+    assert!(!h.state().busy(), "going back re-sampled");
     // A short relaxation finishes, with the count asked for.
     h.state_mut().settings.points = 2000;
-    h.state_mut().settings.relax = 3;
+    h.state_mut().settings.job.relax = 3;
     h.step();
     settle(&mut h);
-    let relaxed = &h.state().outcome.as_ref().unwrap().set.points;
+    let relaxed = &h.state().outcome.as_ref().unwrap().drawing.set.points;
     assert!((1900..=2100).contains(&relaxed.len()), "{}", relaxed.len());
 }
 
@@ -235,12 +252,18 @@ fn a_new_image_shows_no_stale_dots() {
     h.input_mut()
         .dropped_files
         .push(Arc::new(Dropped(second.clone())));
-    h.run_steps(1);
-    assert_eq!(h.state().source.as_ref().unwrap().map.width(), 128);
+    // The new picture decodes on its own thread; the first frame that shows
+    // it shows no dots.
+    let start = Instant::now();
+    while h.state().source.as_ref().unwrap().map.width() != 128 {
+        h.step();
+        assert!(start.elapsed() < Duration::from_secs(30), "never decoded");
+        std::thread::sleep(Duration::from_millis(5));
+    }
     assert_eq!(h.state().dots_drawn(), 0, "old dots over the new image");
     assert!(h.state().outcome.is_none());
     settle(&mut h);
-    let set = &h.state().outcome.as_ref().unwrap().set;
+    let set = &h.state().outcome.as_ref().unwrap().drawing.set;
     assert_eq!((set.width, set.height), (1024, 1024));
     assert!(h.state().dots_drawn() > 100);
 }
@@ -250,8 +273,8 @@ fn exports_use_the_dot_colour_and_the_png_scale() {
     // Bug: with red dots on screen the SVG said fill="black" and the PNG
     // was grey; the PNG had no size control.
     let (dir, _, mut h) = ready(160, 120);
-    h.state_mut().settings.dot_color = [220, 30, 30];
-    h.state_mut().settings.png_scale = 0.5;
+    h.state_mut().settings.job.ink = pixelpie::stipple::Ink([220, 30, 30]);
+    h.state_mut().settings.job.scale = 0.5;
     h.state_mut().export_path = dir.path().join("out").display().to_string();
     h.get_by_label("SVG").click();
     h.get_by_label("PNG").click();
@@ -267,7 +290,7 @@ fn exports_use_the_dot_colour_and_the_png_scale() {
         "the SVG's ink is not the dots' colour"
     );
     let img = image::open(dir.path().join("out.png")).unwrap().to_rgb8();
-    let set = &h.state().outcome.as_ref().unwrap().set;
+    let set = &h.state().outcome.as_ref().unwrap().drawing.set;
     assert_eq!(img.dimensions(), (set.width / 2, set.height / 2));
     let inked: Vec<_> = img.pixels().filter(|p| p.0 != [255, 255, 255]).collect();
     assert!(inked.len() > 100);
@@ -306,7 +329,8 @@ fn errors_sit_by_their_action_and_go_when_it_succeeds() {
     // Opening an image clears the open error.
     h.state_mut().open_path = png.display().to_string();
     h.get_by_label("Open").click();
-    h.run_steps(2);
+    h.step();
+    settle(&mut h);
     assert!(h.state().open_error.is_none());
 }
 
@@ -318,19 +342,19 @@ struct Answers {
 }
 
 impl app::dialogs::FileDialogs for Answers {
-    fn pick_image(&mut self, folder: Option<&Path>) -> Option<PathBuf> {
+    fn pick_image(&mut self, folder: Option<&Path>) -> app::dialogs::Answer {
         self.started_in
             .lock()
             .unwrap()
             .push(folder.map(Path::to_path_buf));
-        self.open.clone()
+        Ok(self.open.clone())
     }
-    fn save_drawing(&mut self, folder: Option<&Path>, _name: &str) -> Option<PathBuf> {
+    fn save_drawing(&mut self, folder: Option<&Path>, _name: &str) -> app::dialogs::Answer {
         self.started_in
             .lock()
             .unwrap()
             .push(folder.map(Path::to_path_buf));
-        self.save.clone()
+        Ok(self.save.clone())
     }
 }
 
@@ -376,8 +400,8 @@ fn shortcuts_and_file_dialogs_work() {
     let cmd = egui::Modifiers::COMMAND;
     // Ctrl+O opens through the dialog, which starts in the last folder.
     press(&mut h, egui::Key::O, cmd);
-    assert_eq!(h.state().source.as_ref().unwrap().map.width(), 100);
     settle(&mut h);
+    assert_eq!(h.state().source.as_ref().unwrap().map.width(), 100);
     // Ctrl+S exports where the dialog says, in its extension's format.
     press(&mut h, egui::Key::S, cmd);
     assert!(out.exists(), "{:?}", h.state().export_error);
@@ -395,24 +419,24 @@ fn shortcuts_and_file_dialogs_work() {
     press(&mut h, egui::Key::F, egui::Modifiers::NONE);
     assert!((h.state().zoom() - fit).abs() < 1e-3);
     // R re-rolls; Ctrl+Z undoes it; Reset restores the defaults, undoably.
-    let seed = h.state().settings.seed;
+    let seed = h.state().settings.job.sampler.seed;
     press(&mut h, egui::Key::R, egui::Modifiers::NONE);
-    assert_ne!(h.state().settings.seed, seed);
+    assert_ne!(h.state().settings.job.sampler.seed, seed);
     press(&mut h, egui::Key::Z, cmd);
-    assert_eq!(h.state().settings.seed, seed);
-    h.state_mut().settings.gamma = 2.0;
+    assert_eq!(h.state().settings.job.sampler.seed, seed);
+    h.state_mut().settings.job.importance.gamma = 2.0;
     std::thread::sleep(pixelpie::app::shortcuts::UNDO_GROUP);
     h.run_steps(1);
     h.get_by_label("Reset").click();
     h.run_steps(2);
-    assert_eq!(h.state().settings.gamma, 1.0);
+    assert_eq!(h.state().settings.job.importance.gamma, 1.0);
     assert_eq!(
         h.state().source.as_ref().unwrap().map.width(),
         100,
         "reset kept the picture"
     );
     press(&mut h, egui::Key::Z, cmd);
-    assert_eq!(h.state().settings.gamma, 2.0);
+    assert_eq!(h.state().settings.job.importance.gamma, 2.0);
     // F1 shows the help, which lists every shortcut.
     press(&mut h, egui::Key::F1, egui::Modifiers::NONE);
     assert!(h.state().show_help);
@@ -440,7 +464,7 @@ fn the_export_row_and_re_roll_stay_put() {
     h.state_mut().cancel_job();
     h.run_steps(2);
     // A seed of many digits: Re-roll stays where it was.
-    h.state_mut().settings.seed = u64::MAX / 3;
+    h.state_mut().settings.job.sampler.seed = u64::MAX / 3;
     h.run_steps(2);
     assert_eq!(h.get_by_label("Re-roll").rect(), reroll, "Re-roll moved");
     assert_eq!(h.get_by_label("SVG").rect(), svg);
@@ -499,7 +523,7 @@ fn a_periodic_drawing_shows_two_by_two_tiles() {
     let png = dir.path().join("g.png");
     gradient_png(&png, 200, 200);
     let mut h = harness(&png);
-    h.state_mut().settings.periodic = true;
+    h.state_mut().settings.job.sampler.periodic = true;
     settle(&mut h);
     assert_eq!(h.state().tiles(), 2);
     // The canvas holds four copies: dark dots in each quadrant of the
@@ -546,8 +570,9 @@ fn the_status_follows_the_job_on_the_gpu_backend() {
     assert!(!has(&h, "sampling"), "a finished job still says sampling");
     h.get_by_label("ready");
     let o = h.state().outcome.as_ref().unwrap();
-    assert!(o.seconds >= o.set.stats.seconds && o.runs >= 1);
-    assert!(has(&h, &format!("{} run(s) in", o.runs)));
+    let d = &o.drawing;
+    assert!(o.seconds >= d.set.stats.seconds && d.runs >= 1);
+    assert!(has(&h, &format!("{} run(s) in", d.runs)));
     // While a job runs, its elapsed time shows.
     h.state_mut().settings.points = 40_000;
     let start = Instant::now();
@@ -572,10 +597,10 @@ fn the_status_follows_the_job_on_the_gpu_backend() {
 #[test]
 fn exact_spacing_gives_sets_without_slack() {
     let (_dir, _png, mut h) = ready(200, 150);
-    assert!(!h.state().outcome.as_ref().unwrap().set.stats.exact);
+    assert!(!h.state().outcome.as_ref().unwrap().drawing.set.stats.exact);
     h.get_by_label("Exact spacing").click();
     settle(&mut h);
-    let set = &h.state().outcome.as_ref().unwrap().set;
+    let set = &h.state().outcome.as_ref().unwrap().drawing.set;
     assert!(set.stats.exact && set.maximal(), "{:?}", set.stats);
     // The app's policy is Smaller: every pair at least min(r_i, r_j) apart,
     // exactly (the values are dyadic, their squares exact in f64).
@@ -595,9 +620,277 @@ fn exact_spacing_gives_sets_without_slack() {
     let on_cpu = set.points.clone();
     h.state_mut().settings.backend = pixelpie::backend::BackendChoice::Gpu;
     settle(&mut h);
-    let set = &h.state().outcome.as_ref().unwrap().set;
+    let set = &h.state().outcome.as_ref().unwrap().drawing.set;
     if h.state().adapter().is_some() {
-        assert_eq!(set.stats.backend, "gpu-exact");
+        assert_eq!(set.stats.backend, pixelpie::sampler::BackendKind::GpuExact);
         assert_eq!(set.points, on_cpu);
     }
+}
+
+/// Runs the `pixelpie` binary; its output must be a success.
+fn cli(args: &[&str]) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_pixelpie"))
+        .args(args)
+        .output()
+        .expect("run pixelpie");
+    assert!(
+        out.status.success(),
+        "pixelpie {args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+/// Exports the app's drawing to `path` (the extension picks the format).
+fn export(h: &mut Harness<'_, PixelPieApp>, path: &Path) {
+    let ext = path.extension().unwrap().to_str().unwrap().to_owned();
+    h.state_mut().export_path = path.with_extension("").display().to_string();
+    h.state_mut().export_as(&ext);
+    assert!(
+        h.state().export_error.is_none(),
+        "{:?}",
+        h.state().export_error
+    );
+}
+
+#[test]
+fn the_app_draws_and_exports_what_the_cli_does() {
+    // A large photo (longer side 3000 px): the app once enlarged it with
+    // rules of its own, so its first view was not the CLI's drawing.
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("photo.png");
+    gradient_png(&png, 3000, 2000);
+    let p = |name: &str| dir.path().join(name);
+    let s = |path: &Path| path.display().to_string();
+    let mut h = harness(&png);
+    settle(&mut h);
+    // The defaults: the same dots, in the same order, and the same files.
+    cli(&[
+        "stipple",
+        &s(&png),
+        "-o",
+        &s(&p("cli.svg")),
+        "--save-points",
+        &s(&p("cli.csv")),
+        "--quiet",
+    ]);
+    export(&mut h, &p("app.svg"));
+    export(&mut h, &p("app.csv"));
+    let drawing = &h.state().outcome.as_ref().unwrap().drawing;
+    assert_eq!(drawing.domain, (1024, 683));
+    let rows = std::fs::read_to_string(p("cli.csv")).unwrap();
+    let cli_points: Vec<[f32; 3]> = rows
+        .lines()
+        .skip(1)
+        .map(|l| {
+            let v: Vec<f32> = l.split(',').map(|x| x.parse().unwrap()).collect();
+            [v[0], v[1], v[2]]
+        })
+        .collect();
+    let app_points: Vec<[f32; 3]> = drawing
+        .points
+        .iter()
+        .map(|q| [q.x, q.y, q.radius])
+        .collect();
+    assert_eq!(app_points, cli_points, "the app's dots are not the CLI's");
+    for (a, c) in [("app.svg", "cli.svg"), ("app.csv", "cli.csv")] {
+        assert_eq!(
+            std::fs::read(p(a)).unwrap(),
+            std::fs::read(p(c)).unwrap(),
+            "{a}"
+        );
+    }
+    // Other settings, through the app's controls' fields, and the CLI's
+    // arguments for them: plotter SVG, coloured PNG.
+    {
+        let st = &mut h.state_mut().settings;
+        st.points = 3000;
+        let job = &mut st.job;
+        job.dot = Some(pixelpie::stipple::DotMode::Fixed);
+        job.relax = 2;
+        job.order = pixelpie::stipple::Order::Tsp;
+        job.width_mm = Some(150.0);
+        job.pen_mm = Some(0.4);
+        job.ink = "#1f77b4".parse().unwrap();
+        job.policy = pixelpie::sampler::Policy::Bigger;
+        job.sampler.seed = 5;
+        job.importance.gamma = 1.4;
+        job.importance.white_cutoff = Some(0.9);
+    }
+    h.step();
+    settle(&mut h);
+    export(&mut h, &p("app-pen.svg"));
+    cli(&[
+        "stipple",
+        &s(&png),
+        "-o",
+        &s(&p("cli-pen.svg")),
+        "--quiet",
+        "--points",
+        "3000",
+        "--dot",
+        "fixed",
+        "--relax",
+        "2",
+        "--order",
+        "tsp",
+        "--width-mm",
+        "150",
+        "--pen-mm",
+        "0.4",
+        "--ink",
+        "#1f77b4",
+        "--policy",
+        "bigger",
+        "--seed",
+        "5",
+        "--gamma",
+        "1.4",
+        "--white-cutoff",
+        "0.9",
+    ]);
+    let pen = std::fs::read(p("app-pen.svg")).unwrap();
+    assert_eq!(pen, std::fs::read(p("cli-pen.svg")).unwrap());
+    assert!(String::from_utf8_lossy(&pen).contains(r##"stroke="#1f77b4""##));
+    {
+        let job = &mut h.state_mut().settings.job;
+        job.width_mm = None;
+        job.pen_mm = None;
+        job.scale = 0.5;
+    }
+    h.run_steps(2);
+    assert!(!h.state().busy(), "export options re-sampled");
+    export(&mut h, &p("app.png"));
+    cli(&[
+        "stipple",
+        &s(&png),
+        "-o",
+        &s(&p("cli.png")),
+        "--quiet",
+        "--points",
+        "3000",
+        "--dot",
+        "fixed",
+        "--relax",
+        "2",
+        "--order",
+        "tsp",
+        "--scale",
+        "0.5",
+        "--ink",
+        "#1f77b4",
+        "--policy",
+        "bigger",
+        "--seed",
+        "5",
+        "--gamma",
+        "1.4",
+        "--white-cutoff",
+        "0.9",
+    ]);
+    assert_eq!(
+        std::fs::read(p("app.png")).unwrap(),
+        std::fs::read(p("cli.png")).unwrap()
+    );
+}
+
+/// File dialogs that cannot open (a desktop without a portal).
+struct NoDialogs;
+
+impl app::dialogs::FileDialogs for NoDialogs {
+    fn pick_image(&mut self, _: Option<&Path>) -> app::dialogs::Answer {
+        Err("no file dialog on this desktop (test)".into())
+    }
+    fn save_drawing(&mut self, _: Option<&Path>, _: &str) -> app::dialogs::Answer {
+        Err("no file dialog on this desktop (test)".into())
+    }
+}
+
+#[test]
+fn a_dialog_that_cannot_open_says_why() {
+    let (_dir, _, mut h) = ready(160, 120);
+    h.state_mut().dialogs = Box::new(NoDialogs);
+    let cmd = egui::Modifiers::COMMAND;
+    press(&mut h, egui::Key::O, cmd);
+    assert_eq!(
+        h.state().open_error.as_deref(),
+        Some("no file dialog on this desktop (test)")
+    );
+    h.get_by_label("no file dialog on this desktop (test)");
+    press(&mut h, egui::Key::S, cmd);
+    assert_eq!(
+        h.state().export_error.as_deref(),
+        Some("no file dialog on this desktop (test)")
+    );
+    // The typed path takes ~/ and file:// addresses.
+    let home = std::env::var("HOME").unwrap();
+    assert_eq!(app::typed_path("~/a.png"), Path::new(&home).join("a.png"));
+    assert_eq!(
+        app::typed_path(" file:///tmp/a b.png "),
+        Path::new("/tmp/a b.png")
+    );
+}
+
+#[test]
+fn a_big_picture_decodes_while_frames_keep_coming() {
+    let (dir, _, mut h) = ready(160, 120);
+    let big = dir.path().join("big.png");
+    gradient_png(&big, 6000, 4000);
+    let ctx = h.ctx.clone();
+    h.state_mut().open(&ctx, &big);
+    assert!(
+        h.state().loading_name().is_some(),
+        "open() waited for the decoder"
+    );
+    h.step();
+    let mut frames = 1;
+    let spinner_seen = shows(&h, "decoding");
+    let start = Instant::now();
+    while h.state().loading_name().is_some() {
+        h.step();
+        frames += 1;
+        std::thread::sleep(Duration::from_millis(5));
+        assert!(start.elapsed() < Duration::from_secs(60), "never decoded");
+    }
+    assert!(
+        spinner_seen || frames > 1,
+        "no frame while the picture decoded"
+    );
+    settle(&mut h);
+    let src = h.state().source.as_ref().unwrap();
+    assert_eq!((src.map.width(), src.map.height()), (6000, 4000));
+    assert!(h.state().dots_drawn() > 1000);
+}
+
+#[test]
+fn errors_and_modes_leave_the_controls_in_place_and_the_view_refits() {
+    let (dir, _, mut h) = ready(200, 150);
+    let csv = h.get_by_label("CSV").rect();
+    let behind = h.get_by_label("Behind").rect();
+    // A long export error stays on one line: the export row stays put.
+    let deep = dir
+        .path()
+        .join("no-such-folder-with-a-rather-long-name-to-wrap-the-error")
+        .join("and-a-long-file-name-too");
+    h.state_mut().export_path = deep.display().to_string();
+    h.get_by_label("SVG").click();
+    h.run_steps(2);
+    assert!(h.state().export_error.is_some());
+    assert_eq!(h.get_by_label("CSV").rect(), csv, "the export row moved");
+    // Each dot mode shows the same rows: nothing below them jumps.
+    for mode in [
+        pixelpie::stipple::DotMode::Proportional,
+        pixelpie::stipple::DotMode::Fixed,
+        pixelpie::stipple::DotMode::Sized,
+    ] {
+        h.state_mut().settings.job.dot = Some(mode);
+        h.run_steps(2);
+        assert_eq!(h.get_by_label("Behind").rect(), behind, "{mode:?}");
+    }
+    settle(&mut h);
+    // A resized window refits a fitted view.
+    let before = h.state().zoom();
+    h.set_size(egui::vec2(800.0, 600.0));
+    h.run_steps(3);
+    let after = h.state().zoom();
+    assert!(after < before * 0.9, "zoom {before} -> {after}: no refit");
 }

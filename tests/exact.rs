@@ -331,7 +331,7 @@ fn exact_mode_without_a_gpu_fails_on_gpu_and_falls_back_on_auto() {
     )
     .unwrap_err();
     assert!(
-        err.is_gpu() && err.to_string().contains("no adapter here"),
+        err.is_backend() && err.to_string().contains("no adapter here"),
         "{err}"
     );
     let mut notices = Vec::new();
@@ -344,7 +344,7 @@ fn exact_mode_without_a_gpu_fails_on_gpu_and_falls_back_on_auto() {
     )
     .unwrap();
     assert_eq!(set.points, run(&p).points);
-    assert!(set.stats.exact && set.stats.backend == "cpu");
+    assert!(set.stats.exact && set.stats.backend == pixelpie::sampler::BackendKind::Cpu);
     assert!(matches!(&notices[..], [Notice::Fallback(_)]), "{notices:?}");
 }
 

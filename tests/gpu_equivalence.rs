@@ -9,7 +9,7 @@ use std::sync::{Arc, Mutex, OnceLock};
 
 use common::{smooth_radii, step_radii};
 use pixelpie::gpu::{GpuContext, GpuSampler};
-use pixelpie::sampler::{Control, Params, Policy, RadiusMap, SampleSet, cpu};
+use pixelpie::sampler::{BackendKind, Control, Params, Policy, RadiusMap, SampleSet, cpu};
 
 struct Gpu {
     ctx: GpuContext,
@@ -181,11 +181,14 @@ fn both_s1_paths_match_reference_implementation() {
                 on_gpu.points, on_cpu.points,
                 "{path:?} {policy:?} periodic {periodic}"
             );
-            assert!(on_gpu.stats.backend.ends_with(if path == S1Path::Raster {
-                "raster"
-            } else {
-                "compute"
-            }));
+            assert_eq!(
+                on_gpu.stats.backend,
+                if path == S1Path::Raster {
+                    BackendKind::GpuRaster
+                } else {
+                    BackendKind::GpuCompute
+                }
+            );
         }
     }
 }
@@ -238,7 +241,7 @@ fn a_chunked_key_buffer_matches_reference_implementation() {
 fn assert_exact_identical(params: &Params, what: &str) {
     assert_identical(&params.clone().with_exact(true), what);
     if let Some((g, c)) = both(&params.clone().with_exact(true)) {
-        assert_eq!(g.stats.backend, "gpu-exact", "{what}");
+        assert_eq!(g.stats.backend, BackendKind::GpuExact, "{what}");
         assert!(
             g.stats.exact && g.stats.repaired == c.stats.repaired,
             "{what}"
@@ -320,7 +323,10 @@ fn exact_mode_with_repairs_small_batches_and_caps_matches_reference_implementati
             .unwrap()
             .sample(&g.ctx.device, &g.ctx.queue, &big, Control::default())
             .unwrap_err();
-        assert!(err.is_gpu() && err.to_string().contains("100 px"), "{err}");
+        assert!(
+            err.is_backend() && err.to_string().contains("100 px"),
+            "{err}"
+        );
     }
     let capped = Params::new(256, 256)
         .with_radius(3.0)

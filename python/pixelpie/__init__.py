@@ -17,6 +17,7 @@ that cannot be read or written raise ``OSError``.
 
 from __future__ import annotations
 
+import json
 import os
 from typing import Any, Callable, Dict, Optional, Tuple, Union
 
@@ -24,7 +25,7 @@ import numpy as np
 
 from . import _pixelpie
 
-__all__ = ["sample", "stipple", "analyze", "__version__"]
+__all__ = ["sample", "stipple", "stipple_options", "analyze", "__version__"]
 __version__: str = _pixelpie.__version__
 
 PathLike = Union[str, "os.PathLike[str]"]
@@ -117,88 +118,58 @@ def sample(
     )
 
 
+def _option(value: Any) -> Any:
+    """A keyword argument as JSON: numpy scalars become Python numbers."""
+    if hasattr(value, "item"):
+        return value.item()
+    raise TypeError(f"option value {value!r} is not a number, string or bool")
+
+
+def stipple_options() -> Dict[str, Any]:
+    """The options :func:`stipple` takes, with their defaults (``None``:
+    chosen by the job, as the command line's help says). They come from the
+    library's drawing job, so they are the command line's, with
+    underscores."""
+    return json.loads(_pixelpie.stipple_defaults())
+
+
 def stipple(
     image: PathLike,
     output: Optional[PathLike] = None,
     *,
-    points: Optional[int] = None,
-    width: Optional[int] = None,
-    height: Optional[int] = None,
-    dot: Optional[str] = None,
-    dot_factor: Optional[float] = None,
-    dot_ratio: float = 0.3,
-    dot_radius: Optional[float] = None,
-    relax: int = 0,
-    order: str = "none",
-    scale: float = 1.0,
-    width_mm: Optional[float] = None,
-    pen_mm: Optional[float] = None,
-    policy: str = "smaller",
-    seed: int = 0,
-    subpixel_bits: int = 3,
-    periodic: bool = False,
-    exact: bool = False,
-    tones: str = "display",
-    mapping: Optional[str] = None,
-    min_radius: Optional[float] = None,
-    max_radius: Optional[float] = None,
-    gamma: float = 1.0,
-    black_level: float = 0.0,
-    white_level: float = 1.0,
-    invert: bool = False,
-    white_cutoff: Optional[float] = None,
-    hdr_white: Optional[float] = None,
     backend: str = "auto",
     progress: Optional[Progress] = None,
+    **options: Any,
 ) -> np.ndarray:
     """Draws ``image`` as stipples, as ``pixelpie stipple`` does.
 
-    With ``output`` (``.svg`` or ``.png``) the drawing is written there, the
-    same file as the command line writes for the same options. Returns the
-    dots as an (N, 3) float32 array of x, y and drawn radius, in domain
-    pixels and in drawing order.
+    With ``output`` (``.svg``, ``.png``, ``.csv`` or ``.json``) the drawing
+    is written there: the same file as the command line writes for the same
+    options. Returns the dots as an (N, 3) float32 array of x, y and drawn
+    radius, in domain pixels and in drawing order.
 
-    The options are the command line's, with underscores: ``points``
-    (default 10 000 unless ``min_radius`` or ``dot_radius`` is given),
-    ``dot`` (``"sized"``: small dots in light areas, the default;
-    ``"fixed"``: all alike; ``"proportional"``: a fraction of each disk, a
-    texture that does not reproduce tones), ``relax`` (weighted Lloyd
-    steps), ``order`` (``"tsp"``: a short pen-plotter path), ``width_mm``
-    and ``pen_mm`` (SVG in millimetres, drawn with a pen), ``scale`` (PNG
-    pixels per domain pixel), ``tones`` (``"display"``: reproduce the grey a
-    viewer sees; ``"linear"``: linear light), levels, ``gamma``,
-    ``invert`` and ``white_cutoff``.
+    ``options`` are the command line's, with underscores, and the same
+    defaults (the library's drawing job, ``pixelpie::stipple::Job``, holds
+    them all): ``points`` (default 10 000 unless ``min_radius`` or
+    ``dot_radius`` is given), ``width``, ``height``, ``dot`` (``"sized"``:
+    small dots in light areas, the default; ``"fixed"``: all alike;
+    ``"proportional"``: a fraction of each disk, a texture that does not
+    reproduce tones), ``dot_factor``, ``dot_ratio``, ``dot_radius``,
+    ``relax`` (weighted Lloyd steps), ``order`` (``"tsp"``: a short
+    pen-plotter path), ``scale`` (PNG pixels per domain pixel),
+    ``width_mm`` and ``pen_mm`` (SVG in millimetres, drawn with a pen),
+    ``ink`` (``"#rrggbb"``), ``policy`` (default ``"smaller"``), ``seed``,
+    ``subpixel_bits``, ``periodic``, ``exact``, ``tones`` (``"display"``:
+    reproduce the grey a viewer sees; ``"linear"``: linear light),
+    ``mapping``, ``min_radius``, ``max_radius``, ``gamma``,
+    ``black_level``, ``white_level``, ``invert``, ``white_cutoff`` and
+    ``hdr_white``. An unknown name raises ``ValueError``.
     """
+    given = {k: v for k, v in options.items() if v is not None}
     return _pixelpie.stipple(
         os.fspath(image),
         _path(output),
-        None if points is None else int(points),
-        None if width is None else int(width),
-        None if height is None else int(height),
-        dot,
-        None if dot_factor is None else float(dot_factor),
-        float(dot_ratio),
-        None if dot_radius is None else float(dot_radius),
-        int(relax),
-        order,
-        float(scale),
-        None if width_mm is None else float(width_mm),
-        None if pen_mm is None else float(pen_mm),
-        policy,
-        int(seed),
-        int(subpixel_bits),
-        bool(periodic),
-        bool(exact),
-        tones,
-        mapping,
-        None if min_radius is None else float(min_radius),
-        None if max_radius is None else float(max_radius),
-        float(gamma),
-        float(black_level),
-        float(white_level),
-        bool(invert),
-        None if white_cutoff is None else float(white_cutoff),
-        None if hdr_white is None else float(hdr_white),
+        json.dumps(given, default=_option),
         backend,
         progress,
     )

@@ -19,9 +19,9 @@ use pyo3::prelude::*;
 
 use pixelpie::analyze::{CoverRadius, Domain};
 use pixelpie::backend::{self, BackendChoice};
-use pixelpie::importance::{self, ImportanceMap, ImportanceOptions, Mapping, Tones, fit_size};
-use pixelpie::sampler::{self, Control, Params, Policy, Progress, RadiusMap, SampleSet};
-use pixelpie::stipple::{DotMode, Order, StippleOptions};
+use pixelpie::importance::{self, ImportanceMap, ImportanceOptions, Tones};
+use pixelpie::sampler::{self, Control, Progress};
+use pixelpie::stipple::{Format, Job, Radii, SampleJob};
 
 /// The Python exception for a library error.
 fn py_err(e: &pixelpie::Error) -> PyErr {
@@ -29,7 +29,7 @@ fn py_err(e: &pixelpie::Error) -> PyErr {
     let text = pixelpie::one_line(e);
     match e {
         E::Sampler(sampler::Error::Cancelled) => PyKeyboardInterrupt::new_err(text),
-        E::Sampler(e) if e.is_gpu() => PyRuntimeError::new_err(text),
+        E::Sampler(e) if e.is_backend() => PyRuntimeError::new_err(text),
         E::Importance(importance::Error::InvalidParameter(_))
         | E::Stipple(pixelpie::stipple::Error::InvalidParameter(_))
         | E::Io(pixelpie::io::Error::Invalid(_))
@@ -46,26 +46,11 @@ fn bad(text: impl Into<String>) -> PyErr {
     PyValueError::new_err(text.into())
 }
 
-fn policy(name: &str) -> PyResult<Policy> {
-    Policy::ALL
-        .into_iter()
-        .find(|p| p.name() == name)
-        .ok_or_else(|| {
-            bad(format!(
-                "policy '{name}' is not one of prior, current, bigger, smaller"
-            ))
-        })
-}
-
-fn backend_choice(name: &str) -> PyResult<BackendChoice> {
-    match name {
-        "auto" => Ok(BackendChoice::Auto),
-        "cpu" => Ok(BackendChoice::Cpu),
-        "gpu" => Ok(BackendChoice::Gpu),
-        _ => Err(bad(format!(
-            "backend '{name}' is not one of auto, cpu, gpu"
-        ))),
-    }
+/// The value of an enum the library names in lower case (its serde and
+/// command-line names), such as a policy or a backend.
+fn named<T: serde::de::DeserializeOwned>(name: &str, what: &str) -> PyResult<T> {
+    serde_json::from_value(serde_json::Value::String(name.to_owned()))
+        .map_err(|e| bad(format!("{what}: {e}")))
 }
 
 /// Runs `work` without the GIL, with a sampler control whose progress
@@ -130,59 +115,6 @@ fn grid(a: &PyReadonlyArray2<'_, f32>, what: &str) -> PyResult<(u32, u32, Vec<f3
     Ok((w32, h32, values))
 }
 
-/// What `sample` draws its radii from.
-enum Radii {
-    Uniform(Option<f32>),
-    Map(u32, u32, Vec<f32>),
-    ImageFile(PathBuf),
-    ImageValues(u32, u32, Vec<f32>),
-}
-
-fn run_sample(
-    (width, height): (u32, u32),
-    radii: Radii,
-    radius: Option<f32>,
-    points: Option<usize>,
-    base: Params,
-    choice: BackendChoice,
-    ctl: Control<'_>,
-) -> pixelpie::Result<SampleSet> {
-    let mut run = |p: &Params| -> pixelpie::Result<SampleSet> {
-        Ok(backend::sample(p, choice, ctl, &mut |_| {})?)
-    };
-    let image = match radii {
-        Radii::Uniform(r) => {
-            let make =
-                |s: f64| -> pixelpie::Result<Params> { Ok(base.clone().with_radius(s as f32)) };
-            let start = f64::from(r.unwrap_or(1.0));
-            return Ok(pixelpie::count::sample_scaled(start, points, make, &mut run)?.0);
-        }
-        Radii::Map(w, h, values) => {
-            let make = |s: f64| -> pixelpie::Result<Params> {
-                let map = RadiusMap::from_pixels_scaled(w, h, &values, s)?;
-                Ok(base.clone().with_radius_map(Arc::new(map)))
-            };
-            return Ok(pixelpie::count::sample_scaled(1.0, points, make, &mut run)?.0);
-        }
-        Radii::ImageFile(path) => (ImportanceMap::open(&path, None)?, Tones::Display),
-        // An array is the grey to reproduce, as it is.
-        Radii::ImageValues(w, h, values) => {
-            (ImportanceMap::from_values(w, h, values)?, Tones::Linear)
-        }
-    };
-    let (map, tones) = image;
-    let mut opts = ImportanceOptions::default();
-    opts.tones = tones;
-    opts.min_radius = radius;
-    let prepared = opts.prepare_map(
-        map,
-        |w, h| fit_size((w, h), Some(width), Some(height)),
-        Mapping::Linear,
-        points.is_some(),
-    )?;
-    Ok(prepared.sample(&base, points, run)?.set)
-}
-
 /// The native `sample`; see `pixelpie.sample`.
 #[pyfunction]
 #[pyo3(signature = (width, height, radius, points, radius_map, importance_path, importance_values, policy_name, seed, subpixel_bits, periodic, exact, backend_name, max_iterations, progress))]
@@ -208,17 +140,7 @@ fn sample<'py>(
     max_iterations: Option<u32>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
-    let choice = backend_choice(backend_name)?;
-    let mut base = Params::new(width, height)
-        .with_policy(policy(policy_name)?)
-        .with_seed(seed)
-        .with_subpixel_bits(subpixel_bits)
-        .with_periodic(periodic)
-        .with_exact(exact);
-    if let Some(m) = max_iterations {
-        base = base.with_max_iterations(m);
-    }
-    let importance = importance_path.is_some() || importance_values.is_some();
+    let choice: BackendChoice = named(backend_name, "backend")?;
     if usize::from(radius_map.is_some())
         + usize::from(importance_path.is_some())
         + usize::from(importance_values.is_some())
@@ -226,161 +148,134 @@ fn sample<'py>(
     {
         return Err(bad("give at most one of radius_map and importance"));
     }
+    // Python's idiom: `radius` is the black pixels' radius with an
+    // importance map; an array is the grey to reproduce, as it is.
+    let mut importance = ImportanceOptions::default();
     let radii = if let Some(a) = &radius_map {
         if radius.is_some() {
             return Err(bad(
                 "radius and radius_map exclude each other (points scales the map)",
             ));
         }
-        let (w, h, values) = grid(a, "radius_map")?;
+        let (w, h, radii) = grid(a, "radius_map")?;
         if (w, h) != (width, height) {
             return Err(bad(format!(
                 "radius_map has shape ({h}, {w}); the {width}x{height} domain needs ({height}, {width})"
             )));
         }
-        Radii::Map(w, h, values)
-    } else if let Some(path) = importance_path {
-        Radii::ImageFile(path)
-    } else if let Some(a) = &importance_values {
-        let (w, h, values) = grid(a, "importance")?;
-        Radii::ImageValues(w, h, values)
-    } else {
-        match (radius, points) {
-            (Some(_), Some(_)) => {
-                return Err(bad("give radius or points, not both"));
-            }
-            (None, None) => {
-                return Err(bad("give radius, points, radius_map or importance"));
-            }
-            _ => Radii::Uniform(radius),
+        Radii::Map {
+            width: w,
+            height: h,
+            radii,
         }
+    } else if let Some(path) = &importance_path {
+        importance.min_radius = radius;
+        Radii::Picture(ImportanceMap::open(path, None).map_err(|e| py_err(&e.into()))?)
+    } else if let Some(a) = &importance_values {
+        importance.min_radius = radius;
+        importance.tones = Tones::Linear;
+        let (w, h, values) = grid(a, "importance")?;
+        Radii::Picture(ImportanceMap::from_values(w, h, values).map_err(|e| py_err(&e.into()))?)
+    } else {
+        Radii::Uniform(radius)
     };
-    if importance && radius.is_none() && points.is_none() {
+    if matches!(radii, Radii::Picture(_)) && radius.is_none() && points.is_none() {
         return Err(bad(
             "give points or radius (the black pixels' radius) with an importance map",
         ));
     }
+    let mut job = SampleJob::new(radii);
+    job.width = Some(width);
+    job.height = Some(height);
+    job.points = points;
+    job.importance = importance;
+    job.policy = named(policy_name, "policy")?;
+    job.sampler.seed = seed;
+    job.sampler.subpixel_bits = subpixel_bits;
+    job.sampler.periodic = periodic;
+    job.sampler.exact = exact;
+    if let Some(m) = max_iterations {
+        job.max_iterations = m;
+    }
+    job.check().map_err(|e| py_err(&e.into()))?;
     let set = cancellable(py, progress, move |ctl| {
-        run_sample((width, height), radii, radius, points, base, choice, ctl)
+        Ok(job
+            .run(|p| Ok(backend::sample(p, choice, ctl, &mut |_| {})?))?
+            .set)
     })?;
     let rows = set.points.iter().map(|p| [p.x, p.y, p.radius]);
     Ok((points_array(py, rows)?, to_python(py, &set.report())?))
 }
 
+/// The job of `options`, a JSON object of keyword arguments under the
+/// library's own names ([`Job`]'s fields, as `pixelpie stipple` spells them
+/// with underscores); a name that is not an option is refused.
+fn job_from(options: &str) -> PyResult<Job> {
+    let given: serde_json::Map<String, serde_json::Value> =
+        serde_json::from_str(options).map_err(|e| bad(format!("options: {e}")))?;
+    let known = match serde_json::to_value(Job::default()) {
+        Ok(serde_json::Value::Object(m)) => m,
+        _ => {
+            return Err(PyRuntimeError::new_err(
+                "the job's options are not an object",
+            ));
+        }
+    };
+    if let Some(name) = given.keys().find(|k| !known.contains_key(k.as_str())) {
+        let mut names: Vec<&str> = known.keys().map(String::as_str).collect();
+        names.sort_unstable();
+        return Err(bad(format!(
+            "stipple() got an unexpected option '{name}'; the options are: {}",
+            names.join(", ")
+        )));
+    }
+    let job: Job = match serde_json::from_value(serde_json::Value::Object(given.clone())) {
+        Ok(job) => job,
+        Err(e) => {
+            // Name the option at fault: the first that fails on its own.
+            let culprit = given.iter().find(|(k, v)| {
+                let one = serde_json::Map::from_iter([((*k).clone(), (*v).clone())]);
+                serde_json::from_value::<Job>(serde_json::Value::Object(one)).is_err()
+            });
+            return Err(bad(match culprit {
+                Some((name, _)) => format!("{name}: {e}"),
+                None => e.to_string(),
+            }));
+        }
+    };
+    job.check().map_err(|e| py_err(&e.into()))?;
+    Ok(job)
+}
+
+/// The drawing job's options and their defaults, as JSON (the names
+/// `stipple` takes).
+#[pyfunction]
+fn stipple_defaults() -> PyResult<String> {
+    serde_json::to_string(&Job::default()).map_err(|e| PyRuntimeError::new_err(e.to_string()))
+}
+
 /// The native `stipple`; see `pixelpie.stipple`.
 #[pyfunction(name = "stipple")]
-#[pyo3(signature = (image, output, points, width, height, dot, dot_factor, dot_ratio, dot_radius, relax, order, scale, width_mm, pen_mm, policy_name, seed, subpixel_bits, periodic, exact, tones, mapping, min_radius, max_radius, gamma, black_level, white_level, invert, white_cutoff, hdr_white, backend_name, progress))]
-#[expect(
-    clippy::too_many_arguments,
-    reason = "Python's keyword arguments, one by one"
-)]
+#[pyo3(signature = (image, output, options, backend_name, progress))]
 fn stipple_py<'py>(
     py: Python<'py>,
     image: PathBuf,
     output: Option<PathBuf>,
-    points: Option<usize>,
-    width: Option<u32>,
-    height: Option<u32>,
-    dot: Option<&str>,
-    dot_factor: Option<f32>,
-    dot_ratio: f32,
-    dot_radius: Option<f32>,
-    relax: u32,
-    order: &str,
-    scale: f32,
-    width_mm: Option<f64>,
-    pen_mm: Option<f64>,
-    policy_name: &str,
-    seed: u64,
-    subpixel_bits: u32,
-    periodic: bool,
-    exact: bool,
-    tones: &str,
-    mapping: Option<&str>,
-    min_radius: Option<f32>,
-    max_radius: Option<f32>,
-    gamma: f32,
-    black_level: f32,
-    white_level: f32,
-    invert: bool,
-    white_cutoff: Option<f32>,
-    hdr_white: Option<f32>,
+    options: &str,
     backend_name: &str,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let mut o = StippleOptions::default();
-    o.points = points;
-    o.width = width;
-    o.height = height;
-    o.dot = match dot {
-        None => None,
-        Some("fixed") => Some(DotMode::Fixed),
-        Some("sized") => Some(DotMode::Sized),
-        Some("proportional") => Some(DotMode::Proportional),
-        Some(d) => {
-            return Err(bad(format!(
-                "dot '{d}' is not one of fixed, sized, proportional"
-            )));
-        }
-    };
-    o.dot_factor = dot_factor;
-    o.dot_ratio = dot_ratio;
-    o.dot_radius = dot_radius;
-    o.relax = relax;
-    o.order = match order {
-        "none" => Order::None,
-        "tsp" => Order::Tsp,
-        _ => return Err(bad(format!("order '{order}' is not one of none, tsp"))),
-    };
-    o.scale = scale;
-    o.width_mm = width_mm;
-    o.pen_mm = pen_mm;
-    o.policy = policy(policy_name)?;
-    o.sampler.seed = seed;
-    o.sampler.subpixel_bits = subpixel_bits;
-    o.sampler.periodic = periodic;
-    o.sampler.exact = exact;
-    let imp = &mut o.importance;
-    imp.tones = match tones {
-        "display" => Tones::Display,
-        "linear" => Tones::Linear,
-        _ => {
-            return Err(bad(format!(
-                "tones '{tones}' is not one of display, linear"
-            )));
-        }
-    };
-    imp.mapping = match mapping {
-        None => None,
-        Some("linear") => Some(importance::MappingKind::Linear),
-        Some("tone") => Some(importance::MappingKind::Tone),
-        Some(m) => return Err(bad(format!("mapping '{m}' is not one of linear, tone"))),
-    };
-    imp.min_radius = min_radius;
-    imp.max_radius = max_radius;
-    imp.gamma = gamma;
-    imp.black_level = black_level;
-    imp.white_level = white_level;
-    imp.invert = invert;
-    imp.white_cutoff = white_cutoff;
-    imp.hdr_white = hdr_white;
-    if dot_radius.is_some() && (points.is_some() || min_radius.is_some()) {
-        return Err(bad("dot_radius excludes points and min_radius"));
-    }
-    let choice = backend_choice(backend_name)?;
+    let job = job_from(options)?;
+    let choice: BackendChoice = named(backend_name, "backend")?;
     if let Some(out) = &output {
-        let format = pixelpie::stipple::Format::from_path(out).map_err(|e| py_err(&e.into()))?;
-        o.validate(format).map_err(|e| py_err(&e.into()))?;
+        let format = Format::from_path(out).map_err(|e| py_err(&e.into()))?;
+        job.validate(format).map_err(|e| py_err(&e.into()))?;
     }
     let drawing = cancellable(py, progress, |ctl| {
-        let drawing = o.run(
-            &image,
-            |p| Ok(backend::sample(p, choice, ctl, &mut |_| {})?),
-            |_| ctl.check().is_ok(),
-        )?;
+        let drawing = job.run_on(&image, choice, ctl, &mut |_| {})?;
         ctl.check()?;
         if let Some(out) = &output {
-            o.write(&drawing, out)?;
+            job.write(&drawing, out)?;
         }
         Ok(drawing)
     })?;
@@ -435,6 +330,7 @@ fn analyze_py<'py>(
 fn _pixelpie(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(sample, m)?)?;
     m.add_function(wrap_pyfunction!(stipple_py, m)?)?;
+    m.add_function(wrap_pyfunction!(stipple_defaults, m)?)?;
     m.add_function(wrap_pyfunction!(analyze_py, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

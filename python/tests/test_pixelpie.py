@@ -119,6 +119,70 @@ def test_stipple_writes_the_clis_bytes(tmp_path):
         assert np.all(dots[:, 2] > 0)
 
 
+# Every option of the drawing job, once each, beside 800 dots: Python's file
+# must be the command line's, byte for byte.
+EVERY_OPTION = [
+    ("points", 900, "a.svg"),
+    ("width", 700, "a.svg"),
+    ("height", 500, "a.svg"),
+    ("dot", "proportional", "a.svg"),
+    ("dot_factor", 0.8, "a.svg"),
+    ("dot_ratio", 0.5, "a.svg"),
+    ("dot_radius", 4.0, "a.svg"),
+    ("relax", 2, "a.svg"),
+    ("order", "tsp", "a.svg"),
+    ("scale", 0.5, "a.png"),
+    ("width_mm", 120.0, "a.svg"),
+    ("pen_mm", 0.35, "a.svg"),
+    ("ink", "#d62728", "a.png"),
+    ("policy", "prior", "a.svg"),
+    ("seed", 11, "a.svg"),
+    ("subpixel_bits", 1, "a.svg"),
+    ("periodic", True, "a.svg"),
+    ("exact", True, "a.svg"),
+    ("tones", "linear", "a.svg"),
+    ("mapping", "linear", "a.svg"),
+    ("min_radius", 3.0, "a.svg"),
+    ("max_radius", 20.0, "a.svg"),
+    ("gamma", 1.8, "a.svg"),
+    ("black_level", 0.1, "a.svg"),
+    ("white_level", 0.8, "a.svg"),
+    ("invert", True, "a.svg"),
+    ("white_cutoff", 0.85, "a.svg"),
+    ("hdr_white", 0.7, "a.svg"),
+]
+
+
+def test_every_stipple_option_is_tested_against_the_cli():
+    assert sorted(name for name, _, _ in EVERY_OPTION) == sorted(pixelpie.stipple_options())
+
+
+@pytest.mark.parametrize("name,value,out", EVERY_OPTION, ids=[o[0] for o in EVERY_OPTION])
+def test_every_stipple_option_gives_the_clis_file(tmp_path, name, value, out):
+    image = ASSETS / ("gradient.exr" if name == "hdr_white" else "default.png")
+    kwargs = {name: value}
+    args = ["--" + name.replace("_", "-")]
+    if value is not True:
+        args.append(str(value))
+    # Options that need a partner, or that set the count themselves.
+    if name == "pen_mm":
+        kwargs["width_mm"] = 120.0
+        args += ["--width-mm", "120"]
+    if name not in ("points", "dot_radius", "min_radius", "pen_mm"):
+        kwargs["points"] = 800
+        args += ["--points", "800"]
+    ours, theirs = tmp_path / ("py-" + out), tmp_path / ("cli-" + out)
+    pixelpie.stipple(image, ours, **kwargs)
+    cli("stipple", str(image), "-o", str(theirs), "--quiet", *args)
+    assert ours.read_bytes() == theirs.read_bytes()
+
+
+def test_unknown_options_are_refused_with_the_known_ones():
+    with pytest.raises(ValueError, match="unexpected option 'pointz'") as e:
+        pixelpie.stipple(ASSETS / "default.png", pointz=100)
+    assert "points" in str(e.value)
+
+
 def test_stipple_without_output_returns_the_dots_only(tmp_path):
     dots = pixelpie.stipple(ASSETS / "default.png", points=1500)
     assert abs(len(dots) - 1500) <= 0.03 * 1500
@@ -265,6 +329,8 @@ def test_unwritable_outputs_raise_os_error_and_leave_nothing(tmp_path):
     (dict(tones="sepia"), "tones"),
     (dict(dot_ratio=0.0), "dot-ratio"),
     (dict(pen_mm=0.3, output="x.svg"), "width-mm"),
+    (dict(dot_radius=3.0), "dot-radius"),
+    (dict(ink="teal"), "ink"),
     (dict(white_cutoff=2.0), "cutoff"),
     (dict(gamma=-1.0), "gamma"),
 ])

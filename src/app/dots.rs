@@ -211,3 +211,17 @@ impl egui_wgpu::CallbackTrait for DotLayer {
         pass.draw(0..6, 0..s.count);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::gpu::util::{rust_layout, wgsl_layout};
+
+    #[test]
+    fn the_view_and_the_dot_mirror_the_layout_naga_reads_from_dots_wgsl() {
+        let view = rust_layout!(super::ViewUniform;
+            rect, scale, pixels_per_point, offset, radius_scale, drawn_scale, color);
+        assert_eq!(view, wgsl_layout(super::SHADER, "View"));
+        let dot = rust_layout!(super::DotInstance; x, y, radius, drawn);
+        assert_eq!(dot, wgsl_layout(super::SHADER, "Dot"));
+    }
+}

@@ -85,6 +85,25 @@ pub struct PixelPieApp {
     history: shortcuts::History,
     /// When the job in flight started (for its elapsed time).
     job_started: Option<Instant>,
+    /// The last job was cancelled (the top line says so, not "ready").
+    cancelled: bool,
+    /// A picture being decoded on its own thread.
+    loading: Option<Loading>,
+}
+
+/// A picture decoding off the UI thread.
+struct Loading {
+    /// The file, or `None` for the built-in photo.
+    path: Option<PathBuf>,
+    /// The decoder's answer.
+    reply: std::sync::mpsc::Receiver<Result<Decoded, String>>,
+}
+
+/// A decoded picture: the importance map and its two display images.
+struct Decoded {
+    map: ImportanceMap,
+    importance: egui::ColorImage,
+    photo: egui::ColorImage,
 }
 
 impl PixelPieApp {
@@ -129,47 +148,117 @@ impl PixelPieApp {
             show_help: false,
             history: shortcuts::History::default(),
             job_started: None,
+            cancelled: false,
+            loading: None,
         };
         // Ctrl+plus and Ctrl+minus zoom the picture, not the whole UI.
         cc.egui_ctx.options_mut(|o| o.zoom_with_keyboard = false);
         match image.or_else(|| settings.image.take()) {
-            Some(path) => {
-                app.open(&cc.egui_ctx, &path);
-                if app.source.is_none() {
-                    // Keep the error, but show something to work on.
-                    let error = app.open_error.take();
-                    app.open_builtin(&cc.egui_ctx);
-                    app.open_error = error;
-                }
-            }
+            Some(path) => app.open(&cc.egui_ctx, &path),
             None => app.open_builtin(&cc.egui_ctx),
         }
         app
     }
 
-    /// Loads an image or EXR as the importance map; errors go to the panel.
+    /// Starts decoding an image or EXR as the importance map, on its own
+    /// thread: the window stays responsive, a spinner shows, and the
+    /// picture replaces the current one when it is decoded (errors go to
+    /// the panel).
     pub fn open(&mut self, ctx: &egui::Context, path: &Path) {
         if path.as_os_str().is_empty() {
             self.open_error = Some("no file given: type a path, drop a file or use Browse".into());
             return;
         }
-        match load_source(ctx, Some(path)) {
-            Ok(source) => {
-                self.settings.image = Some(path.to_path_buf());
-                if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-                    self.settings.last_dir = Some(dir.to_path_buf());
-                }
-                self.open_path = path.display().to_string();
-                self.show(source);
-            }
-            Err(e) => self.open_error = Some(e),
+        self.decode(ctx, Some(path.to_path_buf()));
+    }
+
+    /// Decodes `path` (`None`: the built-in photo) on a thread of its own.
+    fn decode(&mut self, ctx: &egui::Context, path: Option<PathBuf>) {
+        let (tx, reply) = std::sync::mpsc::channel();
+        let (file, repaint) = (path.clone(), ctx.clone());
+        let spawned = std::thread::Builder::new()
+            .name("pixelpie-decode".into())
+            .spawn(move || {
+                let _ = tx.send(decode(file.as_deref()));
+                repaint.request_repaint();
+            });
+        match spawned {
+            Ok(_) => self.loading = Some(Loading { path, reply }),
+            Err(e) => self.open_error = Some(format!("cannot start decoding: {e}")),
         }
     }
 
-    /// Asks for an image with the file dialog, from the last folder.
+    /// The name of the picture being decoded, if any.
+    #[must_use]
+    pub fn loading_name(&self) -> Option<String> {
+        self.loading.as_ref().map(|l| {
+            l.path.as_ref().map_or_else(
+                || DEFAULT_IMAGE_NAME.to_owned(),
+                |p| p.display().to_string(),
+            )
+        })
+    }
+
+    /// Takes a finished decode: the picture is shown, or the error. A
+    /// failed first picture still leaves the built-in photo to work on.
+    fn poll_loading(&mut self, ctx: &egui::Context) {
+        let Some(loading) = &self.loading else { return };
+        let result = match loading.reply.try_recv() {
+            Ok(r) => r,
+            Err(std::sync::mpsc::TryRecvError::Empty) => return,
+            Err(std::sync::mpsc::TryRecvError::Disconnected) => {
+                Err("the decoder stopped without an answer".into())
+            }
+        };
+        let Some(loading) = self.loading.take() else {
+            return;
+        };
+        match result {
+            Ok(decoded) => {
+                let source = Source {
+                    path: loading.path.clone(),
+                    map: Arc::new(decoded.map),
+                    importance: ctx.load_texture(
+                        "importance",
+                        decoded.importance,
+                        egui::TextureOptions::LINEAR,
+                    ),
+                    photo: ctx.load_texture("photo", decoded.photo, egui::TextureOptions::LINEAR),
+                };
+                match &loading.path {
+                    Some(path) => {
+                        self.settings.image = Some(path.clone());
+                        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+                            self.settings.last_dir = Some(dir.to_path_buf());
+                        }
+                        self.open_path = path.display().to_string();
+                    }
+                    None => {
+                        self.settings.image = None;
+                        self.open_path.clear();
+                    }
+                }
+                self.show(source);
+            }
+            Err(e) => {
+                self.open_error = Some(e);
+                if self.source.is_none() && loading.path.is_some() {
+                    // Keep the error, but show something to work on.
+                    let error = self.open_error.take();
+                    self.open_builtin(ctx);
+                    self.open_error = error;
+                }
+            }
+        }
+    }
+
+    /// Asks for an image with the file dialog, from the last folder; a
+    /// desktop without a working dialog gets a message, not silence.
     pub fn open_dialog(&mut self, ctx: &egui::Context) {
-        if let Some(path) = self.dialogs.pick_image(self.settings.last_dir.as_deref()) {
-            self.open(ctx, &path);
+        match self.dialogs.pick_image(self.settings.last_dir.as_deref()) {
+            Ok(Some(path)) => self.open(ctx, &path),
+            Ok(None) => {}
+            Err(why) => self.open_error = Some(why),
         }
     }
 
@@ -180,15 +269,23 @@ impl PixelPieApp {
             || "stipple.svg".into(),
             |n| n.to_string_lossy().into_owned(),
         );
-        let Some(path) = self
+        let path = match self
             .dialogs
             .save_drawing(self.settings.last_dir.as_deref(), &name)
-        else {
-            return;
+        {
+            Ok(Some(path)) => path,
+            Ok(None) => return,
+            Err(why) => {
+                self.exported = None;
+                self.export_error = Some(why);
+                return;
+            }
         };
-        let ext = match path.extension().and_then(|e| e.to_str()) {
-            Some(e @ ("svg" | "png" | "csv" | "json")) => e.to_owned(),
-            _ => "svg".to_owned(),
+        let ext = match crate::stipple::Format::from_path(&path) {
+            Ok(_) => path
+                .extension()
+                .map_or_else(String::new, |e| e.to_string_lossy().into_owned()),
+            Err(_) => "svg".to_owned(),
         };
         self.export_path = path.display().to_string();
         self.export_as(&ext);
@@ -196,14 +293,7 @@ impl PixelPieApp {
 
     /// Loads the built-in photo.
     pub fn open_builtin(&mut self, ctx: &egui::Context) {
-        match load_source(ctx, None) {
-            Ok(source) => {
-                self.settings.image = None;
-                self.open_path.clear();
-                self.show(source);
-            }
-            Err(e) => self.open_error = Some(e),
-        }
+        self.decode(ctx, None);
     }
 
     /// Makes `source` the picture, drops the old drawing (its dots belong to
@@ -236,20 +326,33 @@ impl PixelPieApp {
         self.dot_instances.len()
     }
 
-    /// Whether a sampling job is queued or running.
+    /// Whether a picture is decoding or a sampling job is queued or running.
     pub fn busy(&self) -> bool {
-        self.pending.is_some() || self.done_job < self.next_job
+        self.loading.is_some() || self.pending.is_some() || self.done_job < self.next_job
     }
 
     /// Stops the queued or running job (sampling or relaxation) and keeps
-    /// the last finished drawing; the next settings change samples again.
+    /// the last finished drawing. The controls go back to the settings that
+    /// drawing was made with, so that what they show is what is drawn; the
+    /// next change samples again.
     pub fn cancel_job(&mut self) {
         self.worker.cancel();
         self.pending = None;
         self.done_job = self.next_job;
         self.progress = None;
         self.relaxed = None;
-        self.status = "cancelled".into();
+        if let Some(o) = &self.outcome {
+            let drawn = &o.settings;
+            let s = &mut self.settings;
+            s.job = drawn.job.clone();
+            s.use_count = drawn.use_count;
+            s.points = drawn.points;
+            s.backend = drawn.backend;
+            self.history.barrier();
+        }
+        self.last_key = Some(self.settings.sampling_key());
+        self.cancelled = true;
+        self.status = "cancelled: the controls show the last drawing's settings".into();
     }
 
     fn request_sample(&mut self) {
@@ -281,15 +384,16 @@ impl PixelPieApp {
                     if id != self.next_job {
                         continue;
                     }
-                    match result {
+                    match *result {
                         Ok(outcome) => {
                             self.status = outcome.note.clone().unwrap_or_default();
+                            self.cancelled = false;
                             self.dot_instances = Arc::new(
                                 outcome
-                                    .set
+                                    .drawing
                                     .points
                                     .iter()
-                                    .zip(&outcome.calibrated)
+                                    .zip(&outcome.drawing.calibrated)
                                     .map(|(p, &c)| dots::DotInstance {
                                         x: p.x / outcome.scale,
                                         y: p.y / outcome.scale,
@@ -310,14 +414,26 @@ impl PixelPieApp {
     }
 }
 
+/// The path typed in a path field: `~/` is the home folder and a
+/// `file://` address its path.
+#[must_use]
+pub fn typed_path(typed: &str) -> PathBuf {
+    let t = typed.trim();
+    let t = t.strip_prefix("file://").unwrap_or(t);
+    match (t.strip_prefix("~/"), std::env::var_os("HOME")) {
+        (Some(rest), Some(home)) => Path::new(&home).join(rest),
+        _ => PathBuf::from(t),
+    }
+}
+
 /// Decodes `path` (`None`: the built-in photo) into an importance map and
-/// two display textures.
-fn load_source(ctx: &egui::Context, path: Option<&Path>) -> Result<Source, String> {
+/// two display images (run off the UI thread).
+fn decode(path: Option<&Path>) -> Result<Decoded, String> {
     let map = match path {
         Some(p) => ImportanceMap::open(p, None),
         None => ImportanceMap::from_encoded(DEFAULT_IMAGE, Path::new(DEFAULT_IMAGE_NAME), None),
     }
-    .map_err(|e| e.to_string())?;
+    .map_err(|e| crate::one_line(&e))?;
     let (w, h) = (map.width() as usize, map.height() as usize);
     let gray: Vec<egui::Color32> = map
         .values()
@@ -328,17 +444,13 @@ fn load_source(ctx: &egui::Context, path: Option<&Path>) -> Result<Source, Strin
             egui::Color32::from_gray(g)
         })
         .collect();
-    let importance = ctx.load_texture(
-        "importance",
-        egui::ColorImage::new([w, h], gray.clone()),
-        egui::TextureOptions::LINEAR,
-    );
+    let importance = egui::ColorImage::new([w, h], gray.clone());
     // The photo in colour where `image` can decode it; EXR shows its luminance.
     let decoded = match path {
         Some(p) => image::open(p),
         None => image::load_from_memory(DEFAULT_IMAGE),
     };
-    let photo_image = decoded
+    let photo = decoded
         .ok()
         .map(|img| img.to_rgba8())
         .filter(|img| img.dimensions() == (map.width(), map.height()))
@@ -346,10 +458,8 @@ fn load_source(ctx: &egui::Context, path: Option<&Path>) -> Result<Source, Strin
             || egui::ColorImage::new([w, h], gray),
             |img| egui::ColorImage::from_rgba_unmultiplied([w, h], img.as_raw()),
         );
-    let photo = ctx.load_texture("photo", photo_image, egui::TextureOptions::LINEAR);
-    Ok(Source {
-        path: path.map(Path::to_path_buf),
-        map: Arc::new(map),
+    Ok(Decoded {
+        map,
         importance,
         photo,
     })
@@ -362,6 +472,7 @@ impl eframe::App for PixelPieApp {
 
     fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
         let ctx = ui.ctx().clone();
+        self.poll_loading(&ctx);
         self.poll_worker();
         let dropped: Vec<PathBuf> = ctx.input(|i| {
             i.raw

@@ -130,8 +130,8 @@ impl PixelPieApp {
     /// Another seed: another drawing of the same picture.
     pub fn reroll(&mut self) {
         self.history.barrier();
-        let s = &mut self.settings;
-        s.seed = crate::sampler::fixed::mix(s.seed as u32 ^ 0x5bd1_e995).into();
+        let seed = &mut self.settings.job.sampler.seed;
+        *seed = crate::sampler::fixed::mix(*seed as u32 ^ 0x5bd1_e995).into();
     }
 
     /// The help window with the shortcuts.

@@ -1,16 +1,14 @@
 //! The side panel's controls, the zoomable canvas and the exports.
 
-use std::path::PathBuf;
-
 use egui::{Color32, Rect, Sense, Vec2};
 
 use super::PixelPieApp;
 use super::dots::{DotLayer, ViewUniform};
-use super::settings::{Background, DotMode};
+use super::settings::Background;
 use crate::backend::BackendChoice;
-use crate::importance::Tones;
+use crate::importance::{MappingKind, Tones};
 use crate::sampler::Policy;
-use crate::stipple::{DotSize, raster, svg};
+use crate::stipple::{DotMode, DotSize, Order};
 
 /// Zoom and pan of the canvas.
 pub struct ViewState {
@@ -24,6 +22,9 @@ pub struct ViewState {
     pub canvas: Vec2,
     /// Copies per side last drawn (a change fits the view).
     pub tiles: usize,
+    /// The view is fitted (no zoom or pan since): a resized canvas fits it
+    /// again.
+    pub fitted: bool,
 }
 
 impl Default for ViewState {
@@ -34,13 +35,28 @@ impl Default for ViewState {
             fit_next: true,
             canvas: Vec2::ZERO,
             tiles: 1,
+            fitted: false,
         }
     }
 }
 
 impl PixelPieApp {
+    /// The side panel's controls, one function per section.
     pub(super) fn controls(&mut self, ui: &mut egui::Ui) {
         ui.set_width(270.0);
+        self.header_ui(ui);
+        self.open_ui(ui);
+        ui.separator();
+        self.spacing_ui(ui);
+        self.levels_ui(ui);
+        self.darts_ui(ui);
+        ui.separator();
+        self.dots_ui(ui);
+        self.view_ui(ui);
+    }
+
+    /// The title and the help button.
+    fn header_ui(&mut self, ui: &mut egui::Ui) {
         ui.horizontal(|ui| {
             ui.heading("PixelPie");
             ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
@@ -53,11 +69,18 @@ impl PixelPieApp {
                 }
             });
         });
+    }
+
+    /// The Open row, its error and the picture's name.
+    fn open_ui(&mut self, ui: &mut egui::Ui) {
         ui.label("Drop an image or EXR on the window, or open one:");
         ui.horizontal(|ui| {
             let edit = ui
                 .add(egui::TextEdit::singleline(&mut self.open_path).desired_width(130.0))
-                .on_hover_text("The path of an image (PNG, JPEG, TIFF, BMP, WebP) or OpenEXR");
+                .on_hover_text(
+                    "The path of an image (PNG, JPEG, TIFF, BMP, WebP) or OpenEXR; ~/ and \
+                     file:// work",
+                );
             let enter = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
             if ui
                 .button("Open")
@@ -65,7 +88,7 @@ impl PixelPieApp {
                 .clicked()
                 || enter
             {
-                let path = PathBuf::from(self.open_path.trim());
+                let path = super::typed_path(&self.open_path);
                 let ctx = ui.ctx().clone();
                 self.open(&ctx, &path);
             }
@@ -81,7 +104,12 @@ impl PixelPieApp {
         if let Some(e) = &self.open_error {
             ui.colored_label(Color32::from_rgb(200, 40, 40), e);
         }
-        if let Some(src) = &self.source {
+        if let Some(name) = self.loading_name() {
+            ui.horizontal(|ui| {
+                ui.spinner();
+                ui.label(format!("decoding {name}…"));
+            });
+        } else if let Some(src) = &self.source {
             ui.label(format!(
                 "{} ({}×{})",
                 src.path.as_ref().map_or_else(
@@ -94,13 +122,19 @@ impl PixelPieApp {
                 src.map.height()
             ));
         }
-        ui.separator();
+    }
+
+    /// Count or radius range, mapping, tones, policy and exact spacing.
+    fn spacing_ui(&mut self, ui: &mut egui::Ui) {
         let s = &mut self.settings;
         ui.horizontal(|ui| {
             ui.radio_value(&mut s.use_count, true, "Point count")
                 .on_hover_text("Aim for a number of dots; the radii scale to fit it");
             ui.radio_value(&mut s.use_count, false, "Radius range")
-                .on_hover_text("Use the radius range as it is, in image pixels");
+                .on_hover_text(
+                    "Use the radius range as it is, in domain pixels (the picture scaled \
+                     as pixelpie stipple scales it: longer side 1024 px or more)",
+                );
         });
         ui.add_enabled_ui(s.use_count, |ui| {
             ui.horizontal(|ui| {
@@ -114,10 +148,16 @@ impl PixelPieApp {
                 .on_hover_text("How many dots the drawing has (within 3%)");
             });
         });
+        let imp = &mut s.job.importance;
+        let mut lo = imp.min_radius.unwrap_or(1.0);
+        let mut hi = imp
+            .max_radius
+            .unwrap_or(lo * crate::importance::DEFAULT_RADIUS_RATIO);
+        let (lo0, hi0) = (lo, hi);
         ui.horizontal(|ui| {
             let l = ui.label("Radius");
             ui.add(
-                egui::DragValue::new(&mut s.r_min)
+                egui::DragValue::new(&mut lo)
                     .range(1.0..=500.0)
                     .speed(0.05)
                     .prefix("min "),
@@ -125,43 +165,49 @@ impl PixelPieApp {
             .labelled_by(l.id)
             .on_hover_text("Disk radius in black areas: the closest dots");
             ui.add(
-                egui::DragValue::new(&mut s.r_max)
+                egui::DragValue::new(&mut hi)
                     .range(1.0..=500.0)
                     .speed(0.05)
                     .prefix("max "),
             )
             .on_hover_text("Disk radius in white areas: the sparsest dots");
         });
-        s.r_max = s.r_max.max(s.r_min);
+        if lo != lo0 || hi != hi0 {
+            imp.min_radius = Some(lo);
+            imp.max_radius = Some(hi.max(lo));
+        }
+        let mut tone = imp.mapping != Some(MappingKind::Linear);
         egui::ComboBox::from_label("Mapping")
-            .selected_text(if s.tone { "Tone" } else { "Linear" })
+            .selected_text(if tone { "Tone" } else { "Linear" })
             .show_ui(ui, |ui| {
-                ui.selectable_value(&mut s.tone, true, "Tone")
+                ui.selectable_value(&mut tone, true, "Tone")
                     .on_hover_text("Calibrated: the drawing's ink equals the picture's darkness.");
-                ui.selectable_value(&mut s.tone, false, "Linear")
+                ui.selectable_value(&mut tone, false, "Linear")
                     .on_hover_text("The paper's ramp r_min + (r_max − r_min)·v.");
             })
             .response
             .on_hover_text("How a pixel's grey becomes its disk radius");
+        imp.mapping = (!tone).then_some(MappingKind::Linear);
         egui::ComboBox::from_label("Tones")
-            .selected_text(match s.tones {
+            .selected_text(match imp.tones {
                 Tones::Display => "Display grey",
                 Tones::Linear => "Linear light",
             })
             .show_ui(ui, |ui| {
-                ui.selectable_value(&mut s.tones, Tones::Display, "Display grey")
+                ui.selectable_value(&mut imp.tones, Tones::Display, "Display grey")
                     .on_hover_text("Reproduce the grey a viewer sees (sRGB values).");
-                ui.selectable_value(&mut s.tones, Tones::Linear, "Linear light")
+                ui.selectable_value(&mut imp.tones, Tones::Linear, "Linear light")
                     .on_hover_text("Reproduce luminance: mid tones come out darker.");
             })
             .response
             .on_hover_text("Which grey the ink reproduces");
+        let job = &mut s.job;
         ui.horizontal(|ui| {
             egui::ComboBox::from_label("Policy")
-                .selected_text(format!("{:?}", s.policy))
+                .selected_text(format!("{:?}", job.policy))
                 .show_ui(ui, |ui| {
                     for p in Policy::ALL {
-                        ui.selectable_value(&mut s.policy, p, format!("{p:?}"))
+                        ui.selectable_value(&mut job.policy, p, format!("{p:?}"))
                             .on_hover_text(policy_help(p));
                     }
                 })
@@ -171,30 +217,43 @@ impl PixelPieApp {
                      sizes must be. Smaller keeps dark areas crisp; Bigger keeps light \
                      areas open.",
                 );
-            ui.checkbox(&mut s.exact, "Exact spacing").on_hover_text(
-                "No two dot centres closer than the policy allows, not even by a \
-                 fraction of a pixel, and no gap left that a dot would fit in (exact \
-                 mode; about half the speed)",
-            );
+            ui.checkbox(&mut job.sampler.exact, "Exact spacing")
+                .on_hover_text(
+                    "No two dot centres closer than the policy allows, not even by a \
+                     fraction of a pixel, and no gap left that a dot would fit in (exact \
+                     mode; about half the speed)",
+                );
         });
+    }
+
+    /// Levels, gamma, invert and the white cutoff.
+    fn levels_ui(&mut self, ui: &mut egui::Ui) {
+        let imp = &mut self.settings.job.importance;
         ui.add(
-            egui::Slider::new(&mut s.gamma, 0.2..=5.0)
+            egui::Slider::new(&mut imp.gamma, 0.2..=5.0)
                 .logarithmic(true)
                 .text("Gamma"),
         )
         .on_hover_text("Above 1 darkens the mid tones, below 1 lightens them");
-        ui.add(egui::Slider::new(&mut s.black, 0.0..=0.95).text("Black level"))
+        ui.add(egui::Slider::new(&mut imp.black_level, 0.0..=0.95).text("Black level"))
             .on_hover_text("Greys at or below this count as black");
-        ui.add(egui::Slider::new(&mut s.white, 0.05..=1.0).text("White level"))
+        ui.add(egui::Slider::new(&mut imp.white_level, 0.05..=1.0).text("White level"))
             .on_hover_text("Greys at or above this count as white");
-        s.white = s.white.max(s.black + 0.01);
-        ui.checkbox(&mut s.invert, "Invert")
+        imp.white_level = imp.white_level.max(imp.black_level + 0.01);
+        ui.checkbox(&mut imp.invert, "Invert")
             .on_hover_text("Light parts get the dots (white ink on black paper)");
-        ui.add(egui::Slider::new(&mut s.cutoff, 0.0..=1.0).text("White cutoff"))
+        let mut cutoff = imp.white_cutoff.unwrap_or(1.0);
+        ui.add(egui::Slider::new(&mut cutoff, 0.0..=1.0).text("White cutoff"))
             .on_hover_text("No dots where the picture is lighter than this (1 = off)");
+        imp.white_cutoff = (cutoff < 1.0).then_some(cutoff);
+    }
+
+    /// Sub-pixel bits, seed, periodic domain and backend.
+    fn darts_ui(&mut self, ui: &mut egui::Ui) {
+        let sampler = &mut self.settings.job.sampler;
         ui.add_enabled(
-            !s.exact,
-            egui::Slider::new(&mut s.subpixel_bits, 0..=7).text("Sub-pixel bits"),
+            !sampler.exact,
+            egui::Slider::new(&mut sampler.subpixel_bits, 0..=7).text("Sub-pixel bits"),
         )
         .on_hover_text(
             "Dart positions inside a pixel: 0 puts every dot on a pixel centre (the \
@@ -212,7 +271,7 @@ impl PixelPieApp {
             {
                 reroll = true;
             }
-            ui.add(egui::DragValue::new(&mut s.seed))
+            ui.add(egui::DragValue::new(&mut sampler.seed))
                 .labelled_by(l.id)
                 .on_hover_text("The dart hash's seed: the same seed gives the same dots");
         });
@@ -220,12 +279,12 @@ impl PixelPieApp {
             self.reroll();
         }
         let s = &mut self.settings;
-        ui.checkbox(&mut s.periodic, "Periodic (tileable)")
+        ui.checkbox(&mut s.job.sampler.periodic, "Periodic (tileable)")
             .on_hover_text(
                 "Wrap the domain around: copies of the drawing tile without seams or crowding",
             );
         ui.add_enabled(
-            s.periodic,
+            s.job.sampler.periodic,
             egui::Checkbox::new(&mut s.tile, "Show 2×2 tiles"),
         )
         .on_hover_text("Preview four copies side by side: the seams should vanish");
@@ -245,39 +304,64 @@ impl PixelPieApp {
             "Adapter: {}",
             self.worker.adapter().unwrap_or("none (CPU only)")
         ));
-        ui.separator();
-        let s = &mut self.settings;
+    }
+
+    /// Dot mode, size, ratio, relaxation and ink. Every row stays in place
+    /// whatever the mode: rows that do not apply are greyed out.
+    fn dots_ui(&mut self, ui: &mut egui::Ui) {
+        let job = &mut self.settings.job;
+        let mut mode = job.dot_mode();
         egui::ComboBox::from_label("Dots")
-            .selected_text(format!("{:?}", s.dot_mode))
+            .selected_text(format!("{mode:?}"))
             .show_ui(ui, |ui| {
-                ui.selectable_value(&mut s.dot_mode, DotMode::Fixed, "Fixed")
+                ui.selectable_value(&mut mode, DotMode::Fixed, "Fixed")
                     .on_hover_text("All dots alike; their density follows the tones.");
-                ui.selectable_value(&mut s.dot_mode, DotMode::Sized, "Sized")
+                ui.selectable_value(&mut mode, DotMode::Sized, "Sized")
                     .on_hover_text("Small dots in light areas, larger in dark ones.");
-                ui.selectable_value(&mut s.dot_mode, DotMode::Proportional, "Proportional")
+                ui.selectable_value(&mut mode, DotMode::Proportional, "Proportional")
                     .on_hover_text("A fraction of each sample's disk: a texture, not tones.");
             })
             .response
             .on_hover_text("How big each dot is drawn");
-        match s.dot_mode {
-            DotMode::Fixed | DotMode::Sized => {
-                ui.add(
-                    egui::Slider::new(&mut s.dot_factor, 0.3..=2.0).text("Dot size (× calibrated)"),
-                )
-                .on_hover_text("1 reproduces the picture's tones; more darkens, less lightens.");
-            }
-            DotMode::Proportional => {
-                ui.add(egui::Slider::new(&mut s.dot_scale, 0.05..=1.0).text("Dot size (× disk)"))
-                    .on_hover_text("The dot's radius as a fraction of its disk's");
-            }
+        if mode != job.dot_mode() {
+            job.dot = Some(mode);
+            // Each mode has its own default factor.
+            job.dot_factor = None;
         }
-        if s.dot_mode == DotMode::Sized {
-            ui.add(egui::Slider::new(&mut s.dot_ratio, 0.1..=1.0).text("Lightest / darkest dot"))
-                .on_hover_text("The lightest dots' radius as a fraction of the darkest dots'");
+        let mut factor = job.dot_factor.unwrap_or(mode.default_factor());
+        let (range, text, help) = match mode {
+            DotMode::Fixed | DotMode::Sized => (
+                0.3..=2.0,
+                "Dot size (× calibrated)",
+                "1 reproduces the picture's tones; more darkens, less lightens.",
+            ),
+            DotMode::Proportional => (
+                0.05..=1.0,
+                "Dot size (× disk)",
+                "The dot's radius as a fraction of its disk's",
+            ),
+        };
+        if ui
+            .add(egui::Slider::new(&mut factor, range).text(text))
+            .on_hover_text(help)
+            .changed()
+        {
+            job.dot_factor = Some(factor);
         }
-        ui.add(egui::Slider::new(&mut s.relax, 0..=30).text("Relax (Lloyd steps)"))
+        ui.add_enabled(
+            mode == DotMode::Sized,
+            egui::Slider::new(&mut job.dot_ratio, 0.1..=1.0).text("Lightest / darkest dot"),
+        )
+        .on_hover_text("The lightest dots' radius as a fraction of the darkest dots'")
+        .on_disabled_hover_text("Sized dots only");
+        ui.add(egui::Slider::new(&mut job.relax, 0..=30).text("Relax (Lloyd steps)"))
             .on_hover_text("Weighted Voronoi relaxation after sampling: more even spacing.");
-        ink_ui(ui, &mut s.dot_color);
+        ink_ui(ui, &mut job.ink.0);
+    }
+
+    /// What is behind the dots, the coverage disks and the view's buttons.
+    fn view_ui(&mut self, ui: &mut egui::Ui) {
+        let s = &mut self.settings;
         ui.horizontal(|ui| {
             ui.label("Behind");
             ui.selectable_value(&mut s.background, Background::Paper, "Paper")
@@ -327,7 +411,11 @@ impl PixelPieApp {
             |ui| {
                 ui.set_min_size(row);
                 if !self.busy() {
-                    ui.label(if self.outcome.is_some() { "ready" } else { "" });
+                    ui.label(match (self.cancelled, self.outcome.is_some()) {
+                        (true, _) => "cancelled",
+                        (false, true) => "ready",
+                        (false, false) => "",
+                    });
                     return;
                 }
                 ui.spinner();
@@ -346,21 +434,23 @@ impl PixelPieApp {
         }
         let (a, b, c) = match &self.outcome {
             Some(o) => {
-                let st = &o.set.stats;
+                let d = &o.drawing;
+                let st = &d.set.stats;
+                let (_, t_sample, t_relax) = d.seconds;
                 (
                     format!(
                         "{} dots, {} iterations, {} run(s) in {:.2} s",
-                        o.set.points.len(),
+                        d.points.len(),
                         st.iterations,
-                        o.runs,
+                        d.runs,
                         o.seconds
                     ),
                     format!(
-                        "last run: S1 {:.1} ms, S2 {:.1} ms, PP {:.1} ms, total {:.1} ms",
+                        "sampling {t_sample:.2} s, relaxing {t_relax:.2} s; last run: S1 \
+                         {:.1} ms, S2 {:.1} ms, PP {:.1} ms",
                         st.stages.get("throw") * 1e3,
                         st.stages.get("cull") * 1e3,
                         st.stages.get("compact") * 1e3,
-                        st.seconds * 1e3
                     ),
                     format!("{} on {}", st.backend, st.device),
                 )
@@ -398,7 +488,10 @@ impl PixelPieApp {
         });
         Some(match (&self.progress, self.relaxed) {
             (_, Some(done)) => {
-                format!("relaxing: {done} of {} steps{elapsed}", self.settings.relax)
+                format!(
+                    "relaxing: {done} of {} steps{elapsed}",
+                    self.settings.job.relax
+                )
             }
             (Some(p), None) => format!(
                 "iteration {}, {:.0}% covered{elapsed}",
@@ -409,18 +502,66 @@ impl PixelPieApp {
         })
     }
 
-    /// Under the Export row: the file written, or why not.
+    /// Under the Export row: the file written, or why not, on one line of
+    /// fixed height (the whole text on hover), so that nothing above moves.
     fn export_result_ui(&self, ui: &mut egui::Ui) {
-        if let Some(e) = &self.export_error {
-            ui.colored_label(Color32::from_rgb(200, 40, 40), e);
-        } else if let Some(p) = &self.exported {
-            ui.label(format!("wrote {}", p.display()));
-        } else {
-            ui.label("");
-        }
+        let (text, color) = match (&self.export_error, &self.exported) {
+            (Some(e), _) => (e.clone(), Color32::from_rgb(200, 40, 40)),
+            (None, Some(p)) => (format!("wrote {}", p.display()), ui.visuals().text_color()),
+            (None, None) => (String::new(), ui.visuals().text_color()),
+        };
+        let row = egui::vec2(ui.available_width(), ui.spacing().interact_size.y);
+        ui.allocate_ui_with_layout(
+            row,
+            egui::Layout::left_to_right(egui::Align::Center),
+            |ui| {
+                ui.set_min_size(row);
+                ui.set_max_size(row);
+                let label = egui::Label::new(egui::RichText::new(&text).color(color)).truncate();
+                let r = ui.add(label);
+                if !text.is_empty() {
+                    r.on_hover_text(&text);
+                }
+            },
+        );
     }
 
+    /// The Export section: plotter options, the path, the format buttons
+    /// and the outcome. The job's `write` writes every format, as the CLI's.
     pub(super) fn export_ui(&mut self, ui: &mut egui::Ui) {
+        let job = &mut self.settings.job;
+        ui.horizontal(|ui| {
+            ui.label("Order");
+            ui.selectable_value(&mut job.order, Order::None, "As sampled")
+                .on_hover_text("The sampler's order");
+            ui.selectable_value(&mut job.order, Order::Tsp, "Plotter (TSP)")
+                .on_hover_text("A short pen path (nearest neighbour and 2-opt), as --order tsp");
+        });
+        ui.horizontal(|ui| {
+            let mut mm = job.width_mm.is_some();
+            ui.checkbox(&mut mm, "Width mm")
+                .on_hover_text("Size the SVG in millimetres (--width-mm); off: pixels");
+            let mut width = job.width_mm.unwrap_or(200.0);
+            ui.add_enabled(
+                mm,
+                egui::DragValue::new(&mut width)
+                    .range(1.0..=5000.0)
+                    .speed(1.0),
+            );
+            job.width_mm = mm.then_some(width);
+            let mut pen = job.pen_mm.is_some();
+            ui.add_enabled(mm, egui::Checkbox::new(&mut pen, "Pen mm"))
+                .on_hover_text("Draw each dot as a pen of this width draws it (--pen-mm)")
+                .on_disabled_hover_text("Needs a width in mm");
+            let mut pen_mm = job.pen_mm.unwrap_or(0.3);
+            ui.add_enabled(
+                mm && pen,
+                egui::DragValue::new(&mut pen_mm)
+                    .range(0.05..=5.0)
+                    .speed(0.01),
+            );
+            job.pen_mm = (mm && pen).then_some(pen_mm);
+        });
         ui.horizontal(|ui| {
             ui.label("Export to");
             if ui
@@ -445,7 +586,7 @@ impl PixelPieApp {
                 }
             }
             ui.add(
-                egui::DragValue::new(&mut self.settings.png_scale)
+                egui::DragValue::new(&mut self.settings.job.scale)
                     .range(0.1..=8.0)
                     .speed(0.05)
                     .prefix("PNG ×"),
@@ -459,7 +600,7 @@ impl PixelPieApp {
     /// shown tiled, else 1.
     #[must_use]
     pub fn tiles(&self) -> usize {
-        if self.settings.periodic && self.settings.tile {
+        if self.settings.periodic() && self.settings.tile {
             2
         } else {
             1
@@ -471,6 +612,7 @@ impl PixelPieApp {
         let c = self.view.canvas / 2.0;
         self.view.pan = c - (c - self.view.pan) * factor;
         self.view.zoom *= factor;
+        self.view.fitted = false;
     }
 
     /// Points per image pixel in the view.
@@ -487,7 +629,7 @@ impl PixelPieApp {
             self.export_error = Some("no file name given: type one or use Browse".into());
             return;
         }
-        let path = PathBuf::from(typed).with_extension(ext);
+        let path = super::typed_path(typed).with_extension(ext);
         match self.export(&path) {
             Ok(()) => {
                 let full = std::fs::canonicalize(&path).unwrap_or(path);
@@ -500,64 +642,37 @@ impl PixelPieApp {
             }
             Err(e) => {
                 self.exported = None;
-                self.export_error = Some(format!("{e:#}"));
+                self.export_error = Some(crate::one_line(&e));
             }
         }
     }
 
     /// How big the dots are drawn and exported.
     pub fn dot_size(&self) -> DotSize {
-        let s = &self.settings;
-        s.dot_mode.size(match s.dot_mode {
-            DotMode::Proportional => s.dot_scale,
-            DotMode::Fixed | DotMode::Sized => s.dot_factor,
-        })
+        self.settings.job().dot_size()
     }
 
     /// The dots as drawn: the view's and the exports'.
     pub fn drawn_dots(&self) -> Vec<crate::stipple::Dot> {
-        let Some(o) = &self.outcome else {
-            return Vec::new();
-        };
-        let size = self.dot_size();
-        o.set
-            .points
-            .iter()
-            .zip(&o.calibrated)
-            .map(|(p, &c)| size.dots(std::slice::from_ref(p), |_| c)[0])
-            .collect()
+        self.outcome
+            .as_ref()
+            .map_or_else(Vec::new, |o| self.settings.job().dots(&o.drawing))
     }
 
-    /// Writes the current stipple with the CLI's writers, picked by extension.
-    pub fn export(&self, path: &std::path::Path) -> anyhow::Result<()> {
+    /// Writes the current drawing with the job's writer, the CLI's, picked
+    /// by extension (any case).
+    pub fn export(&self, path: &std::path::Path) -> crate::Result<()> {
         let Some(o) = &self.outcome else {
-            anyhow::bail!("nothing to export yet");
+            return Err(
+                crate::stipple::Error::InvalidParameter("nothing to export yet".into()).into(),
+            );
         };
-        let dots = self.drawn_dots();
-        let domain = (o.set.width, o.set.height);
-        match path.extension().and_then(|e| e.to_str()) {
-            Some("svg") => {
-                let opts = svg::SvgOptions::new(domain).with_ink(self.settings.dot_color);
-                crate::io::write_atomic(path, |w| {
-                    svg::write(w, &dots, &opts)?;
-                    Ok(())
-                })?;
-            }
-            Some("png") => {
-                let img = raster::render(&dots, domain, self.settings.png_scale)?;
-                crate::io::write_atomic(path, |w| {
-                    raster::write_png_ink(w, &img, self.settings.dot_color, dots.len())?;
-                    Ok(())
-                })?;
-            }
-            _ => crate::io::write_points(path, &o.set, &self.settings)?,
-        }
-        Ok(())
+        self.settings.job().write(&o.drawing, path)
     }
 
+    /// The zoomable canvas: the paper (or the picture) and the dots.
     pub(super) fn canvas(&mut self, ui: &mut egui::Ui) {
         let (rect, response) = ui.allocate_exact_size(ui.available_size(), Sense::click_and_drag());
-        self.view.canvas = rect.size();
         let painter = ui.painter_at(rect);
         painter.rect_filled(rect, 0.0, Color32::from_gray(90));
         let Some(src) = &self.source else {
@@ -571,7 +686,24 @@ impl PixelPieApp {
             return;
         };
         let size = Vec2::new(src.map.width() as f32, src.map.height() as f32);
+        self.navigate(ui, rect, &response, size);
         // A periodic drawing can show 2×2 copies: the seams should vanish.
+        let tiles = self.tiles();
+        let offsets: Vec<Vec2> = (0..tiles * tiles)
+            .map(|t| Vec2::new((t % tiles) as f32 * size.x, (t / tiles) as f32 * size.y))
+            .collect();
+        self.paint_backgrounds(&painter, rect, &offsets, size);
+        let layers = self.dot_layers(ui, rect, &offsets);
+        self.paint_dots(&painter, rect, layers);
+    }
+
+    /// Fits the view when asked (or when a fitted view's canvas or tiling
+    /// changes), zooms about the pointer and pans by dragging.
+    fn navigate(&mut self, ui: &egui::Ui, rect: Rect, response: &egui::Response, size: Vec2) {
+        if self.view.fitted && self.view.canvas != rect.size() {
+            self.view.fit_next = true;
+        }
+        self.view.canvas = rect.size();
         let tiles = self.tiles();
         if self.view.tiles != tiles {
             self.view.tiles = tiles;
@@ -582,8 +714,8 @@ impl PixelPieApp {
             self.view.zoom = (rect.width() / all.x).min(rect.height() / all.y) * 0.98;
             self.view.pan = (rect.size() - all * self.view.zoom) / 2.0;
             self.view.fit_next = false;
+            self.view.fitted = true;
         }
-        // Zoom about the pointer, pan by dragging.
         if response.hovered() {
             let scroll = ui.input(|i| i.smooth_scroll_delta.y);
             if scroll != 0.0 {
@@ -592,14 +724,20 @@ impl PixelPieApp {
                     ui.input(|i| i.pointer.hover_pos()).unwrap_or(rect.center()) - rect.min;
                 self.view.pan = pointer - (pointer - self.view.pan) * factor;
                 self.view.zoom *= factor;
+                self.view.fitted = false;
             }
         }
-        self.view.pan += response.drag_delta();
-        let offsets: Vec<Vec2> = (0..tiles * tiles)
-            .map(|t| Vec2::new((t % tiles) as f32 * size.x, (t / tiles) as f32 * size.y))
-            .collect();
+        if response.drag_delta() != Vec2::ZERO {
+            self.view.pan += response.drag_delta();
+            self.view.fitted = false;
+        }
+    }
+
+    /// The paper under each copy, and the map or the photo when asked.
+    fn paint_backgrounds(&self, painter: &egui::Painter, rect: Rect, offsets: &[Vec2], size: Vec2) {
+        let Some(src) = &self.source else { return };
         let uv = Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0));
-        for off in &offsets {
+        for off in offsets {
             let image_rect = Rect::from_min_size(
                 rect.min + self.view.pan + *off * self.view.zoom,
                 size * self.view.zoom,
@@ -620,18 +758,24 @@ impl PixelPieApp {
                 }
             }
         }
+    }
+
+    /// The dot layers of each copy: the coverage disks when asked, then
+    /// the dots in the ink, sized as the job draws them.
+    fn dot_layers(&self, ui: &egui::Ui, rect: Rect, offsets: &[Vec2]) -> Vec<DotLayer> {
         let s = &self.settings;
-        let [r, g, b] = s.dot_color;
+        let [r, g, b] = s.job.ink.0;
+        let size = self.dot_size();
         let base = ViewUniform {
             rect: [rect.width(), rect.height()],
             scale: self.view.zoom,
             pixels_per_point: ui.ctx().pixels_per_point(),
             offset: [self.view.pan.x, self.view.pan.y],
-            radius_scale: match self.dot_size() {
+            radius_scale: match size {
                 DotSize::Proportional(f) => f,
                 DotSize::Fixed(_) | DotSize::Calibrated(_) => 0.0,
             },
-            drawn_scale: match self.dot_size() {
+            drawn_scale: match size {
                 DotSize::Calibrated(f) => f,
                 DotSize::Fixed(_) | DotSize::Proportional(_) => 0.0,
             },
@@ -669,24 +813,28 @@ impl PixelPieApp {
                 slot: 2 * t + 1,
             });
         }
+        layers
+    }
+
+    /// Draws the layers on the GPU (egui_wgpu callbacks), or with egui's
+    /// own shapes where there is no wgpu renderer (a glow build).
+    fn paint_dots(&self, painter: &egui::Painter, rect: Rect, layers: Vec<DotLayer>) {
         for layer in layers {
             if self.gpu_dots {
                 painter.add(egui_wgpu::Callback::new_paint_callback(rect, layer));
-            } else {
-                // No wgpu renderer (e.g. a glow build): egui's own shapes.
-                let color = Color32::from_rgba_unmultiplied(
-                    (layer.view.color[0] * 255.0) as u8,
-                    (layer.view.color[1] * 255.0) as u8,
-                    (layer.view.color[2] * 255.0) as u8,
-                    (layer.view.color[3] * 255.0) as u8,
-                );
-                let pan = Vec2::new(layer.view.offset[0], layer.view.offset[1]);
-                for d in layer.dots.iter() {
-                    let radius =
-                        d.radius * layer.view.radius_scale + d.drawn * layer.view.drawn_scale;
-                    let c = rect.min + pan + Vec2::new(d.x, d.y) * self.view.zoom;
-                    painter.circle_filled(c, (radius * self.view.zoom).max(0.5), color);
-                }
+                continue;
+            }
+            let color = Color32::from_rgba_unmultiplied(
+                (layer.view.color[0] * 255.0) as u8,
+                (layer.view.color[1] * 255.0) as u8,
+                (layer.view.color[2] * 255.0) as u8,
+                (layer.view.color[3] * 255.0) as u8,
+            );
+            let pan = Vec2::new(layer.view.offset[0], layer.view.offset[1]);
+            for d in layer.dots.iter() {
+                let radius = d.radius * layer.view.radius_scale + d.drawn * layer.view.drawn_scale;
+                let c = rect.min + pan + Vec2::new(d.x, d.y) * self.view.zoom;
+                painter.circle_filled(c, (radius * self.view.zoom).max(0.5), color);
             }
         }
     }
@@ -712,7 +860,7 @@ fn policy_help(p: Policy) -> &'static str {
 
 /// Ink colours offered as swatches.
 const INKS: &[(&str, [u8; 3])] = &[
-    ("Black", [20, 20, 20]),
+    ("Black", [0, 0, 0]),
     ("Graphite", [70, 70, 75]),
     ("Sepia", [112, 66, 20]),
     ("Indigo", [40, 40, 110]),

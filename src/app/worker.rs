@@ -1,5 +1,7 @@
-//! Sampling off the UI thread: the latest job wins, an older one in flight is
-//! cancelled, and the GPU sampler shares egui's device.
+//! The drawing job off the UI thread: the latest job wins, an older one in
+//! flight is cancelled, and the GPU sampler shares egui's device. The job
+//! is the library's ([`crate::stipple::Job`]), the same that `pixelpie
+//! stipple` runs, so the app draws what the CLI draws.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{Receiver, Sender, channel};
@@ -10,9 +12,9 @@ use egui_wgpu::wgpu;
 use super::settings::Settings;
 use crate::backend::BackendChoice;
 use crate::gpu::GpuSampler;
-use crate::importance::{Adjust, ImportanceMap, Mapping, Prepared, RadiusRange};
+use crate::importance::ImportanceMap;
 use crate::sampler::{self, Control, Params, Progress, SampleSet};
-use crate::stipple::relax::RelaxOptions;
+use crate::stipple::Stipple;
 
 /// A sampling request.
 pub struct Job {
@@ -26,14 +28,12 @@ pub struct Job {
 
 /// A finished job.
 pub struct Outcome {
-    /// The run (its points after the white cutoff).
-    pub set: SampleSet,
-    /// Sampler runs made (count targeting makes several).
-    pub runs: usize,
-    /// Each point's calibrated dot radius (its tone's), in domain px.
-    pub calibrated: Vec<f32>,
+    /// The drawing (in domain pixels), as `pixelpie stipple` makes it.
+    pub drawing: Stipple,
+    /// The settings it was made with (Cancel goes back to them).
+    pub settings: Settings,
     /// Domain pixels per image pixel: the sampling domain is the image
-    /// enlarged to a longer side of 1024 px or more.
+    /// scaled as `pixelpie stipple` scales it.
     pub scale: f32,
     /// A note for the status line, such as a fallback to the CPU.
     pub note: Option<String>,
@@ -49,7 +49,7 @@ pub enum Reply {
     /// This many relaxation steps are done.
     Relaxed(u64, u32),
     /// A job ended.
-    Done(u64, Result<Outcome, String>),
+    Done(u64, Box<Result<Outcome, String>>),
 }
 
 struct GpuState {
@@ -167,112 +167,48 @@ fn run(
             repaint.request_repaint();
         };
         let start = std::time::Instant::now();
-        let result = compute(&job, &gpu, ctl, &relaxed).map(|mut o| {
-            o.seconds = start.elapsed().as_secs_f64();
-            o
-        });
-        if matches!(&result, Err(e) if e == "cancelled") {
-            continue;
-        }
-        let _ = replies.send(Reply::Done(id, result));
+        let result = match compute(&job, &gpu, ctl, &relaxed) {
+            Err(crate::Error::Sampler(sampler::Error::Cancelled)) => continue,
+            _ if cancel.load(Ordering::Relaxed) => continue,
+            Ok(mut o) => {
+                o.seconds = start.elapsed().as_secs_f64();
+                Ok(o)
+            }
+            Err(e) => Err(crate::one_line(&e)),
+        };
+        let _ = replies.send(Reply::Done(id, Box::new(result)));
         repaint.request_repaint();
     }
 }
 
-/// Samples a job's stipple on the chosen backend.
+/// Runs a job's drawing on the chosen backend.
 fn compute(
     job: &Job,
     gpu: &Mutex<Option<GpuState>>,
     ctl: Control<'_>,
     relaxed: &dyn Fn(u32),
-) -> Result<Outcome, String> {
+) -> crate::Result<Outcome> {
     let s = &job.settings;
-    let adjust = Adjust {
-        black: s.black,
-        white: s.white,
-        gamma: s.gamma,
-        invert: s.invert,
-    };
-    // With a point count, sample on the domain `pixelpie stipple` would use
-    // (longer side at least 1024 px), so that the first view is the CLI's
-    // drawing and the dots stay well above the sampler's pixel resolution.
-    // A radius range is in image pixels.
-    let (w, h) = (job.map.width(), job.map.height());
-    let scale = if s.use_count {
-        let side = 1024f64.max(10.0 * f64::from(s.points).sqrt());
-        (side / f64::from(w.max(h))).max(1.0)
-    } else {
-        1.0
-    };
-    let (dw, dh) = (
-        ((f64::from(w) * scale).round() as u32).max(1),
-        ((f64::from(h) * scale).round() as u32).max(1),
-    );
-    let prepared = Prepared {
-        map: job
-            .map
-            .resized(dw, dh)
-            .map_err(|e| e.to_string())?
-            .toned(s.tones)
-            .adjusted(&adjust)
-            .map_err(|e| e.to_string())?,
-        mapping: if s.tone {
-            s.dot_mode.mapping(s.dot_ratio.clamp(0.05, 1.0))
-        } else {
-            Mapping::Linear
-        },
-        range: RadiusRange::new(s.r_min, s.r_max).map_err(|e| e.to_string())?,
-        cutoff: (s.cutoff < 1.0).then_some(s.cutoff),
-    };
-    let base = Params::new(prepared.map.width(), prepared.map.height())
-        .with_policy(s.policy)
-        .with_seed(s.seed)
-        .with_subpixel_bits(s.subpixel_bits)
-        .with_periodic(s.periodic)
-        .with_exact(s.exact);
     let mut note = None;
-    let points = s.use_count.then_some(s.points as usize);
-    let fitted = prepared
-        .sample(&base, points, |params| -> crate::Result<SampleSet> {
-            Ok(sample(params, s.backend, gpu, ctl, &mut note)?)
-        })
-        .map_err(|e| format!("{e:#}"))?;
-    if let Some(n) = fitted.short_of {
+    let drawing = s.job().run_map(
+        (*job.map).clone(),
+        |params| Ok(sample(params, s.backend, gpu, ctl, &mut note)?),
+        |done| {
+            relaxed(done);
+            ctl.check().is_ok()
+        },
+    )?;
+    ctl.check()?;
+    if let Some(n) = drawing.short_of {
         note = Some(format!(
             "{n} points asked, {} fit at radii of at least 1 px",
-            fitted.set.points.len()
+            drawing.points.len()
         ));
     }
-    let mut set = fitted.set;
-    if s.relax > 0 {
-        let options = RelaxOptions {
-            iterations: s.relax,
-            periodic: s.periodic,
-        };
-        set.points =
-            crate::stipple::relax_points(&prepared, fitted.range, &set.points, options, |done| {
-                relaxed(done);
-                !ctl.cancel
-                    .is_some_and(|c| c.load(std::sync::atomic::Ordering::Relaxed))
-            })
-            .map_err(|e| e.to_string())?;
-        if ctl
-            .cancel
-            .is_some_and(|c| c.load(std::sync::atomic::Ordering::Relaxed))
-        {
-            return Err("cancelled".into());
-        }
-    }
-    let calibrated = set
-        .points
-        .iter()
-        .map(|p| prepared.dot_radius(p, fitted.range))
-        .collect();
     Ok(Outcome {
-        scale: (f64::from(dw) / f64::from(w)) as f32,
-        calibrated,
-        set,
-        runs: fitted.runs,
+        scale: (f64::from(drawing.domain.0) / f64::from(job.map.width())) as f32,
+        drawing,
+        settings: s.clone(),
         note,
         seconds: 0.0,
     })
@@ -303,7 +239,7 @@ fn sample(
 ) -> sampler::Result<SampleSet> {
     let mut guard = gpu
         .lock()
-        .map_err(|_| sampler::Error::Gpu("the GPU state was poisoned".into()))?;
+        .map_err(|_| crate::gpu::GpuError::Unusable("the GPU state was poisoned".into()))?;
     let runner = match guard.as_mut() {
         Some(g) => Ok(g as &mut dyn crate::backend::GpuRun),
         None => Err("no GPU device in this window".to_owned()),

@@ -3,7 +3,6 @@
 mod analyze;
 mod bench;
 mod fidelity;
-mod importance;
 mod sample;
 mod stipple;
 
@@ -40,11 +39,26 @@ enum Command {
 /// Runs the parsed command line.
 pub fn run(cli: Cli) -> Result<()> {
     match cli.command.unwrap_or(Command::Gui { image: None }) {
-        Command::Gui { image } => pixelpie::app::run(image),
+        Command::Gui { image } => gui(image),
         Command::Sample(a) => sample::run(&a),
         Command::Stipple(a) => stipple::run(&a),
         Command::Analyze(a) => analyze::run(&a),
         Command::Bench(a) => bench::run(&a),
         Command::Fidelity(a) => fidelity::run(&a),
     }
+}
+
+/// Opens the app, in a build with it.
+#[cfg(feature = "app")]
+fn gui(image: Option<std::path::PathBuf>) -> Result<()> {
+    pixelpie::app::run(image)
+}
+
+/// The headless build has no app: says how to get one.
+#[cfg(not(feature = "app"))]
+fn gui(_image: Option<std::path::PathBuf>) -> Result<()> {
+    anyhow::bail!(
+        "this pixelpie is built without the app (headless); build it with the default \
+         features to get it: cargo install --path . (from the source tree)"
+    )
 }

@@ -2,23 +2,18 @@
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Result, bail};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
 
 use pixelpie::backend::{self, BackendChoice, Notice};
-use pixelpie::count;
 use pixelpie::gpu::S1Path;
-use pixelpie::importance::{ImportanceOptions, Mapping, fit_size};
+use pixelpie::importance::{ImportanceMap, ImportanceOptions};
 use pixelpie::io;
-use pixelpie::sampler::{
-    self, Control, Params, Policy, Progress, RadiusMap, SampleSet, SamplerOptions,
-};
-
-use super::importance::RunOpts;
+use pixelpie::sampler::{self, Control, Params, Policy, Progress, SampleSet, SamplerOptions};
+use pixelpie::stipple::{Radii, SampleJob};
 
 /// Arguments of `pixelpie sample`.
 #[derive(Args, Debug, Serialize)]
@@ -46,7 +41,7 @@ pub struct SampleArgs {
     #[serde(flatten)]
     importance_opts: ImportanceOptions,
     /// Disk policy for varying radii (paper §3.4).
-    #[arg(long, value_enum, default_value_t = Policy::Prior)]
+    #[arg(long, value_enum, default_value_t = sampler::DEFAULT_POLICY)]
     policy: Policy,
     #[command(flatten)]
     #[serde(flatten)]
@@ -178,101 +173,55 @@ pub fn run_with_progress(
     Ok(set)
 }
 
-/// The parameters common to every run of `a`, on a `width`×`height` domain.
-fn base_params(a: &SampleArgs, width: u32, height: u32) -> Params {
-    let base = Params::new(width, height)
-        .with_policy(a.policy)
-        .with_max_iterations(a.max_iterations);
-    let base = a.sampler.apply(base);
-    match a.batch {
-        Some(b) => base.with_batch(b),
-        None => base,
-    }
-}
-
-/// `sample --importance`: the map's size is the domain unless
-/// --width/--height resize it.
-fn run_importance(a: &SampleArgs, path: &Path) -> Result<()> {
-    let prepared = a.importance_opts.prepare(
-        path,
-        |w, h| fit_size((w, h), a.width, a.height),
-        Mapping::Linear,
-        a.points.is_some(),
-    )?;
-    let bar = progress_bar(a.run.quiet);
-    let opts = RunOpts {
-        base: base_params(a, prepared.map.width(), prepared.map.height()),
-        points: a.points,
-        backend: a.run.backend,
-        bar: &bar,
-        quiet: a.run.quiet,
-        verbose: a.run.verbose,
-    };
-    let (set, _) = super::importance::sample(&prepared, &opts)?;
-    bar.finish_and_clear();
-    write_outputs(a, &set)
-}
-
 pub fn run(a: &SampleArgs) -> Result<()> {
     io::PointFormat::from_path(&a.output)?;
     if let Some(s) = &a.stats {
         check_json_path(s)?;
     }
     a.run.apply_gpu_path();
-    if let Some(path) = &a.importance {
-        return run_importance(a, path);
-    }
-    let map = match &a.radius_map {
-        Some(path) => {
-            let (w, h, radii) = io::read_radius_map(path)?;
-            if a.width.is_some_and(|x| x != w) || a.height.is_some_and(|x| x != h) {
-                bail!(
-                    "radius map '{}' is {w}x{h}, not the {}x{} domain asked for",
-                    path.display(),
-                    a.width.unwrap_or(w),
-                    a.height.unwrap_or(h)
-                );
+    let radii = match (&a.importance, &a.radius_map) {
+        (Some(path), _) => Radii::Picture(ImportanceMap::open(path, a.importance_opts.hdr_white)?),
+        (None, Some(path)) => {
+            let (width, height, radii) = io::read_radius_map(path)?;
+            Radii::Map {
+                width,
+                height,
+                radii,
             }
-            Some((w, h, radii, path))
         }
-        None => None,
+        (None, None) => Radii::Uniform(a.radius),
     };
-    let (width, height) = match &map {
-        Some((w, h, ..)) => (*w, *h),
-        None => match (a.width, a.height) {
-            (Some(w), Some(h)) => (w, h),
-            _ => bail!("--width and --height are needed without a radius or importance map"),
-        },
-    };
-    if map.is_none() && a.radius.is_none() && a.points.is_none() {
-        bail!("give --radius, --points, --radius-map or --importance");
-    }
-    let base = base_params(a, width, height);
-    let make = |scale: f64| -> Result<Params> {
-        Ok(match &map {
-            Some((w, h, radii, path)) => {
-                let m = RadiusMap::from_pixels_scaled(*w, *h, radii, scale)
-                    .with_context(|| format!("radius map '{}'", path.display()))?;
-                base.clone().with_radius_map(Arc::new(m))
-            }
-            None => base.clone().with_radius(scale as f32),
-        })
-    };
+    let mut job = SampleJob::new(radii);
+    job.width = a.width;
+    job.height = a.height;
+    job.points = a.points;
+    job.importance = a.importance_opts.clone();
+    job.policy = a.policy;
+    job.sampler = a.sampler.clone();
+    job.batch = a.batch;
+    job.max_iterations = a.max_iterations;
     let bar = progress_bar(a.run.quiet);
-    let (set, runs) = count::sample_scaled(
-        f64::from(a.radius.unwrap_or(1.0)),
-        a.points,
-        make,
-        |p| -> Result<SampleSet> { Ok(run_with_progress(p, a.run.backend, &bar, a.run.verbose)?) },
-    )?;
+    let done = job.run(|p| Ok(run_with_progress(p, a.run.backend, &bar, a.run.verbose)?));
+    let done = match (&a.radius_map, done) {
+        (Some(path), Err(e)) => {
+            return Err(anyhow::Error::new(e).context(format!("radius map '{}'", path.display())));
+        }
+        (_, done) => done?,
+    };
+    bar.finish_and_clear();
+    let got = done.set.points.len();
     if let (Some(n), true) = (a.points, a.run.verbose) {
+        eprintln!("count target {n}: {got} points after {} runs", done.runs);
+    }
+    if let Some(n) = done.short_of
+        && !a.run.quiet
+    {
         eprintln!(
-            "count target {n}: {} points after {runs} runs",
-            set.points.len()
+            "warning: asked for {n} points, got {got}: the smallest radius is at the sampler's \
+             1 px floor; enlarge the domain with --width/--height"
         );
     }
-    bar.finish_and_clear();
-    write_outputs(a, &set)
+    write_outputs(a, &done.set)
 }
 
 /// Writes the points, the statistics and the warning of a capped run.

@@ -1,36 +1,34 @@
 //! `pixelpie stipple`: an image in, a stipple drawing (SVG or PNG) out. The
-//! pipeline and its options are the library's ([`StippleOptions`]); this
-//! adds the paths, the backend, progress bars and the report on stderr.
+//! job, its options, defaults, checks and writers are the library's
+//! ([`Job`]); this adds the paths, the backend, progress bars and the
+//! report on stderr.
 
 use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::Result;
 use clap::Args;
-use serde::Serialize;
 
 use pixelpie::io;
-use pixelpie::stipple::{Format, StippleOptions};
+use pixelpie::stipple::{Format, Job};
 
 use super::sample::{RunArgs, progress_bar, run_with_progress};
 
 /// Arguments of `pixelpie stipple`.
-#[derive(Args, Debug, Serialize)]
+#[derive(Args, Debug)]
 pub struct StippleArgs {
     /// The picture: PNG, JPEG, TIFF, BMP, WebP or OpenEXR.
     #[arg(id = "importance", value_name = "IMAGE")]
     image: PathBuf,
-    /// Output drawing: .svg or .png.
+    /// Output drawing: .svg or .png (or the dots' points: .csv, .json).
     #[arg(long, short)]
     output: PathBuf,
     #[command(flatten)]
-    #[serde(flatten)]
-    options: StippleOptions,
+    options: Job,
     /// Also write the dots' centres and radii (.csv or .json), in drawing order.
     #[arg(long)]
     save_points: Option<PathBuf>,
     #[command(flatten)]
-    #[serde(flatten)]
     run: RunArgs,
 }
 
@@ -95,8 +93,7 @@ pub fn run(a: &StippleArgs) -> Result<()> {
     }
     o.write(&drawing, &a.output)?;
     if let Some(path) = &a.save_points {
-        let out = drawing.set.clone().with_points(drawing.points.clone());
-        io::write_points(path, &out, a)?;
+        o.write(&drawing, path)?;
     }
     if a.run.verbose {
         let (lo, hi) = drawing

@@ -30,7 +30,7 @@ use super::{Config, util};
 use crate::sampler::exact::{ExactStepper, REFINE_BELOW, frac_bits};
 use crate::sampler::fixed::{self, MAX_BATCH, RADIUS_ONE, iteration_key};
 use crate::sampler::run::{StageTimes, Step, Stepper};
-use crate::sampler::{Dart, Error, Plan, Point, Result};
+use crate::sampler::{Dart, Plan, Point, Result};
 
 /// Rounds of `exact_resolve` per submission; more run while a dart is
 /// undecided (random darts settle in a few).
@@ -60,7 +60,8 @@ struct ExactConfig {
     period_y: u32,
     level: u32,
     live: u32,
-    pad: [u32; 2],
+    pad0: u32,
+    pad1: u32,
 }
 
 impl ExactConfig {
@@ -84,7 +85,8 @@ impl ExactConfig {
             period_y,
             level: 0,
             live: 0,
-            pad: [0; 2],
+            pad0: 0,
+            pad1: 0,
         }
     }
 
@@ -220,12 +222,12 @@ impl ExactResources {
         let dart_bytes = u64::from(cap) * DART_BYTES;
         let max = device.limits().max_storage_buffer_binding_size;
         if dart_bytes > max {
-            return Err(Error::Gpu(format!(
+            return Err(super::error::unusable(format!(
                 "the batch of {cap} darts exceeds the adapter's storage binding size"
             )));
         }
         if 4 * ex.grid_words() > max {
-            return Err(Error::Gpu(format!(
+            return Err(super::error::unusable(format!(
                 "the sample grid of {} cells exceeds the adapter's storage binding size",
                 ex.cells
             )));
@@ -356,7 +358,7 @@ impl ExactResources {
     ) -> Result<()> {
         let max = device.limits().max_storage_buffer_binding_size / 8;
         if u64::from(n.max(scan)) > max {
-            return Err(Error::Gpu(format!(
+            return Err(super::error::unusable(format!(
                 "{} cells exceed the adapter's storage binding size",
                 n.max(scan)
             )));
@@ -436,7 +438,7 @@ impl ExactResources {
         }
         let max = device.limits().max_storage_buffer_binding_size / DART_BYTES;
         if u64::from(n) > max {
-            return Err(Error::Gpu(format!(
+            return Err(super::error::unusable(format!(
                 "{n} samples exceed the adapter's storage binding size"
             )));
         }
@@ -552,8 +554,8 @@ impl<'a> ExactGpuStepper<'a> {
             }
             encoder = self.device.create_command_encoder(&Default::default());
         }
-        Err(Error::Gpu(
-            "the batch's acceptance order did not settle on the GPU".into(),
+        Err(super::error::unusable(
+            "the batch's acceptance order did not settle on the GPU",
         ))
     }
 
@@ -801,9 +803,12 @@ impl Stepper for ExactGpuStepper<'_> {
 
 #[cfg(test)]
 mod tests {
+    use crate::gpu::util::{COMMON, rust_layout, wgsl_layout};
+
     #[test]
-    fn the_configuration_has_its_wgsl_size() {
-        // `struct Exact` in common.wgsl: 12 u32.
-        assert_eq!(std::mem::size_of::<super::ExactConfig>(), 48);
+    fn the_configuration_mirrors_the_layout_naga_reads_from_the_wgsl() {
+        let rust = rust_layout!(super::ExactConfig;
+            frac, g, cols, cells, cap, base, period_x, period_y, level, live, pad0, pad1);
+        assert_eq!(rust, wgsl_layout(COMMON, "Exact"));
     }
 }

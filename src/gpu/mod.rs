@@ -15,22 +15,25 @@
 pub(crate) mod compact;
 pub(crate) mod cover;
 pub(crate) mod cull;
-pub mod exact;
+mod error;
+pub(crate) mod exact;
 mod resources;
 pub(crate) mod throw;
 pub mod util;
 
-pub use resources::{Resources, S1Path, Shape, Stages};
+pub use error::GpuError;
+pub use resources::S1Path;
+pub(crate) use resources::{Resources, Shape, Stages};
 
 use crate::sampler::Dart;
 use crate::sampler::fixed::iteration_key;
 use crate::sampler::run::{self, StageTimes, Step, Stepper};
-use crate::sampler::{Control, Error, Params, Plan, Result, SampleSet, Stats};
+use crate::sampler::{BackendKind, Control, Params, Plan, Result, SampleSet, Stats};
 
 /// The run's configuration. Mirrors `struct Config` in `shaders/common.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct Config {
+pub(crate) struct Config {
     width: u32,
     height: u32,
     period_x: u32,
@@ -53,7 +56,7 @@ pub struct Config {
     /// Rows of the strip: the domain's height unless the key buffer is
     /// chunked.
     strip_rows: u32,
-    pad: u32,
+    pad0: u32,
 }
 
 impl Config {
@@ -83,7 +86,7 @@ impl Config {
             splat: 0,
             strip_y0: 0,
             strip_rows: plan.height,
-            pad: 0,
+            pad0: 0,
         }
     }
 }
@@ -111,7 +114,7 @@ impl GpuContext {
             power_preference: wgpu::PowerPreference::HighPerformance,
             ..Default::default()
         }))
-        .map_err(|e| Error::gpu("no GPU adapter", e))?;
+        .map_err(|e| error::failed("no GPU adapter", e))?;
         check_adapter(&adapter)?;
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("pixelpie"),
@@ -119,7 +122,7 @@ impl GpuContext {
             required_limits: adapter.limits(),
             ..Default::default()
         }))
-        .map_err(|e| Error::gpu("cannot open the GPU device", e))?;
+        .map_err(|e| error::failed("cannot open the GPU device", e))?;
         Ok(Self {
             device,
             queue,
@@ -133,7 +136,7 @@ pub fn check_adapter(adapter: &wgpu::Adapter) -> Result<()> {
     let caps = adapter.get_downlevel_capabilities();
     let need = wgpu::DownlevelFlags::COMPUTE_SHADERS | wgpu::DownlevelFlags::VERTEX_STORAGE;
     if !caps.flags.contains(need) {
-        return Err(Error::Gpu(format!(
+        return Err(error::unusable(format!(
             "adapter '{}' lacks compute shaders or vertex storage",
             adapter.get_info().name
         )));
@@ -181,7 +184,7 @@ impl GpuSampler {
             pollster::block_on(scope.pop()),
         ];
         if let Some(err) = errors.into_iter().flatten().next() {
-            return Err(Error::gpu("cannot build the pipelines", err));
+            return Err(error::failed("cannot build the pipelines", err));
         }
         Ok(s)
     }
@@ -252,7 +255,7 @@ impl GpuSampler {
         if let Some(err) = errors.into_iter().flatten().next() {
             self.resources = None;
             self.exact = None;
-            return Err(Error::gpu("a GPU command failed", err));
+            return Err(error::failed("a GPU command failed", err));
         }
         result
     }
@@ -268,14 +271,14 @@ impl GpuSampler {
         let limits = device.limits();
         let max = limits.max_texture_dimension_2d;
         if plan.width > max || plan.height > max {
-            return Err(Error::Gpu(format!(
+            return Err(error::unusable(format!(
                 "the {}x{} domain exceeds the adapter's largest texture, {max}x{max}",
                 plan.width, plan.height
             )));
         }
         if util::disk_rows(plan.radius_range.1) > 65535 {
-            return Err(Error::Gpu(
-                "radii above 32766 px exceed the GPU's row dispatch".into(),
+            return Err(error::unusable(
+                "radii above 32766 px exceed the GPU's row dispatch",
             ));
         }
         if plan.exact {
@@ -305,7 +308,7 @@ impl GpuSampler {
             self.resources = Some(Resources::new(device, queue, stages, &plan, shape)?);
         }
         let Some(res) = self.resources.as_ref() else {
-            return Err(Error::Gpu("no resources".into()));
+            return Err(error::unusable("no resources"));
         };
         res.radius.upload(queue, &plan);
         let mut config = Config::new(&plan);
@@ -315,13 +318,10 @@ impl GpuSampler {
         queue.submit([encoder.finish()]);
 
         let stats = Stats {
-            backend: format!(
-                "gpu-{}",
-                match path {
-                    S1Path::Raster => "raster",
-                    S1Path::Compute => "compute",
-                }
-            ),
+            backend: match path {
+                S1Path::Raster => BackendKind::GpuRaster,
+                S1Path::Compute => BackendKind::GpuCompute,
+            },
             device: self.adapter.clone(),
             gpu_timestamps: timestamps,
             ..Stats::default()
@@ -348,14 +348,14 @@ impl GpuSampler {
         ctl: Control<'_>,
     ) -> Result<SampleSet> {
         if plan.radius_range.1 > exact::MAX_RADIUS_PX * crate::sampler::fixed::RADIUS_ONE {
-            return Err(Error::Gpu(format!(
+            return Err(error::unusable(format!(
                 "exact mode on the GPU takes radii up to {} px",
                 exact::MAX_RADIUS_PX
             )));
         }
         let storage = device.limits().max_storage_buffers_per_shader_stage;
         if storage < exact::STORAGE_BUFFERS {
-            return Err(Error::Gpu(format!(
+            return Err(error::unusable(format!(
                 "exact mode on the GPU binds {} storage buffers per shader stage; this device \
                  allows {storage}",
                 exact::STORAGE_BUFFERS
@@ -381,10 +381,10 @@ impl GpuSampler {
             )?);
         }
         let Some(res) = slot.as_mut() else {
-            return Err(Error::Gpu("no resources".into()));
+            return Err(error::unusable("no resources"));
         };
         let stats = Stats {
-            backend: "gpu-exact".into(),
+            backend: BackendKind::GpuExact,
             device: self.adapter.clone(),
             ..Stats::default()
         };
@@ -443,10 +443,20 @@ impl Stepper for GpuStepper<'_> {
 
 #[cfg(test)]
 mod tests {
+    use super::util::{COMMON, rust_layout, wgsl_layout};
+
     #[test]
-    fn structs_shared_with_wgsl_have_their_wgsl_size() {
-        // `struct Config` in common.wgsl: 20 u32; `struct Dart`: 4 u32.
-        assert_eq!(std::mem::size_of::<super::Config>(), 80);
-        assert_eq!(std::mem::size_of::<crate::sampler::Dart>(), 16);
+    fn the_config_mirrors_the_layout_naga_reads_from_common_wgsl() {
+        let rust = rust_layout!(super::Config;
+            width, height, period_x, period_y, policy, subpixel_bits, index_bits,
+            radius_bits, min_radius, max_radius, uniform_radius, iteration_key, empty,
+            darts, first, words, splat, strip_y0, strip_rows, pad0);
+        assert_eq!(rust, wgsl_layout(COMMON, "Config"));
+    }
+
+    #[test]
+    fn the_dart_mirrors_the_layout_naga_reads_from_common_wgsl() {
+        let rust = rust_layout!(crate::sampler::Dart; x, y, pixel, radius);
+        assert_eq!(rust, wgsl_layout(COMMON, "Dart"));
     }
 }

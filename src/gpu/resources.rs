@@ -10,7 +10,7 @@ use super::cull::CullStage;
 use super::throw::{ThrowGroups, ThrowStage};
 use super::{Config, util};
 use crate::sampler::Dart;
-use crate::sampler::{Error, Plan, Result};
+use crate::sampler::{Plan, Result};
 
 /// Bytes of the read-back header: empty count, survivor count, padding and
 /// six timestamps.
@@ -233,12 +233,12 @@ impl Resources {
         let dart_bytes = u64::from(capacity) * DART_BYTES;
         let strip_rows = strip_rows(device, plan, path, strip_cap);
         if strip_rows == 0 {
-            return Err(Error::Gpu(format!(
+            return Err(super::error::unusable(format!(
                 "a {width}-pixel row of keys exceeds the adapter's storage binding size"
             )));
         }
         if dart_bytes > max_binding || 4 * u64::from(words) > max_binding {
-            return Err(Error::Gpu(format!(
+            return Err(super::error::unusable(format!(
                 "the batch of {capacity} darts exceeds the adapter's storage binding size"
             )));
         }

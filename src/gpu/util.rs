@@ -201,21 +201,56 @@ pub fn read_back(
     staging: &wgpu::Buffer,
     len: u64,
 ) -> crate::sampler::Result<Vec<u8>> {
-    use crate::sampler::Error;
     let (tx, rx) = std::sync::mpsc::channel();
     staging.map_async(wgpu::MapMode::Read, 0..len, move |r| {
         let _ = tx.send(r);
     });
     device
         .poll(wgpu::PollType::wait_indefinitely())
-        .map_err(|e| Error::gpu("device lost", e))?;
+        .map_err(|e| super::error::failed("device lost", e))?;
     rx.recv()
-        .map_err(|e| Error::gpu("the read-back never answered", e))?
-        .map_err(|e| Error::gpu("cannot read back", e))?;
+        .map_err(|e| super::error::failed("the read-back never answered", e))?
+        .map_err(|e| super::error::failed("cannot read back", e))?;
     let bytes = staging
         .get_mapped_range(0..len)
-        .map_err(|e| Error::Gpu(format!("cannot read back: {e:?}")))?
+        .map_err(|e| super::error::unusable(format!("cannot read back: {e:?}")))?
         .to_vec();
     staging.unmap();
     Ok(bytes)
 }
+
+/// The layout naga reads from WGSL `source` for `struct name`: its size and
+/// each member's name and offset, for the tests of the Rust mirrors.
+#[cfg(test)]
+pub(crate) fn wgsl_layout(source: &str, name: &str) -> (u32, Vec<(String, u32)>) {
+    let module = naga::front::wgsl::parse_str(source)
+        .unwrap_or_else(|e| panic!("{}", e.emit_to_string(source)));
+    module
+        .types
+        .iter()
+        .find_map(|(_, ty)| match &ty.inner {
+            naga::TypeInner::Struct { members, span } if ty.name.as_deref() == Some(name) => {
+                let fields = members
+                    .iter()
+                    .map(|m| (m.name.clone().unwrap_or_default(), m.offset))
+                    .collect();
+                Some((*span, fields))
+            }
+            _ => None,
+        })
+        .unwrap_or_else(|| panic!("no struct {name} in the WGSL"))
+}
+
+/// The size and the fields' names and offsets of a `#[repr(C)]` Rust
+/// struct, in the form of [`wgsl_layout`].
+#[cfg(test)]
+macro_rules! rust_layout {
+    ($t:ty; $($field:ident),* $(,)?) => {
+        (
+            std::mem::size_of::<$t>() as u32,
+            vec![$((stringify!($field).to_owned(), std::mem::offset_of!($t, $field) as u32)),*],
+        )
+    };
+}
+#[cfg(test)]
+pub(crate) use rust_layout;

@@ -13,7 +13,7 @@ pub const DEFAULT_RADIUS_RATIO: f32 = 8.0;
 
 /// How importance becomes radius, by name (the sized-dot mapping follows
 /// from the dot mode instead).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, serde::Deserialize)]
 #[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum MappingKind {
@@ -34,8 +34,9 @@ impl From<MappingKind> for Mapping {
 }
 
 /// Options that turn an image into a radius map.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, serde::Deserialize)]
 #[cfg_attr(feature = "cli", derive(clap::Args))]
+#[serde(default)]
 #[non_exhaustive]
 pub struct ImportanceOptions {
     /// The grey the drawing reproduces (levels and gamma apply to it).

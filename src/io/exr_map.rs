@@ -25,9 +25,9 @@ pub fn read_exr(path: &Path) -> Result<ExrImage> {
         .first_valid_layer()
         .all_attributes()
         .from_file(path)
-        .map_err(|source| Error::Exr {
+        .map_err(|e| Error::Exr {
             path: path.to_path_buf(),
-            source,
+            source: e.to_string().into(),
         })?;
     let size = image.layer_data.size;
     let (width, height) = (size.width() as u32, size.height() as u32);

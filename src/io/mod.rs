@@ -29,9 +29,10 @@ pub enum Error {
     Exr {
         /// The file.
         path: PathBuf,
-        /// The decoder's error.
+        /// The decoder's error (its message; the decoder's own type stays
+        /// private).
         #[source]
-        source: exr::error::Error,
+        source: BoxError,
     },
     /// A file that was read but holds the wrong thing, or a path of the
     /// wrong kind.

@@ -49,22 +49,27 @@
 //! continuous domain. It runs on the CPU.
 
 pub mod cpu;
+// Exact mode's and the fixed-point rules are the contract's own; the tests
+// read them, users need not.
+#[doc(hidden)]
 pub mod exact;
+#[doc(hidden)]
 pub mod fixed;
 mod options;
 mod output;
 mod params;
-pub mod run;
+pub(crate) mod run;
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
 pub use options::SamplerOptions;
-pub use output::{Point, Report as StatsReport, SampleSet, Stats};
+pub use output::{BackendKind, Point, Report as StatsReport, SampleSet, Stats};
 pub use params::{
-    DEFAULT_MAX_ITERATIONS, DEFAULT_SUBPIXEL_BITS, KeyLayout, MAX_PIXELS, Params, Plan, Policy,
-    RSA_DENSITY, Radius, RadiusMap,
+    DEFAULT_MAX_ITERATIONS, DEFAULT_POLICY, DEFAULT_SUBPIXEL_BITS, KeyLayout, MAX_PIXELS, Params,
+    Plan, Policy, RSA_DENSITY, Radius, RadiusMap,
 };
-pub use run::{Dart, StageTimes, Step, Stepper};
+pub(crate) use run::Dart;
+pub use run::StageTimes;
 
 /// What can go wrong in the sampler.
 #[derive(Debug, thiserror::Error)]
@@ -90,36 +95,22 @@ pub enum Error {
     /// The caller cancelled the run.
     #[error("cancelled")]
     Cancelled,
-    /// The GPU backend cannot run, or failed.
-    #[error("GPU: {0}")]
-    Gpu(String),
-    /// A GPU operation failed; the source is wgpu's error.
-    #[error("GPU: {what}")]
-    GpuFailed {
-        /// What failed.
-        what: String,
-        /// wgpu's error.
-        #[source]
-        source: Box<dyn std::error::Error + Send + Sync>,
-    },
+    /// A backend could not run, or failed: its own error inside (the GPU
+    /// backend's, say). The CPU reference backend never fails so.
+    #[error(transparent)]
+    Backend(Box<dyn std::error::Error + Send + Sync>),
 }
 
 impl Error {
-    /// A GPU operation `what` that failed with `source`.
-    pub fn gpu(
-        what: impl Into<String>,
-        source: impl std::error::Error + Send + Sync + 'static,
-    ) -> Self {
-        Self::GpuFailed {
-            what: what.into(),
-            source: Box::new(source),
-        }
+    /// A backend's own error.
+    pub fn backend(e: impl std::error::Error + Send + Sync + 'static) -> Self {
+        Self::Backend(Box::new(e))
     }
 
-    /// Whether the GPU failed (as opposed to bad parameters or a cancel).
+    /// Whether a backend failed (as opposed to bad parameters or a cancel).
     #[must_use]
-    pub fn is_gpu(&self) -> bool {
-        matches!(self, Self::Gpu(_) | Self::GpuFailed { .. })
+    pub fn is_backend(&self) -> bool {
+        matches!(self, Self::Backend(_))
     }
 }
 
@@ -195,25 +186,5 @@ impl<'a> Control<'a> {
         if let Some(f) = self.progress {
             f(p);
         }
-    }
-}
-
-impl Params {
-    /// Samples the set: the common case, as fast_poisson's `generate()`.
-    /// Runs on the GPU when the `gpu` feature finds a hardware adapter, on
-    /// the CPU otherwise; the points are the same either way.
-    ///
-    /// ```
-    /// use pixelpie::sampler::Params;
-    /// let set = Params::new(256, 256).with_radius(6.0).with_seed(3).generate().unwrap();
-    /// assert!(set.maximal() && set.points.len() > 400);
-    /// ```
-    pub fn generate(&self) -> Result<SampleSet> {
-        self.generate_with(Control::default())
-    }
-
-    /// [`Self::generate`] with progress reporting and cancellation.
-    pub fn generate_with(&self, ctl: Control<'_>) -> Result<SampleSet> {
-        crate::backend::sample(self, crate::backend::BackendChoice::Auto, ctl, &mut |_| {})
     }
 }

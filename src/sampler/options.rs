@@ -1,14 +1,15 @@
 //! The sampler options that every front end shares: `pixelpie sample`,
 //! `pixelpie stipple` (with the `cli` feature these are their arguments),
-//! the Python package and library users. The policy is not among them: its
-//! default differs by job (Prior for point sets, Smaller for stipples).
+//! the Python package and library users. The policy is not among them: a
+//! job states it beside them (its default is [`super::DEFAULT_POLICY`]).
 
 use serde::Serialize;
 
 use super::{DEFAULT_SUBPIXEL_BITS, Params};
 
 /// Seed, sub-pixel darts, periodic domain and exact mode.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, serde::Deserialize)]
+#[serde(default)]
 #[cfg_attr(feature = "cli", derive(clap::Args))]
 #[non_exhaustive]
 pub struct SamplerOptions {

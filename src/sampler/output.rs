@@ -13,6 +13,45 @@ pub struct Point {
     pub radius: f32,
 }
 
+/// The backend that ran a set (its name in statistics: `cpu`,
+/// `gpu-raster`, `gpu-compute`, `gpu-exact`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize)]
+#[non_exhaustive]
+pub enum BackendKind {
+    /// The CPU reference backend.
+    #[default]
+    #[serde(rename = "cpu")]
+    Cpu,
+    /// The GPU, S1 as an instanced depth-tested draw (the paper's way).
+    #[serde(rename = "gpu-raster")]
+    GpuRaster,
+    /// The GPU, S1 as a compute pass.
+    #[serde(rename = "gpu-compute")]
+    GpuCompute,
+    /// The GPU in exact mode.
+    #[serde(rename = "gpu-exact")]
+    GpuExact,
+}
+
+impl BackendKind {
+    /// The name in statistics.
+    #[must_use]
+    pub const fn name(self) -> &'static str {
+        match self {
+            Self::Cpu => "cpu",
+            Self::GpuRaster => "gpu-raster",
+            Self::GpuCompute => "gpu-compute",
+            Self::GpuExact => "gpu-exact",
+        }
+    }
+}
+
+impl std::fmt::Display for BackendKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
 /// Timings and sizes of a run. The point count is the [`SampleSet`]'s own
 /// (`points.len()`); [`SampleSet::report`] writes both.
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
@@ -32,8 +71,8 @@ pub struct Stats {
     /// Exact mode: samples taken back to repair voids finer than the
     /// position grid (each re-filled by new darts); 0 in pixel mode.
     pub repaired: usize,
-    /// `"cpu"` or `"gpu"`.
-    pub backend: String,
+    /// The backend that ran.
+    pub backend: BackendKind,
     /// The GPU adapter's name, or the CPU's thread count.
     pub device: String,
     /// Wall-clock seconds of the whole run.
@@ -75,7 +114,7 @@ pub struct Report<'a> {
 impl SampleSet {
     /// A finished run of a `width`×`height` domain.
     #[must_use]
-    pub fn finish(
+    pub(crate) fn finish(
         (width, height): (u32, u32),
         points: Vec<Point>,
         iterations: u32,

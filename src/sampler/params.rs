@@ -25,15 +25,22 @@ pub const MIN_INDEX_BITS: u32 = 8;
 #[serde(rename_all = "lowercase")]
 pub enum Policy {
     /// f(i, j) = r(i): the earlier sample's disk. Key = dart index, Less wins.
-    #[default]
     Prior,
     /// f(i, j) = r(j): the later sample's disk. Key = dart index, Greater wins.
     Current,
     /// f(i, j) = max(r(i), r(j)). Radius in the key's high bits, Greater wins.
     Bigger,
     /// f(i, j) = min(r(i), r(j)). Radius in the key's high bits, Less wins.
+    /// The default ([`DEFAULT_POLICY`]).
+    #[default]
     Smaller,
 }
+
+/// The default disk policy of every front end and of [`Params::new`]: the
+/// smaller disk, the paper's choice for stippling (it keeps large
+/// light-area disks out of dark areas). With a uniform radius all four
+/// policies give the same points.
+pub const DEFAULT_POLICY: Policy = Policy::Smaller;
 
 impl Policy {
     /// All four policies.
@@ -233,14 +240,15 @@ pub const DEFAULT_SUBPIXEL_BITS: u32 = 3;
 pub const DEFAULT_MAX_ITERATIONS: u32 = 1000;
 
 impl Params {
-    /// A `width`×`height` domain with radius 8.5 px, the Prior policy, seed 0.
+    /// A `width`×`height` domain with radius 8.5 px, the Smaller policy
+    /// ([`DEFAULT_POLICY`]), seed 0.
     #[must_use]
     pub fn new(width: u32, height: u32) -> Self {
         Self {
             width,
             height,
             radius: Radius::Uniform(8.5),
-            policy: Policy::Prior,
+            policy: DEFAULT_POLICY,
             seed: 0,
             subpixel_bits: DEFAULT_SUBPIXEL_BITS,
             batch: None,

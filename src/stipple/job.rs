@@ -1,19 +1,25 @@
-//! The whole stipple pipeline, from a picture to a drawing: the options
-//! `pixelpie stipple` takes (with the `cli` feature, its arguments), the
-//! default domain, sampling to a dot count, relaxation, the drawing order,
-//! dot sizes, and the SVG or PNG output. The CLI, the Python package and
-//! library users run the same code, so the same options give the same
-//! drawing byte for byte.
+//! The drawing job, from a picture to a drawing: every option of
+//! `pixelpie stipple` (with the `cli` feature, its arguments), their
+//! defaults and validation, the default domain, the map's preparation,
+//! sampling to a dot count, relaxation, the drawing order, dot sizes, and
+//! the SVG, PNG, CSV or JSON output.
+//!
+//! Every front end runs this one [`Job`]: the CLI parses it from its
+//! arguments, the Python package deserializes it from keyword arguments,
+//! and the app's settings hold one (plus what only the view needs). The
+//! same job therefore gives the same drawing and the same files, byte for
+//! byte, from all three.
 
 use std::path::Path;
+use std::str::FromStr;
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::{Dot, DotSize, Error, relax, svg, tsp};
 use crate::importance::{
     DEFAULT_RADIUS_RATIO, ImportanceMap, ImportanceOptions, Mapping, RadiusRange, fit_size,
 };
-use crate::sampler::{Params, Point, Policy, SampleSet, SamplerOptions};
+use crate::sampler::{DEFAULT_POLICY, Params, Point, Policy, SampleSet, SamplerOptions};
 
 /// The default number of dots.
 pub const DEFAULT_POINTS: usize = 10_000;
@@ -71,7 +77,7 @@ impl DotMode {
 }
 
 /// Drawing order.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum Order {
@@ -82,13 +88,17 @@ pub enum Order {
     Tsp,
 }
 
-/// A drawing's file format, by extension.
+/// A drawing's file format, by extension (case-insensitive).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Format {
     /// SVG: circles, or pen paths with `--pen-mm`.
     Svg,
-    /// An anti-aliased greyscale PNG.
+    /// An anti-aliased PNG in the ink's colour.
     Png,
+    /// The dots' sample points as `x,y,radius` rows, in drawing order.
+    Csv,
+    /// The job and the dots' sample points, in drawing order.
+    Json,
 }
 
 impl Format {
@@ -102,20 +112,85 @@ impl Format {
         {
             Some("svg") => Ok(Self::Svg),
             Some("png") => Ok(Self::Png),
+            Some("csv") => Ok(Self::Csv),
+            Some("json") => Ok(Self::Json),
             _ => Err(Error::InvalidParameter(format!(
-                "unknown output extension of '{}': use .svg or .png",
+                "unknown output extension of '{}': use .svg, .png, .csv or .json",
                 path.display()
             ))),
         }
     }
 }
 
-/// How a picture becomes a stipple drawing.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+/// An ink colour, sRGB: `black` or `#rrggbb` on the command line and in
+/// files.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct Ink(pub [u8; 3]);
+
+impl Ink {
+    /// Black, the default ink.
+    pub const BLACK: Self = Self([0, 0, 0]);
+}
+
+impl FromStr for Ink {
+    type Err = Error;
+
+    /// ```
+    /// use pixelpie::stipple::Ink;
+    /// assert_eq!("#d62728".parse::<Ink>().unwrap(), Ink([0xd6, 0x27, 0x28]));
+    /// assert_eq!("black".parse::<Ink>().unwrap(), Ink::BLACK);
+    /// assert!("#12345".parse::<Ink>().is_err());
+    /// ```
+    fn from_str(s: &str) -> Result<Self, Error> {
+        let t = s.trim();
+        if t.eq_ignore_ascii_case("black") {
+            return Ok(Self::BLACK);
+        }
+        let hex = t.strip_prefix('#').unwrap_or(t);
+        let byte = |i: usize| {
+            hex.get(i..i + 2)
+                .and_then(|h| u8::from_str_radix(h, 16).ok())
+        };
+        match (hex.len(), byte(0), byte(2), byte(4)) {
+            (6, Some(r), Some(g), Some(b)) => Ok(Self([r, g, b])),
+            _ => Err(Error::InvalidParameter(format!(
+                "ink '{s}' is not a colour: use black or #rrggbb"
+            ))),
+        }
+    }
+}
+
+impl std::fmt::Display for Ink {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let [r, g, b] = self.0;
+        write!(f, "#{r:02x}{g:02x}{b:02x}")
+    }
+}
+
+impl Serialize for Ink {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(self)
+    }
+}
+
+impl<'de> Deserialize<'de> for Ink {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let s = String::deserialize(d)?;
+        s.parse().map_err(serde::de::Error::custom)
+    }
+}
+
+/// The drawing job: how a picture becomes a stipple drawing, and how the
+/// drawing is written. Its fields are the options of `pixelpie stipple`,
+/// the keyword arguments of Python's `pixelpie.stipple` and the app's
+/// controls, under the same names; [`Job::default`] holds every default.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "cli", derive(clap::Args))]
+#[serde(default)]
 #[non_exhaustive]
-pub struct StippleOptions {
-    /// Number of dots (±3%) [default: 10000 unless --min-radius is given].
+pub struct Job {
+    /// Number of dots (±3%) [default: 10000 unless --min-radius or
+    /// --dot-radius is given].
     #[cfg_attr(feature = "cli", arg(long))]
     pub points: Option<usize>,
     /// Domain width in px [default: the image scaled so that its longer side
@@ -127,6 +202,7 @@ pub struct StippleOptions {
     pub height: Option<u32>,
     /// How the picture's tones become radii.
     #[cfg_attr(feature = "cli", command(flatten))]
+    #[serde(flatten)]
     pub importance: ImportanceOptions,
     /// Dot size. fixed: all dots alike; sized: small dots in light areas,
     /// larger ones in dark areas (StippleGen's min/max dot size). Both are
@@ -149,7 +225,7 @@ pub struct StippleOptions {
     pub dot_ratio: f32,
     /// Radius in domain px of the darkest dots; the sample radii follow from
     /// it, so the dot count does too (instead of --points).
-    #[cfg_attr(feature = "cli", arg(long, conflicts_with_all = ["points", "min_radius"]))]
+    #[cfg_attr(feature = "cli", arg(long))]
     pub dot_radius: Option<f32>,
     /// Weighted Lloyd (Voronoi) relaxation steps after sampling: moves each
     /// dot to the centroid of its Voronoi cell, weighted to keep the
@@ -159,7 +235,7 @@ pub struct StippleOptions {
     /// Drawing order: as sampled, or a short pen-plotter path (2-opt).
     #[cfg_attr(feature = "cli", arg(long, value_enum, default_value_t = Order::None))]
     pub order: Order,
-    /// PNG pixels per domain pixel.
+    /// PNG pixels per domain pixel (PNG output only).
     #[cfg_attr(feature = "cli", arg(long, default_value_t = 1.0))]
     pub scale: f32,
     /// SVG page width in millimetres (height follows the aspect) [default: px].
@@ -172,9 +248,12 @@ pub struct StippleOptions {
     /// dots are one pen wide, so that the tones are calibrated for the pen.
     #[cfg_attr(feature = "cli", arg(long))]
     pub pen_mm: Option<f64>,
+    /// The ink's colour in the SVG and the PNG: black or #rrggbb.
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = Ink::BLACK))]
+    pub ink: Ink,
     /// Disk policy for varying radii (paper §3.4); the paper stipples with
     /// the smaller disk, which keeps large light-area disks out of dark areas.
-    #[cfg_attr(feature = "cli", arg(long, value_enum, default_value_t = Policy::Smaller))]
+    #[cfg_attr(feature = "cli", arg(long, value_enum, default_value_t = DEFAULT_POLICY))]
     pub policy: Policy,
     /// Seed, sub-pixel darts, periodic domain, exact mode.
     #[cfg_attr(feature = "cli", command(flatten))]
@@ -182,7 +261,7 @@ pub struct StippleOptions {
     pub sampler: SamplerOptions,
 }
 
-impl Default for StippleOptions {
+impl Default for Job {
     fn default() -> Self {
         Self {
             points: None,
@@ -198,7 +277,8 @@ impl Default for StippleOptions {
             scale: 1.0,
             width_mm: None,
             pen_mm: None,
-            policy: Policy::Smaller,
+            ink: Ink::BLACK,
+            policy: DEFAULT_POLICY,
             sampler: SamplerOptions::default(),
         }
     }
@@ -212,6 +292,9 @@ pub struct Stipple {
     pub dots: Vec<Dot>,
     /// The sample points under the dots, in drawing order.
     pub points: Vec<Point>,
+    /// Each point's calibrated dot radius (its tone's), in drawing order:
+    /// what [`Job::dots`] scales.
+    pub calibrated: Vec<f32>,
     /// The sampler's run (its points after the white cutoff and relaxation,
     /// in acceptance order).
     pub set: SampleSet,
@@ -244,7 +327,7 @@ pub fn default_domain(w: u32, h: u32, points: usize) -> (u32, u32) {
     )
 }
 
-impl StippleOptions {
+impl Job {
     /// Checks the options that do not depend on the picture, for an output
     /// of `format`.
     pub fn validate(&self, format: Format) -> Result<(), Error> {
@@ -277,12 +360,83 @@ impl StippleOptions {
         if !(self.dot_ratio.is_finite() && self.dot_ratio > 0.0 && self.dot_ratio <= 1.0) {
             return bad(format!("--dot-ratio {} must be in (0, 1]", self.dot_ratio));
         }
-        if let Some(r) = self.dot_radius
-            && !(r.is_finite() && r > 0.0)
-        {
-            return bad(format!("--dot-radius {r} must be a positive number"));
+        if let Some(r) = self.dot_radius {
+            if !(r.is_finite() && r > 0.0) {
+                return bad(format!("--dot-radius {r} must be a positive number"));
+            }
+            if self.points.is_some() || self.importance.min_radius.is_some() {
+                return bad(
+                    "--dot-radius excludes --points and --min-radius: it sets the radii itself"
+                        .into(),
+                );
+            }
         }
-        Ok(())
+        if !(self.scale.is_finite() && self.scale > 0.0) {
+            return bad(format!("--scale {} must be a positive number", self.scale));
+        }
+        if let Some(mm) = self.width_mm
+            && !(mm.is_finite() && mm > 0.0)
+        {
+            return bad(format!("--width-mm {mm} must be a positive number"));
+        }
+        self.dot_size().validate()
+    }
+
+    /// How big the dots are drawn: the dot mode and its factor.
+    #[must_use]
+    pub fn dot_size(&self) -> DotSize {
+        let dot = self.dot_mode();
+        dot.size(self.dot_factor.unwrap_or(dot.default_factor()))
+    }
+
+    /// The dots of `drawing` as this job draws them (its dot mode and
+    /// factor), in drawing order.
+    #[must_use]
+    pub fn dots(&self, drawing: &Stipple) -> Vec<Dot> {
+        let size = self.dot_size();
+        drawing
+            .points
+            .iter()
+            .zip(&drawing.calibrated)
+            .map(|(p, &c)| {
+                let (x, y) = (p.x, p.y);
+                let radius = match size {
+                    DotSize::Proportional(f) => f * p.radius,
+                    DotSize::Fixed(r) => r,
+                    DotSize::Calibrated(f) => f * c,
+                };
+                Dot { x, y, radius }
+            })
+            .collect()
+    }
+
+    /// The part of the job that the points depend on: two jobs with equal
+    /// keys sample the same points (a front end re-samples when it
+    /// changes); the rest only changes how the dots are drawn and written.
+    #[must_use]
+    pub fn sampling_key(&self) -> Self {
+        let mut key = self.clone();
+        // Fixed and proportional dots sample the same calibrated map.
+        key.dot = Some(match self.dot_mode() {
+            DotMode::Proportional => DotMode::Fixed,
+            d => d,
+        });
+        if key.dot != Some(DotMode::Sized) {
+            key.dot_ratio = DEFAULT_DOT_RATIO;
+        }
+        key.dot_factor = None;
+        key.scale = 1.0;
+        key.ink = Ink::BLACK;
+        // The pen sets the radii only when nothing else does.
+        let pen_sized = self.pen_mm.is_some()
+            && self.points.is_none()
+            && self.importance.min_radius.is_none()
+            && self.dot_radius.is_none();
+        if !pen_sized {
+            key.pen_mm = None;
+            key.width_mm = None;
+        }
+        key
     }
 
     /// The dot mode, with its default.
@@ -373,8 +527,6 @@ impl StippleOptions {
             set = set.with_points(moved);
         }
         let t_relax = t0.elapsed().as_secs_f64() - t_load - t_sample;
-        let size = dot.size(self.dot_factor.unwrap_or(dot.default_factor()));
-        size.validate()?;
         let (points, tour) = match self.order {
             Order::None => (set.points.clone(), None),
             Order::Tsp => {
@@ -388,10 +540,14 @@ impl StippleOptions {
                 (ordered, Some(tour))
             }
         };
-        let dots = size.dots(&points, |p| prepared.dot_radius(p, range));
-        Ok(Stipple {
-            dots,
+        let calibrated = points
+            .iter()
+            .map(|p| prepared.dot_radius(p, range))
+            .collect();
+        let mut drawing = Stipple {
+            dots: Vec::new(),
             points,
+            calibrated,
             set,
             domain: (width, height),
             range,
@@ -399,16 +555,40 @@ impl StippleOptions {
             short_of: fitted.short_of,
             tour,
             seconds: (t_load, t_sample, t_relax),
-        })
+        };
+        drawing.dots = self.dots(&drawing);
+        Ok(drawing)
     }
 
-    /// Writes `drawing` to `path` (SVG or PNG by extension), atomically.
+    /// [`Self::run`] on the chosen backend (the CLI's fallback policy,
+    /// [`crate::backend::sample`]); `notice` hears which backend runs.
+    pub fn run_on(
+        &self,
+        image: &Path,
+        backend: crate::backend::BackendChoice,
+        ctl: crate::sampler::Control<'_>,
+        notice: &mut dyn FnMut(crate::backend::Notice),
+    ) -> crate::Result<Stipple> {
+        self.run(
+            image,
+            |params| Ok(crate::backend::sample(params, backend, ctl, &mut *notice)?),
+            |_| ctl.check().is_ok(),
+        )
+    }
+
+    /// Writes `drawing` to `path` atomically, in the format of its
+    /// extension: the dots as this job draws them ([`Self::dots`]) as SVG
+    /// (circles, or pen paths with `pen_mm`) or PNG (at `scale`, in the
+    /// ink's colour), or their sample points as CSV or JSON (with the job).
+    /// Options of other formats are ignored ([`Self::validate`] refuses
+    /// them up front).
     pub fn write(&self, drawing: &Stipple, path: &Path) -> crate::Result<()> {
         let format = Format::from_path(path)?;
-        self.validate(format)?;
-        let (dots, domain) = (&drawing.dots, drawing.domain);
+        self.check()?;
+        let domain = drawing.domain;
         match format {
             Format::Svg => {
+                let dots = self.dots(drawing);
                 let mut opts = match self.width_mm {
                     Some(mm) => svg::SvgOptions::with_width_mm(domain, mm)?,
                     None => svg::SvgOptions::new(domain),
@@ -416,15 +596,125 @@ impl StippleOptions {
                 if let Some(pen) = self.pen_mm {
                     opts = opts.with_pen_mm(pen)?;
                 }
-                crate::io::write_atomic(path, |w| Ok(svg::write(w, dots, &opts)?))?;
+                let opts = opts.with_ink(self.ink.0);
+                crate::io::write_atomic(path, |w| Ok(svg::write(w, &dots, &opts)?))?;
             }
             Format::Png => {
-                let img = super::raster::render(dots, domain, self.scale)?;
+                let dots = self.dots(drawing);
+                let img = super::raster::render(&dots, domain, self.scale)?;
                 crate::io::write_atomic(path, |w| {
-                    Ok(super::raster::write_png(w, &img, dots.len())?)
+                    if self.ink == Ink::BLACK {
+                        Ok(super::raster::write_png(w, &img, dots.len())?)
+                    } else {
+                        Ok(super::raster::write_png_ink(
+                            w,
+                            &img,
+                            self.ink.0,
+                            dots.len(),
+                        )?)
+                    }
                 })?;
+            }
+            Format::Csv | Format::Json => {
+                let set = drawing.set.clone().with_points(drawing.points.clone());
+                crate::io::write_points(path, &set, self)?;
             }
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_job_reads_back_its_own_json_and_refuses_unknown_values() {
+        let mut job = Job::default();
+        job.points = Some(1234);
+        job.ink = Ink([1, 2, 3]);
+        job.importance.gamma = 1.5;
+        job.sampler.seed = 9;
+        let text = serde_json::to_string(&job).unwrap();
+        assert!(text.contains(r##""ink":"#010203""##), "{text}");
+        assert_eq!(serde_json::from_str::<Job>(&text).unwrap(), job);
+        // Missing fields take the defaults; a bad enum name is refused.
+        assert_eq!(serde_json::from_str::<Job>("{}").unwrap(), Job::default());
+        assert!(serde_json::from_str::<Job>(r#"{"policy":"largest"}"#).is_err());
+        assert_eq!(Job::default().policy, Policy::Smaller);
+    }
+
+    #[test]
+    fn the_sampling_key_ignores_only_how_dots_are_drawn() {
+        let job = Job::default();
+        let mut drawn = job.clone();
+        drawn.dot_factor = Some(1.3);
+        drawn.scale = 2.0;
+        drawn.ink = Ink([200, 0, 0]);
+        drawn.width_mm = Some(100.0);
+        drawn.dot = Some(DotMode::Sized);
+        assert_eq!(drawn.sampling_key(), job.sampling_key());
+        // Fixed and proportional dots share their samples; sized ones not.
+        let fixed = Job {
+            dot: Some(DotMode::Fixed),
+            ..job.clone()
+        };
+        let proportional = Job {
+            dot: Some(DotMode::Proportional),
+            ..job.clone()
+        };
+        assert_eq!(fixed.sampling_key(), proportional.sampling_key());
+        assert_ne!(fixed.sampling_key(), job.sampling_key());
+        let mut seeded = job.clone();
+        seeded.sampler.seed = 1;
+        assert_ne!(seeded.sampling_key(), job.sampling_key());
+        // A pen sizes the dots only when nothing else does.
+        let pen = Job {
+            width_mm: Some(100.0),
+            pen_mm: Some(0.3),
+            ..job.clone()
+        };
+        assert_ne!(pen.sampling_key().pen_mm, None);
+        let counted = Job {
+            points: Some(500),
+            ..pen
+        };
+        assert_eq!(counted.sampling_key().pen_mm, None);
+    }
+
+    #[test]
+    fn the_job_holds_every_exclusion() {
+        let both = Job {
+            dot_radius: Some(3.0),
+            points: Some(100),
+            ..Job::default()
+        };
+        assert!(both.check().is_err());
+        let mut with_min = Job {
+            dot_radius: Some(3.0),
+            ..Job::default()
+        };
+        assert!(with_min.check().is_ok());
+        with_min.importance.min_radius = Some(2.0);
+        assert!(with_min.check().is_err());
+        let pen = Job {
+            pen_mm: Some(0.3),
+            ..Job::default()
+        };
+        assert!(pen.check().is_err(), "a pen needs a page width");
+        let scaled = Job {
+            scale: 2.0,
+            ..Job::default()
+        };
+        assert!(scaled.validate(Format::Svg).is_err());
+        assert!(scaled.validate(Format::Png).is_ok());
+        assert_eq!(
+            Format::from_path(Path::new("photo.SVG")).unwrap(),
+            Format::Svg
+        );
+        assert_eq!(
+            Format::from_path(Path::new("dots.Json")).unwrap(),
+            Format::Json
+        );
     }
 }

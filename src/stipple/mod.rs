@@ -9,13 +9,15 @@ mod job;
 pub mod raster;
 pub mod read;
 pub mod relax;
+mod sample_job;
 pub mod svg;
 pub mod tsp;
 
 pub use job::{
-    DEFAULT_DOT_RATIO, DEFAULT_POINTS, DotMode, Format, MIN_DOMAIN_SIDE, Order, Stipple,
-    StippleOptions, default_domain,
+    DEFAULT_DOT_RATIO, DEFAULT_POINTS, DotMode, Format, Ink, Job, MIN_DOMAIN_SIDE, Order, Stipple,
+    default_domain,
 };
+pub use sample_job::{Radii, SampleJob, Sampled};
 
 use crate::importance::{Prepared, RadiusRange};
 use crate::sampler::Point;

@@ -28,7 +28,7 @@ use super::{Control, Dart, Params, Plan, Result, SampleSet, Stats};
 pub fn sample(params: &Params, ctl: Control<'_>) -> Result<SampleSet> {
     let plan = params.plan()?;
     let stats = Stats {
-        backend: "cpu".into(),
+        backend: crate::sampler::BackendKind::Cpu,
         device: format!("{} threads", rayon::current_num_threads()),
         ..Stats::default()
     };
