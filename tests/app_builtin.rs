@@ -10,10 +10,17 @@ fn the_built_in_photo_opens_from_any_folder() {
     let dir = tempfile::tempdir().unwrap();
     std::env::set_current_dir(dir.path()).unwrap();
     assert!(!std::path::Path::new("assets").exists());
-    let h = Harness::builder()
+    let mut h = Harness::builder()
         .with_size([1000.0, 800.0])
         .wgpu_setup(app::wgpu_setup())
         .build_eframe(|cc| PixelPieApp::new(cc, None));
+    // The photo decodes on its own thread.
+    let start = std::time::Instant::now();
+    while h.state().source.is_none() {
+        h.step();
+        assert!(start.elapsed().as_secs() < 30, "the photo never decoded");
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
     let app = h.state();
     assert!(app.error.is_none(), "error: {:?}", app.error);
     let src = app.source.as_ref().expect("the built-in photo is open");

@@ -55,7 +55,8 @@ impl PixelPieApp {
         self.view_ui(ui);
     }
 
-    /// The title and the help button.
+    /// The title, Undo and Reset (always in reach, however long the
+    /// panel), and the help button.
     fn header_ui(&mut self, ui: &mut egui::Ui) {
         ui.horizontal(|ui| {
             ui.heading("PixelPie");
@@ -66,6 +67,20 @@ impl PixelPieApp {
                     .clicked()
                 {
                     self.show_help = !self.show_help;
+                }
+                if ui
+                    .button("Reset")
+                    .on_hover_text("Every control back to its default (Undo brings them back)")
+                    .clicked()
+                {
+                    self.reset_settings();
+                }
+                if ui
+                    .button("Undo")
+                    .on_hover_text("Undo the last settings change (Ctrl+Z)")
+                    .clicked()
+                {
+                    self.undo();
                 }
             });
         });
@@ -376,29 +391,13 @@ impl PixelPieApp {
                 "Each sample's disk in blue (the paper's Figure 4): where the disks overlap \
                  and how the set covers the picture",
             );
-        ui.horizontal(|ui| {
-            if ui
-                .button("Fit view")
-                .on_hover_text("Fit the picture in the view (F); + and − zoom")
-                .clicked()
-            {
-                self.view.fit_next = true;
-            }
-            if ui
-                .button("Undo")
-                .on_hover_text("Undo the last settings change (Ctrl+Z)")
-                .clicked()
-            {
-                self.undo();
-            }
-            if ui
-                .button("Reset")
-                .on_hover_text("Every control back to its default (Undo brings them back)")
-                .clicked()
-            {
-                self.reset_settings();
-            }
-        });
+        if ui
+            .button("Fit view")
+            .on_hover_text("Fit the picture in the view (F); + and − zoom")
+            .clicked()
+        {
+            self.view.fit_next = true;
+        }
     }
 
     /// Progress and statistics, in a place of fixed height.
@@ -446,7 +445,7 @@ impl PixelPieApp {
                         o.seconds
                     ),
                     format!(
-                        "sampling {t_sample:.2} s, relaxing {t_relax:.2} s; last run: S1 \
+                        "sampler {t_sample:.2} s, relaxation {t_relax:.2} s; last run: S1 \
                          {:.1} ms, S2 {:.1} ms, PP {:.1} ms",
                         st.stages.get("throw") * 1e3,
                         st.stages.get("cull") * 1e3,
