@@ -105,7 +105,7 @@ fn main() -> Result<()> {
                     height: ph,
                     values: img.as_raw().iter().map(|&g| f32::from(g) / 255.0).collect(),
                 };
-                fidelity::compare(&photo, &drawing, sigma).map_err(anyhow::Error::msg)
+                Ok(fidelity::compare(&photo, &drawing, sigma)?)
             };
             if let Some(cal) = &row.calibrated {
                 let dots: Vec<Dot> = row

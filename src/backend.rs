@@ -57,10 +57,13 @@ pub struct SharedGpu {
 #[cfg(feature = "gpu")]
 impl SharedGpu {
     /// The process's GPU, or why there is none.
-    pub fn get() -> Result<&'static Self, String> {
-        static GPU: OnceLock<Result<SharedGpu, String>> = OnceLock::new();
+    pub fn get() -> Result<&'static Self, NoGpu> {
+        static GPU: OnceLock<Result<SharedGpu, NoGpu>> = OnceLock::new();
         GPU.get_or_init(|| {
-            let ctx = GpuContext::new().map_err(|e| e.to_string())?;
+            let ctx = GpuContext::new().map_err(|e| {
+                let why = crate::one_line(&e);
+                NoGpu(why.trim_start_matches("GPU: ").to_owned())
+            })?;
             Ok(Self {
                 ctx,
                 sampler: Mutex::new(None),
@@ -123,7 +126,7 @@ impl SharedGpu {
 
 /// The GPU backend cannot be used here: no adapter, or a build without the
 /// `gpu` feature.
-#[derive(Debug, thiserror::Error)]
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 #[error("GPU: {0}")]
 pub struct NoGpu(pub String);
 
@@ -187,12 +190,12 @@ pub fn sample(
         let mut gpu = if wants_gpu {
             SharedGpu::get()
         } else {
-            Err("not asked for".into())
+            Err(NoGpu("not asked for".into()))
         };
         let runner = gpu
             .as_mut()
             .map(|g| g as &mut dyn GpuRun)
-            .map_err(|e| e.clone());
+            .map_err(|e| e.0.clone());
         sample_with(params, choice, runner, ctl, notice)
     }
     #[cfg(not(feature = "gpu"))]

@@ -52,7 +52,7 @@ pub fn run(a: &FidelityArgs) -> Result<()> {
     let sigma = a
         .sigma
         .unwrap_or_else(|| (f64::from(w) * f64::from(h) / dots.max(1) as f64).sqrt());
-    let fidelity = fidelity::compare(&photo, &drawing, sigma).map_err(anyhow::Error::msg)?;
+    let fidelity = fidelity::compare(&photo, &drawing, sigma)?;
     let report = Report {
         photo: (w, h),
         dots,

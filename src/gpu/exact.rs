@@ -27,8 +27,9 @@ use super::compact::{CompactStage, ScanChain};
 use super::cover::CoverStage;
 use super::resources::RadiusTexture;
 use super::{Config, util};
-use crate::sampler::exact::{ExactStepper, REFINE_BELOW, frac_bits};
-use crate::sampler::fixed::{self, MAX_BATCH, RADIUS_ONE, iteration_key};
+use crate::sampler::exact::rules::{self, Handover, Placed};
+use crate::sampler::exact::{ExactStepper, frac_bits};
+use crate::sampler::fixed::{RADIUS_ONE, iteration_key};
 use crate::sampler::run::{StageTimes, Step, Stepper};
 use crate::sampler::{Dart, Plan, Point, Result};
 
@@ -69,11 +70,7 @@ impl ExactConfig {
         let frac = frac_bits(plan.width, plan.height);
         let g = plan.radius_range.1.div_ceil(RADIUS_ONE) + 1;
         let cols = plan.width.div_ceil(g);
-        let (period_x, period_y) = if plan.periodic {
-            (plan.width << frac, plan.height << frac)
-        } else {
-            (0, 0)
-        };
+        let (period_x, period_y) = rules::periods(plan, frac);
         Self {
             frac,
             g,
@@ -468,8 +465,8 @@ pub struct ExactGpuStepper<'a> {
     ex: ExactConfig,
     /// Which of `res.cells` holds the active cells.
     cells_in: usize,
-    /// The accepted samples in order: x, y (1/2^F px) and pixel.
-    samples: Vec<(u32, u32, u32)>,
+    /// The accepted samples in order.
+    samples: Vec<Placed>,
     /// The CPU's run, from the finest level on.
     cpu: Option<ExactStepper<'a>>,
 }
@@ -618,7 +615,7 @@ impl<'a> ExactGpuStepper<'a> {
     }
 
     /// The active cells, read back.
-    fn cells(&self) -> Result<Vec<(u32, u32)>> {
+    fn cells(&self) -> Result<Vec<[u32; 2]>> {
         let n = u64::from(self.ex.live);
         if n == 0 {
             return Ok(Vec::new());
@@ -633,8 +630,7 @@ impl<'a> ExactGpuStepper<'a> {
         encoder.copy_buffer_to_buffer(&self.res.cells[self.cells_in], 0, &staging, 0, 8 * n);
         self.queue.submit([encoder.finish()]);
         let bytes = util::read_back(self.device, &staging, 8 * n)?;
-        let cells: Vec<[u32; 2]> = bytemuck::pod_collect_to_vec(&bytes);
-        Ok(cells.into_iter().map(|[x, y]| (x, y)).collect())
+        Ok(bytemuck::pod_collect_to_vec(&bytes))
     }
 }
 
@@ -647,7 +643,7 @@ impl Stepper for ExactGpuStepper<'_> {
     }
 
     fn darts_for(&self, plan: &Plan, empty: u64) -> u32 {
-        u64::from(plan.batch).min(empty).min(u64::from(MAX_BATCH)) as u32
+        rules::darts_for(plan, empty)
     }
 
     fn step(&mut self, iteration: u32, darts: u32) -> Result<Step> {
@@ -746,17 +742,17 @@ impl Stepper for ExactGpuStepper<'_> {
         let (left, count) = (head[0], head[1].min(darts));
         let survivors: Vec<Dart> =
             bytemuck::pod_collect_to_vec(&view[16..16 + count as usize * DART_BYTES as usize]);
-        let one = (1u32 << self.ex.frac) as f32;
-        let accepted: Vec<Point> = survivors
+        let placed = survivors.iter().map(|d| Placed {
+            x: d.x,
+            y: d.y,
+            pixel: d.pixel,
+        });
+        let from = self.samples.len();
+        self.samples.extend(placed);
+        let accepted: Vec<Point> = self.samples[from..]
             .iter()
-            .map(|d| Point {
-                x: d.x as f32 / one,
-                y: d.y as f32 / one,
-                radius: fixed::fx_to_radius(self.plan.radius_at(d.pixel)),
-            })
+            .map(|p| p.point(self.plan, self.ex.frac))
             .collect();
-        self.samples
-            .extend(survivors.iter().map(|d| (d.x, d.y, d.pixel)));
         if level == 0 {
             self.config.empty = left;
             self.config.first = 0;
@@ -773,15 +769,17 @@ impl Stepper for ExactGpuStepper<'_> {
             finished: false,
             removed: Vec::new(),
         };
-        if self.ex.level < self.ex.frac && (count as usize) * REFINE_BELOW < darts as usize {
+        if rules::refines(self.ex.level, self.ex.frac, count as usize, darts as usize) {
             self.refine()?;
             step.empty = u64::from(self.ex.live);
             if self.ex.level == self.ex.frac {
-                let coverage = self.coverage()?;
-                let cells = self.cells()?;
-                let samples = std::mem::take(&mut self.samples);
-                let (cpu, removed) =
-                    ExactStepper::resume(self.plan, &samples, coverage, self.ex.level, cells);
+                let handover = Handover {
+                    coverage: self.coverage()?,
+                    cells: self.cells()?,
+                    samples: std::mem::take(&mut self.samples),
+                    level: self.ex.level,
+                };
+                let (cpu, removed) = ExactStepper::resume(self.plan, handover);
                 step.empty = cpu.left();
                 step.finished = cpu.empty() == 0;
                 step.removed = removed;

@@ -630,9 +630,11 @@ mod tests {
 
     #[test]
     fn the_job_reads_back_its_own_json_and_refuses_unknown_values() {
-        let mut job = Job::default();
-        job.points = Some(1234);
-        job.ink = Ink([1, 2, 3]);
+        let mut job = Job {
+            points: Some(1234),
+            ink: Ink([1, 2, 3]),
+            ..Job::default()
+        };
         job.importance.gamma = 1.5;
         job.sampler.seed = 9;
         let text = serde_json::to_string(&job).unwrap();

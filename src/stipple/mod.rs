@@ -146,7 +146,7 @@ pub fn relax_points(
         height: h,
         weights: &weights,
     };
-    relax::check(&density).map_err(Error::InvalidParameter)?;
+    relax::check(&density)?;
     let xy: Vec<[f32; 2]> = points.iter().map(|p| [p.x, p.y]).collect();
     let moved = relax::relax(&xy, &density, options, progress);
     Ok(moved

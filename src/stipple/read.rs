@@ -46,7 +46,17 @@ pub struct Drawing {
 /// assert_eq!((d.view_width, d.view_height, d.dots.len()), (10.0, 8.0, 1));
 /// assert_eq!(d.dots[0].radius, 1.5);
 /// ```
-pub fn read_svg(text: &str) -> Result<Drawing, String> {
+pub fn read_svg(text: &str) -> Result<Drawing, ReadError> {
+    parse(text).map_err(ReadError)
+}
+
+/// Why an SVG is not a pixelpie drawing, on one line.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct ReadError(pub String);
+
+/// [`read_svg`], its error a message.
+fn parse(text: &str) -> Result<Drawing, String> {
     let mut reader = Reader::from_str(text);
     let mut doc = Document::default();
     loop {
@@ -523,9 +533,11 @@ mod tests {
     #[test]
     fn refuses_foreign_svg() {
         let foreign = CIRCLES.replace("made by pixelpie", "made by hand");
-        let e = read_svg(&foreign).unwrap_err();
+        let e = read_svg(&foreign).unwrap_err().0;
         assert!(e.contains("not a pixelpie drawing"), "{e}");
-        let e = read_svg(r#"<svg viewBox="0 0 1 1"><circle r="1"/></svg>"#).unwrap_err();
+        let e = read_svg(r#"<svg viewBox="0 0 1 1"><circle r="1"/></svg>"#)
+            .unwrap_err()
+            .0;
         assert!(e.contains("not a pixelpie drawing"), "{e}");
     }
 
@@ -541,7 +553,7 @@ mod tests {
             "<html><!-- 0 dots, made by pixelpie --></html>",
             "<svg viewBox=\"0 0 1 1\"/><svg/>",
         ] {
-            let e = read_svg(text).unwrap_err();
+            let e = read_svg(text).unwrap_err().0;
             assert!(!e.contains('\n'), "{e}");
             assert!(e.starts_with("not"), "{text:?}: {e}");
         }
@@ -549,11 +561,13 @@ mod tests {
 
     #[test]
     fn refuses_a_missing_or_bad_view_box() {
-        let e = read_svg(&CIRCLES.replace(r#" viewBox="0 0 400 200""#, "")).unwrap_err();
+        let e = read_svg(&CIRCLES.replace(r#" viewBox="0 0 400 200""#, ""))
+            .unwrap_err()
+            .0;
         assert!(e.contains("no viewBox"), "{e}");
         for vb in ["0 0 400", "0 0 -1 5", "a b c d", "0 0 0 5"] {
             let text = CIRCLES.replace("0 0 400 200", vb);
-            assert!(read_svg(&text).unwrap_err().contains("viewBox"), "{vb}");
+            assert!(read_svg(&text).unwrap_err().0.contains("viewBox"), "{vb}");
         }
     }
 

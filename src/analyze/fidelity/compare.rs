@@ -17,8 +17,12 @@ use super::{Fidelity, Grey, blur, psnr, ssim};
 /// assert!((f.psnr - 20.0 * 4f64.log10()).abs() < 1e-6);
 /// assert!(compare(&photo, &Grey::filled(32, 31, 0.5), 4.0).is_err());
 /// ```
-pub fn compare(photo: &Grey, drawing: &Grey, sigma: f64) -> Result<Fidelity, String> {
-    validate(photo, drawing, sigma)?;
+pub fn compare(
+    photo: &Grey,
+    drawing: &Grey,
+    sigma: f64,
+) -> Result<Fidelity, crate::analyze::Error> {
+    validate(photo, drawing, sigma).map_err(crate::analyze::Error::InvalidParameter)?;
     let ((psnr, ssim), (psnr_linear, ssim_linear)) = rayon::join(
         || measure(photo, drawing, sigma),
         || {
@@ -144,7 +148,12 @@ mod tests {
             height: 8,
             values: vec![0.5; 63],
         };
-        assert!(compare(&a, &short, 1.0).unwrap_err().contains("63 values"));
+        assert!(
+            compare(&a, &short, 1.0)
+                .unwrap_err()
+                .to_string()
+                .contains("63 values")
+        );
         let empty = Grey::filled(0, 5, 0.5);
         assert!(compare(&empty, &empty, 1.0).is_err());
         assert!(Grey::new(3, 3, vec![0.0; 9]).is_ok());

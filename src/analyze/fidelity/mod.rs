@@ -76,13 +76,13 @@ impl Grey {
     /// assert!(Grey::new(2, 2, vec![1.0; 4]).is_ok());
     /// assert!(Grey::new(2, 2, vec![1.0; 3]).is_err());
     /// ```
-    pub fn new(width: u32, height: u32, values: Vec<f32>) -> Result<Self, String> {
+    pub fn new(width: u32, height: u32, values: Vec<f32>) -> Result<Self, super::Error> {
         let img = Self {
             width,
             height,
             values,
         };
-        img.check("image")?;
+        img.check("image").map_err(super::Error::InvalidParameter)?;
         Ok(img)
     }
 

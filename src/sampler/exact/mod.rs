@@ -66,6 +66,7 @@
 //!   to `ExactStepper::resume`, which runs the rest here.
 
 mod grid;
+pub(crate) mod rules;
 pub mod union;
 
 use std::time::Instant;
@@ -74,10 +75,13 @@ use rayon::prelude::*;
 
 use super::cpu::compact::EmptyList;
 use super::cpu::cover::{BAND_ROWS, fill_span, for_each_band, isqrt, new_map};
-use super::fixed::{self, MAX_BATCH, RADIUS_FRAC_BITS, axis_delta, iteration_key};
+use super::fixed::{self, RADIUS_FRAC_BITS, axis_delta, iteration_key};
 use super::run::{StageTimes, Step, Stepper};
 use super::{Plan, Point, Policy, Result};
 use grid::SampleGrid;
+#[cfg(feature = "gpu")]
+use rules::Handover;
+use rules::Placed;
 
 /// An iteration that accepts fewer than 1/`REFINE_BELOW` of its darts
 /// refines the cells.
@@ -141,15 +145,10 @@ impl<'p> ExactStepper<'p> {
     #[must_use]
     pub fn new(plan: &'p Plan) -> Self {
         let frac = frac_bits(plan.width, plan.height);
-        let periods = if plan.periodic {
-            (plan.width << frac, plan.height << frac)
-        } else {
-            (0, 0)
-        };
         Self {
             plan,
             frac,
-            periods,
+            periods: rules::periods(plan, frac),
             samples: Vec::new(),
             grid: SampleGrid::new(plan),
             level: 0,
@@ -166,36 +165,30 @@ impl<'p> ExactStepper<'p> {
 
     /// The run after iterations done elsewhere: the GPU backend
     /// (`gpu::exact`), which follows these semantics bit for bit up to and
-    /// including an iteration's refinement. `samples` are the accepted
-    /// samples in acceptance order, as (x, y) in 1/2^F px and pixel index;
-    /// `coverage` marks the pixels one of them holds whole (bit p % 64 of
-    /// word p / 64, set beyond the last pixel); `level` and `cells` are the
-    /// level and, above 0, its active cells in order. The iteration's rest
-    /// (the finest level's cells set aside, a repair) runs here, and the
-    /// samples it takes back are returned.
+    /// including an iteration's refinement, hands its state over. The
+    /// iteration's rest (the finest level's cells set aside, a repair) runs
+    /// here, and the samples it takes back are returned.
     #[cfg(feature = "gpu")]
-    pub(crate) fn resume(
-        plan: &'p Plan,
-        samples: &[(u32, u32, u32)],
-        coverage: Vec<u64>,
-        level: u32,
-        cells: Vec<(u32, u32)>,
-    ) -> (Self, Vec<u32>) {
+    pub(crate) fn resume(plan: &'p Plan, handover: Handover) -> (Self, Vec<u32>) {
         let mut st = Self::new(plan);
-        for &(x, y, pixel) in samples {
+        for p in handover.samples {
             let s = Sample {
-                x,
-                y,
-                pixel,
-                r: st.r_at(pixel),
+                x: p.x,
+                y: p.y,
+                pixel: p.pixel,
+                r: st.r_at(p.pixel),
             };
             st.grid.insert(s);
             st.samples.push(s);
         }
-        st.coverage = coverage;
+        st.coverage = handover.coverage;
         st.empty.compact(&st.coverage);
-        st.level = level;
-        st.cells = cells.into_iter().map(|(x, y)| Cell { x, y }).collect();
+        st.level = handover.level;
+        st.cells = handover
+            .cells
+            .into_iter()
+            .map(|[x, y]| Cell { x, y })
+            .collect();
         if st.level == st.frac {
             st.settle_finest();
         }
@@ -658,12 +651,12 @@ impl<'p> ExactStepper<'p> {
     }
 
     fn point(&self, s: &Sample) -> Point {
-        let one = (1u32 << self.frac) as f32;
-        Point {
-            x: s.x as f32 / one,
-            y: s.y as f32 / one,
-            radius: fixed::fx_to_radius(self.plan.radius_at(s.pixel)),
-        }
+        let placed = Placed {
+            x: s.x,
+            y: s.y,
+            pixel: s.pixel,
+        };
+        placed.point(self.plan, self.frac)
     }
 }
 
@@ -673,7 +666,7 @@ impl Stepper for ExactStepper<'_> {
     }
 
     fn darts_for(&self, plan: &Plan, empty: u64) -> u32 {
-        u64::from(plan.batch).min(empty).min(u64::from(MAX_BATCH)) as u32
+        rules::darts_for(plan, empty)
     }
 
     fn step(&mut self, iteration: u32, darts: u32) -> Result<Step> {
@@ -705,7 +698,7 @@ impl Stepper for ExactStepper<'_> {
             self.cells = cells;
         }
         let t3 = Instant::now();
-        if self.level < self.frac && accepted.len() * REFINE_BELOW < batch.len() {
+        if rules::refines(self.level, self.frac, accepted.len(), batch.len()) {
             self.refine();
         }
         if self.level == self.frac {

@@ -75,7 +75,12 @@ pub struct RelaxOptions {
 
 /// Checks a density: `width` and `height` > 0, `width * height` weights, all
 /// finite and >= 0. The error is a one-line message.
-pub fn check(density: &Density<'_>) -> Result<(), String> {
+pub fn check(density: &Density<'_>) -> Result<(), super::Error> {
+    check_density(density).map_err(super::Error::InvalidParameter)
+}
+
+/// [`check`], its error a message.
+fn check_density(density: &Density<'_>) -> Result<(), String> {
     let (w, h) = (density.width, density.height);
     if w == 0 || h == 0 {
         return Err(format!("density is {w}×{h}: width and height must be > 0"));
@@ -322,7 +327,8 @@ mod tests {
             height: 2,
             weights: &good,
         })
-        .unwrap_err();
+        .unwrap_err()
+        .to_string();
         assert!(err.contains("6 weights") && !err.contains('\n'), "{err}");
         for bad in [f32::NAN, f32::INFINITY, -1.0] {
             let mut weights = good.clone();
@@ -332,7 +338,8 @@ mod tests {
                 height: 2,
                 weights: &weights,
             })
-            .unwrap_err();
+            .unwrap_err()
+            .to_string();
             assert!(err.contains("(1, 1)"), "{err}");
         }
     }
