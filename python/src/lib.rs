@@ -9,7 +9,6 @@
 //!   cannot be read or written to `OSError`, with the CLI's messages.
 
 use std::path::PathBuf;
-use std::sync::Arc;
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, Ordering};
 
