@@ -61,7 +61,7 @@ impl SharedGpu {
         static GPU: OnceLock<Result<SharedGpu, NoGpu>> = OnceLock::new();
         GPU.get_or_init(|| {
             let ctx = GpuContext::new().map_err(|e| {
-                let why = crate::one_line(&e);
+                let why = crate::text::one_line(&e);
                 NoGpu(why.trim_start_matches("GPU: ").to_owned())
             })?;
             Ok(Self {
@@ -245,7 +245,7 @@ pub fn sample_with(
                 notice(Notice::Adapter(gpu.adapter()));
                 match gpu.sample(params, ctl) {
                     Err(e) if e.is_backend() => {
-                        let why = crate::one_line(&e);
+                        let why = crate::text::one_line(&e);
                         notice(Notice::Fallback(format!("the GPU failed: {why}")));
                         sampler::cpu::sample(params, ctl)
                     }

@@ -44,7 +44,9 @@ pub mod importance;
 pub mod io;
 pub mod sampler;
 pub mod stipple;
+mod text;
 
+pub use error::{Error, Result};
+pub use text::one_line;
 #[doc(hidden)]
-pub use error::single_line;
-pub use error::{Error, Result, one_line};
+pub use text::single_line;

@@ -433,7 +433,7 @@ fn decode(path: Option<&Path>) -> Result<Decoded, String> {
         Some(p) => ImportanceMap::open(p, None),
         None => ImportanceMap::from_encoded(DEFAULT_IMAGE, Path::new(DEFAULT_IMAGE_NAME), None),
     }
-    .map_err(|e| crate::one_line(&e))?;
+    .map_err(|e| crate::text::one_line(&e))?;
     let (w, h) = (map.width() as usize, map.height() as usize);
     let gray: Vec<egui::Color32> = map
         .values()

@@ -641,7 +641,7 @@ impl PixelPieApp {
             }
             Err(e) => {
                 self.exported = None;
-                self.export_error = Some(crate::one_line(&e));
+                self.export_error = Some(crate::text::one_line(&e));
             }
         }
     }

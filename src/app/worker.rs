@@ -174,7 +174,7 @@ fn run(
                 o.seconds = start.elapsed().as_secs_f64();
                 Ok(o)
             }
-            Err(e) => Err(crate::one_line(&e)),
+            Err(e) => Err(crate::text::one_line(&e)),
         };
         let _ = replies.send(Reply::Done(id, Box::new(result)));
         repaint.request_repaint();

@@ -4,8 +4,8 @@
 //! Shader: `shaders/cover.wgsl`; CPU mirrors: `sampler::cpu::cover`, and
 //! `cover_band` in `sampler::exact`.
 
-use super::resources::Bindings;
 use super::util;
+use super::util::Bindings;
 
 /// The cover kernel.
 pub struct CoverStage {

@@ -3,8 +3,8 @@
 //! key won; the flags are scanned and the survivors gathered in dart order.
 //! Shader: `shaders/cull.wgsl`; CPU mirror: `sampler::cpu::cull`.
 
-use super::resources::Bindings;
 use super::util;
+use super::util::Bindings;
 
 /// The cull and gather kernels.
 pub struct CullStage {

@@ -4,11 +4,12 @@
 
 use std::time::Instant;
 
+use super::Config;
 use super::compact::{CompactStage, ScanChain};
 use super::cover::CoverStage;
 use super::cull::CullStage;
 use super::throw::{ThrowGroups, ThrowStage};
-use super::{Config, util};
+use super::util::{self, Bindings};
 use crate::sampler::Dart;
 use crate::sampler::{Plan, Result};
 
@@ -38,30 +39,6 @@ const QUERIES: u32 = 2 * STAGES.len() as u32;
 /// Where the resolved timestamps land in the read-back, after the counts.
 const TIMESTAMPS_AT: u64 = 16;
 const _: () = assert!(TIMESTAMPS_AT + 8 * QUERIES as u64 <= HEADER);
-
-/// The buffers and views that the stages bind, for their `bind` functions.
-pub struct Bindings<'a> {
-    /// The run's configuration (uniform).
-    pub config: &'a wgpu::Buffer,
-    /// The batch's darts.
-    pub darts: &'a wgpu::Buffer,
-    /// The survivors, in dart order.
-    pub survivors: &'a wgpu::Buffer,
-    /// The coverage bitmap.
-    pub coverage: &'a wgpu::Buffer,
-    /// The scan of empty pixels per coverage word (the empty list's index).
-    pub empty_scan: &'a wgpu::Buffer,
-    /// The survivor flags and their scan.
-    pub dart_flags: &'a wgpu::Buffer,
-    /// The survivor count (the scan's total).
-    pub survivor_count: &'a wgpu::Buffer,
-    /// The compute path's key buffer.
-    pub keys: &'a wgpu::Buffer,
-    /// The raster path's depth map.
-    pub depth: &'a wgpu::TextureView,
-    /// The radius map.
-    pub radius: &'a wgpu::TextureView,
-}
 
 /// The first timestamp query of stage `name`: its passes write the stage's
 /// start there and its end at the next index.

@@ -9,8 +9,8 @@
 //! Shaders: `shaders/throw.wgsl`, `shaders/raster.wgsl`, `shaders/splat.wgsl`;
 //! CPU mirror: `sampler::cpu::throw`.
 
-use super::resources::Bindings;
 use super::util;
+use super::util::Bindings;
 use crate::sampler::Plan;
 
 /// S1's bind groups on one run's resources.

@@ -219,6 +219,30 @@ pub fn read_back(
     Ok(bytes)
 }
 
+/// The buffers and views that the stages bind, for their `bind` functions.
+pub struct Bindings<'a> {
+    /// The run's configuration (uniform).
+    pub config: &'a wgpu::Buffer,
+    /// The batch's darts.
+    pub darts: &'a wgpu::Buffer,
+    /// The survivors, in dart order.
+    pub survivors: &'a wgpu::Buffer,
+    /// The coverage bitmap.
+    pub coverage: &'a wgpu::Buffer,
+    /// The scan of empty pixels per coverage word (the empty list's index).
+    pub empty_scan: &'a wgpu::Buffer,
+    /// The survivor flags and their scan.
+    pub dart_flags: &'a wgpu::Buffer,
+    /// The survivor count (the scan's total).
+    pub survivor_count: &'a wgpu::Buffer,
+    /// The compute path's key buffer.
+    pub keys: &'a wgpu::Buffer,
+    /// The raster path's depth map.
+    pub depth: &'a wgpu::TextureView,
+    /// The radius map.
+    pub radius: &'a wgpu::TextureView,
+}
+
 /// The layout naga reads from WGSL `source` for `struct name`: its size and
 /// each member's name and offset, for the tests of the Rust mirrors.
 #[cfg(test)]

@@ -120,7 +120,7 @@ pub fn linear_to_srgb(v: f32) -> f32 {
 pub fn load_bytes(bytes: &[u8], name: &Path) -> Result<Luminance> {
     let decode = |e: &dyn std::fmt::Display| Error::Decode {
         path: name.to_owned(),
-        message: crate::single_line(&e.to_string()),
+        message: crate::text::single_line(&e.to_string()),
     };
     let img = image::ImageReader::new(std::io::Cursor::new(bytes))
         .with_guessed_format()
@@ -139,7 +139,7 @@ pub fn load_bytes(bytes: &[u8], name: &Path) -> Result<Luminance> {
 fn load_image(path: &Path) -> Result<Luminance> {
     let decode = |e: &dyn std::fmt::Display| Error::Decode {
         path: path.to_owned(),
-        message: crate::single_line(&e.to_string()),
+        message: crate::text::single_line(&e.to_string()),
     };
     let img = image::ImageReader::open(path)
         .map_err(|error| Error::Io {
@@ -217,7 +217,7 @@ fn luminance(img: image::DynamicImage, path: &Path) -> Result<Luminance> {
 fn load_exr(path: &Path) -> Result<Luminance> {
     let img = crate::io::read_exr(path).map_err(|e| Error::Decode {
         path: path.to_owned(),
-        message: crate::single_line(
+        message: crate::text::single_line(
             &std::iter::successors(Some(&e as &dyn std::error::Error), |e| e.source())
                 .last()
                 .map_or_else(|| e.to_string(), ToString::to_string),

@@ -61,7 +61,7 @@ fn parse(text: &str) -> Result<Drawing, String> {
     let mut doc = Document::default();
     loop {
         let event = reader.read_event().map_err(|e| {
-            crate::single_line(&format!(
+            crate::text::single_line(&format!(
                 "not valid XML (near byte {}): {e}",
                 reader.error_position()
             ))
@@ -245,7 +245,8 @@ struct Attrs(Vec<(String, String)>);
 impl Attrs {
     /// Reads and unescapes the attributes of `e`.
     fn read(e: &BytesStart<'_>, reader: &Reader<&[u8]>) -> Result<Self, String> {
-        let bad = |e: &dyn std::fmt::Display| crate::single_line(&format!("not valid XML: {e}"));
+        let bad =
+            |e: &dyn std::fmt::Display| crate::text::single_line(&format!("not valid XML: {e}"));
         let mut out = Vec::new();
         for attr in e.attributes() {
             let attr = attr.map_err(|e| bad(&e))?;
