@@ -346,34 +346,64 @@ impl Resources {
         plan: &Plan,
         config: Config,
     ) -> Result<Iteration> {
-        let Stages {
-            throw,
-            cull,
-            cover,
-            compact,
-        } = stages;
-        let timestamps = self.queries.is_some();
         let darts = config.darts;
-        let mut config = config;
+        let mut laps = Laps::new(device, queue, self.queries.is_none());
+        let mut encoder = device.create_command_encoder(&Default::default());
+        let strips = self.encode_s1(device, queue, &mut encoder, stages, plan, config);
+        laps.lap(&mut encoder, 0);
+        // S2: cull by depth, gather the survivors, cover their disks.
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("S2 cull"),
+                timestamp_writes: self.pass_writes(const { stage_index("cull") }),
+            });
+            if strips == 1 {
+                stages.cull.encode_cull(&mut pass, &self.cull_group, darts);
+            }
+            self.dart_scan
+                .encode_scan(&mut pass, stages.compact, darts + 1);
+            stages
+                .cull
+                .encode_gather(&mut pass, &self.cull_group, darts);
+            stages
+                .cover
+                .encode(&mut pass, &self.cover_group, darts, plan.radius_range.1);
+        }
+        laps.lap(&mut encoder, 1);
+        // PP: count and scan the empty pixels.
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("PP compact"),
+                timestamp_writes: self.pass_writes(const { stage_index("compact") }),
+            });
+            self.word_scan
+                .encode_count(&mut pass, stages.compact, self.words);
+            self.word_scan
+                .encode_scan(&mut pass, stages.compact, self.words);
+        }
+        laps.lap(&mut encoder, 2);
+        let seconds = laps.seconds;
+        self.read_iteration(device, queue, encoder, darts, seconds)
+    }
+
+    /// Encodes S1: the darts made, then rasterized into the depth map (a
+    /// depth-tested draw) or splatted into the key buffer (a compute pass,
+    /// one strip of rows per submission when the buffer is chunked, each
+    /// strip culled while its keys are there). Returns the strips.
+    fn encode_s1(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        stages: Stages<'_>,
+        plan: &Plan,
+        mut config: Config,
+    ) -> u32 {
+        let darts = config.darts;
         config.strip_y0 = 0;
         config.strip_rows = self.strip_rows;
         queue.write_buffer(&self.config, 0, bytemuck::bytes_of(&config));
         let strips = self.height.div_ceil(self.strip_rows);
-        let mut seconds = [0.0; 3];
-        let mut clock = Instant::now();
-        let mut lap = |encoder: &mut wgpu::CommandEncoder, stage: usize| {
-            if !timestamps {
-                let done =
-                    std::mem::replace(encoder, device.create_command_encoder(&Default::default()));
-                queue.submit([done.finish()]);
-                let _ = device.poll(wgpu::PollType::wait_indefinitely());
-                let now = Instant::now();
-                seconds[stage] = (now - clock).as_secs_f64();
-                clock = now;
-            }
-        };
-        let mut encoder = device.create_command_encoder(&Default::default());
-        // S1: make the darts, rasterize them into the depth map.
         {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("S1 throw"),
@@ -385,11 +415,13 @@ impl Resources {
                     }
                 }),
             });
-            throw.encode_throw(&mut pass, &self.throw_groups.throw, darts);
+            stages
+                .throw
+                .encode_throw(&mut pass, &self.throw_groups.throw, darts);
         }
         match self.path {
-            S1Path::Raster => throw.encode_raster(
-                &mut encoder,
+            S1Path::Raster => stages.throw.encode_raster(
+                encoder,
                 &self.throw_groups.raster,
                 &self.depth,
                 darts,
@@ -403,13 +435,10 @@ impl Resources {
                     }),
             ),
             S1Path::Compute => {
-                // A chunked key buffer takes one strip of rows per submission
-                // (the strip is in the uniform config), and culls the darts
-                // whose pixels lie in the strip while its keys are there.
                 for strip in 0..strips {
                     if strip > 0 {
                         let done = std::mem::replace(
-                            &mut encoder,
+                            encoder,
                             device.create_command_encoder(&Default::default()),
                         );
                         queue.submit([done.finish()]);
@@ -429,43 +458,32 @@ impl Resources {
                             }
                         }),
                     });
-                    throw.encode_splat(
+                    stages.throw.encode_splat(
                         &mut pass,
                         &self.throw_groups.splat,
                         darts,
                         plan.radius_range.1,
                     );
                     if strips > 1 {
-                        cull.encode_cull(&mut pass, &self.cull_group, darts);
+                        stages.cull.encode_cull(&mut pass, &self.cull_group, darts);
                     }
                 }
             }
         }
-        lap(&mut encoder, 0);
-        // S2: cull by depth, gather the survivors, cover their disks.
-        {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("S2 cull"),
-                timestamp_writes: self.pass_writes(const { stage_index("cull") }),
-            });
-            if strips == 1 {
-                cull.encode_cull(&mut pass, &self.cull_group, darts);
-            }
-            self.dart_scan.encode_scan(&mut pass, compact, darts + 1);
-            cull.encode_gather(&mut pass, &self.cull_group, darts);
-            cover.encode(&mut pass, &self.cover_group, darts, plan.radius_range.1);
-        }
-        lap(&mut encoder, 1);
-        // PP: count and scan the empty pixels.
-        {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("PP compact"),
-                timestamp_writes: self.pass_writes(const { stage_index("compact") }),
-            });
-            self.word_scan.encode_count(&mut pass, compact, self.words);
-            self.word_scan.encode_scan(&mut pass, compact, self.words);
-        }
-        lap(&mut encoder, 2);
+        strips
+    }
+
+    /// Copies the counts, the timestamps and the survivors to the
+    /// read-back buffer, submits `encoder` and reads the iteration back;
+    /// with timestamps, they replace the wall-clock `seconds`.
+    fn read_iteration(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        mut encoder: wgpu::CommandEncoder,
+        darts: u32,
+        mut seconds: [f64; 3],
+    ) -> Result<Iteration> {
         encoder.copy_buffer_to_buffer(self.word_scan.total(), 0, &self.staging, 0, 4);
         encoder.copy_buffer_to_buffer(self.dart_scan.total(), 0, &self.staging, 4, 4);
         if let Some((set, resolve)) = &self.queries {
@@ -485,7 +503,7 @@ impl Resources {
         let view = util::read_back(device, &self.staging, HEADER + dart_bytes)?;
         let header: Vec<u32> = bytemuck::pod_collect_to_vec(&view[..HEADER as usize]);
         let (empty, count) = (header[0], header[1].min(darts));
-        if timestamps {
+        if self.queries.is_some() {
             // Each stage runs from its first pass's start to the next
             // stage's start (PP: to its end), so no gap goes uncounted.
             let at = TIMESTAMPS_AT as usize;
@@ -511,6 +529,43 @@ impl Resources {
             survivors,
             seconds,
         })
+    }
+}
+
+/// Wall-clock stage times where there are no timestamp queries: each stage
+/// is submitted and waited for on its own.
+struct Laps<'d> {
+    device: &'d wgpu::Device,
+    queue: &'d wgpu::Queue,
+    /// Time by submission (no timestamp queries).
+    wall_clock: bool,
+    clock: Instant,
+    seconds: [f64; 3],
+}
+
+impl<'d> Laps<'d> {
+    fn new(device: &'d wgpu::Device, queue: &'d wgpu::Queue, wall_clock: bool) -> Self {
+        Self {
+            device,
+            queue,
+            wall_clock,
+            clock: Instant::now(),
+            seconds: [0.0; 3],
+        }
+    }
+
+    /// Ends `stage`: submits what `encoder` holds, waits, and times it.
+    fn lap(&mut self, encoder: &mut wgpu::CommandEncoder, stage: usize) {
+        if !self.wall_clock {
+            return;
+        }
+        let fresh = self.device.create_command_encoder(&Default::default());
+        let done = std::mem::replace(encoder, fresh);
+        self.queue.submit([done.finish()]);
+        let _ = self.device.poll(wgpu::PollType::wait_indefinitely());
+        let now = Instant::now();
+        self.seconds[stage] = (now - self.clock).as_secs_f64();
+        self.clock = now;
     }
 }
 
