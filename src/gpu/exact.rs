@@ -614,43 +614,9 @@ impl<'a> ExactGpuStepper<'a> {
         Ok(())
     }
 
-    /// The active cells, read back.
-    fn cells(&self) -> Result<Vec<[u32; 2]>> {
-        let n = u64::from(self.ex.live);
-        if n == 0 {
-            return Ok(Vec::new());
-        }
-        let staging = util::buffer_of(
-            self.device,
-            "cells read-back",
-            8 * n,
-            wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        );
-        let mut encoder = self.device.create_command_encoder(&Default::default());
-        encoder.copy_buffer_to_buffer(&self.res.cells[self.cells_in], 0, &staging, 0, 8 * n);
-        self.queue.submit([encoder.finish()]);
-        let bytes = util::read_back(self.device, &staging, 8 * n)?;
-        Ok(bytemuck::pod_collect_to_vec(&bytes))
-    }
-}
-
-impl Stepper for ExactGpuStepper<'_> {
-    fn empty(&self) -> u64 {
-        match &self.cpu {
-            Some(cpu) => cpu.empty(),
-            None => u64::from(self.active()),
-        }
-    }
-
-    fn darts_for(&self, plan: &Plan, empty: u64) -> u32 {
-        rules::darts_for(plan, empty)
-    }
-
-    fn step(&mut self, iteration: u32, darts: u32) -> Result<Step> {
-        if let Some(cpu) = &mut self.cpu {
-            return cpu.step(iteration, darts);
-        }
-        let t0 = Instant::now();
+    /// Throws the iteration's darts and settles the batch's order;
+    /// returns the pixels or cells active before it.
+    fn throw(&mut self, iteration: u32, darts: u32) -> Result<u32> {
         let base = self.samples.len() as u32;
         self.res.reserve(
             self.device,
@@ -673,7 +639,7 @@ impl Stepper for ExactGpuStepper<'_> {
                 (1 - self.cells_in, active, active + 1),
             )?;
         }
-        let (res, stage, compact) = (&*self.res, self.kernels.exact, self.kernels.compact);
+        let (res, stage) = (&*self.res, self.kernels.exact);
         res.dart_scan.set_len(self.queue, darts + 1, 0);
         // Throw, then settle the batch's order.
         let mut encoder = self.device.create_command_encoder(&Default::default());
@@ -684,9 +650,15 @@ impl Stepper for ExactGpuStepper<'_> {
             stage.dispatch(&mut pass, self.group(), &stage.throw, darts);
         }
         self.resolve(encoder, darts)?;
-        let t1 = Instant::now();
-        // Gather the accepted darts; cover the pixels or keep the cells that
-        // no new sample holds, and count what is left.
+        Ok(active)
+    }
+
+    /// Gathers the accepted darts, covers the pixels or keeps the cells
+    /// that no new sample holds, and counts what is left: returns that
+    /// count, the accepted count and the accepted points.
+    fn gather(&mut self, darts: u32, active: u32) -> Result<(u32, u32, Vec<Point>)> {
+        let level = self.ex.level;
+        let (res, stage, compact) = (&*self.res, self.kernels.exact, self.kernels.compact);
         if level > 0 {
             res.cell_scan.set_len(self.queue, active + 1, 0);
         }
@@ -760,8 +732,67 @@ impl Stepper for ExactGpuStepper<'_> {
             self.ex.live = left;
             self.cells_in = 1 - self.cells_in;
         }
+        Ok((left, count, accepted))
+    }
+
+    /// The finest level is reached: the CPU's run takes over from the
+    /// GPU's state, and finishes the iteration (`step`).
+    fn hand_over(&mut self, step: &mut Step) -> Result<()> {
+        let handover = Handover {
+            coverage: self.coverage()?,
+            cells: self.cells()?,
+            samples: std::mem::take(&mut self.samples),
+            level: self.ex.level,
+        };
+        let (cpu, removed) = ExactStepper::resume(self.plan, handover);
+        step.empty = cpu.left();
+        step.finished = cpu.empty() == 0;
+        step.removed = removed;
+        self.cpu = Some(cpu);
+        Ok(())
+    }
+
+    /// The active cells, read back.
+    fn cells(&self) -> Result<Vec<[u32; 2]>> {
+        let n = u64::from(self.ex.live);
+        if n == 0 {
+            return Ok(Vec::new());
+        }
+        let staging = util::buffer_of(
+            self.device,
+            "cells read-back",
+            8 * n,
+            wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        );
+        let mut encoder = self.device.create_command_encoder(&Default::default());
+        encoder.copy_buffer_to_buffer(&self.res.cells[self.cells_in], 0, &staging, 0, 8 * n);
+        self.queue.submit([encoder.finish()]);
+        let bytes = util::read_back(self.device, &staging, 8 * n)?;
+        Ok(bytemuck::pod_collect_to_vec(&bytes))
+    }
+}
+
+impl Stepper for ExactGpuStepper<'_> {
+    fn empty(&self) -> u64 {
+        match &self.cpu {
+            Some(cpu) => cpu.empty(),
+            None => u64::from(self.active()),
+        }
+    }
+
+    fn darts_for(&self, plan: &Plan, empty: u64) -> u32 {
+        rules::darts_for(plan, empty)
+    }
+
+    fn step(&mut self, iteration: u32, darts: u32) -> Result<Step> {
+        if let Some(cpu) = &mut self.cpu {
+            return cpu.step(iteration, darts);
+        }
+        let t0 = Instant::now();
+        let active = self.throw(iteration, darts)?;
+        let t1 = Instant::now();
+        let (left, count, accepted) = self.gather(darts, active)?;
         let t2 = Instant::now();
-        // Refine; at the finest level the CPU takes over.
         let mut step = Step {
             empty: u64::from(left),
             accepted,
@@ -773,17 +804,7 @@ impl Stepper for ExactGpuStepper<'_> {
             self.refine()?;
             step.empty = u64::from(self.ex.live);
             if self.ex.level == self.ex.frac {
-                let handover = Handover {
-                    coverage: self.coverage()?,
-                    cells: self.cells()?,
-                    samples: std::mem::take(&mut self.samples),
-                    level: self.ex.level,
-                };
-                let (cpu, removed) = ExactStepper::resume(self.plan, handover);
-                step.empty = cpu.left();
-                step.finished = cpu.empty() == 0;
-                step.removed = removed;
-                self.cpu = Some(cpu);
+                self.hand_over(&mut step)?;
             }
         }
         let t3 = Instant::now();
