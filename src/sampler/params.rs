@@ -38,8 +38,8 @@ pub enum Policy {
 
 /// The default disk policy of every front end and of [`Params::new`]: the
 /// smaller disk, the paper's choice for stippling (it keeps large
-/// light-area disks out of dark areas). With a uniform radius all four
-/// policies give the same points.
+/// light-area disks out of dark areas). With a uniform radius it gives
+/// Prior's points, at Prior's speed.
 pub const DEFAULT_POLICY: Policy = Policy::Smaller;
 
 impl Policy {
@@ -476,7 +476,13 @@ impl Plan {
                 p.width, p.height
             )));
         }
-        let radius_bits = if p.policy.keys_radius() {
+        // With one radius, Smaller's keys are Prior's (no radius bits, the
+        // smaller index wins): the same points, by Prior's cheaper path.
+        let policy = match p.policy {
+            Policy::Smaller if radius_range.0 == radius_range.1 => Policy::Prior,
+            other => other,
+        };
+        let radius_bits = if policy.keys_radius() {
             32 - (radius_range.1 - radius_range.0).leading_zeros()
         } else {
             0
@@ -486,14 +492,14 @@ impl Plan {
                 "radius range {}..{} px is too wide for the {} policy's depth keys",
                 fixed::fx_to_radius(radius_range.0),
                 fixed::fx_to_radius(radius_range.1),
-                p.policy.name()
+                policy.name()
             )));
         }
         let layout = KeyLayout {
             radius_bits,
             index_bits: KEY_BITS - radius_bits,
             min_radius: radius_range.0,
-            greater_wins: p.policy.greater_wins(),
+            greater_wins: policy.greater_wins(),
         };
         let batch = p.batch.unwrap_or_else(|| {
             (expected_points / 2.0)
@@ -503,7 +509,7 @@ impl Plan {
         Ok(Self {
             width: p.width,
             height: p.height,
-            policy: p.policy,
+            policy,
             subpixel_bits: p.subpixel_bits,
             periodic: p.periodic,
             seed_key: fixed::seed_key(p.seed),
@@ -610,6 +616,21 @@ mod tests {
         // A bigger radius beats any index; among equals the index decides.
         assert!(l.beats(l.key(0, 300), l.key(l.max_batch() - 1, 200)));
         assert!(l.beats(l.key(5, 200), l.key(4, 200)));
+    }
+
+    #[test]
+    fn one_radius_takes_prior_path_for_smaller_and_the_same_points() {
+        let smaller = Params::new(200, 120).with_radius(4.0).with_seed(3);
+        assert_eq!(smaller.policy, Policy::Smaller);
+        let prior = smaller.clone().with_policy(Policy::Prior);
+        assert_eq!(smaller.plan().unwrap().policy, Policy::Prior);
+        let run = |p: &Params| crate::sampler::cpu::sample(p, Default::default()).unwrap();
+        assert_eq!(run(&smaller).points, run(&prior).points);
+        // A radius map keeps its policy.
+        let radii: Vec<f32> = (0..256).map(|i| 2.0 + i as f32 / 64.0).collect();
+        let map = Arc::new(RadiusMap::from_pixels(16, 16, &radii).unwrap());
+        let plan = Params::new(16, 16).with_radius_map(map).plan().unwrap();
+        assert_eq!(plan.policy, Policy::Smaller);
     }
 
     #[test]
