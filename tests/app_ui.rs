@@ -719,11 +719,9 @@ fn the_app_draws_and_exports_what_the_cli_does() {
     h.step();
     settle(&mut h);
     export(&mut h, &p("app-pen.svg"));
-    cli(&[
-        "stipple",
-        &s(&png),
-        "-o",
-        &s(&p("cli-pen.svg")),
+    // The CLI's arguments for the same job; the page and pen for the SVG,
+    // the scale for the PNG.
+    let same = [
         "--quiet",
         "--points",
         "3000",
@@ -733,10 +731,6 @@ fn the_app_draws_and_exports_what_the_cli_does() {
         "2",
         "--order",
         "tsp",
-        "--width-mm",
-        "150",
-        "--pen-mm",
-        "0.4",
         "--ink",
         "#1f77b4",
         "--policy",
@@ -747,7 +741,10 @@ fn the_app_draws_and_exports_what_the_cli_does() {
         "1.4",
         "--white-cutoff",
         "0.9",
-    ]);
+    ];
+    let (png_path, pen_svg) = (s(&png), s(&p("cli-pen.svg")));
+    let page = ["--width-mm", "150", "--pen-mm", "0.4"];
+    cli(&[&["stipple", &png_path, "-o", &pen_svg][..], &same, &page].concat());
     let pen = std::fs::read(p("app-pen.svg")).unwrap();
     assert_eq!(pen, std::fs::read(p("cli-pen.svg")).unwrap());
     assert!(String::from_utf8_lossy(&pen).contains(r##"stroke="#1f77b4""##));
@@ -760,33 +757,9 @@ fn the_app_draws_and_exports_what_the_cli_does() {
     h.run_steps(2);
     assert!(!h.state().busy(), "export options re-sampled");
     export(&mut h, &p("app.png"));
-    cli(&[
-        "stipple",
-        &s(&png),
-        "-o",
-        &s(&p("cli.png")),
-        "--quiet",
-        "--points",
-        "3000",
-        "--dot",
-        "fixed",
-        "--relax",
-        "2",
-        "--order",
-        "tsp",
-        "--scale",
-        "0.5",
-        "--ink",
-        "#1f77b4",
-        "--policy",
-        "bigger",
-        "--seed",
-        "5",
-        "--gamma",
-        "1.4",
-        "--white-cutoff",
-        "0.9",
-    ]);
+    let cli_png = s(&p("cli.png"));
+    let scale = ["--scale", "0.5"];
+    cli(&[&["stipple", &png_path, "-o", &cli_png][..], &same, &scale].concat());
     assert_eq!(
         std::fs::read(p("app.png")).unwrap(),
         std::fs::read(p("cli.png")).unwrap()

@@ -403,31 +403,25 @@ impl PixelPieApp {
     /// Progress and statistics, in a place of fixed height.
     pub(super) fn stats_ui(&mut self, ui: &mut egui::Ui) {
         let mut cancel = false;
-        let row = egui::vec2(ui.available_width(), ui.spacing().interact_size.y);
-        ui.allocate_ui_with_layout(
-            row,
-            egui::Layout::left_to_right(egui::Align::Center),
-            |ui| {
-                ui.set_min_size(row);
-                if !self.busy() {
-                    ui.label(match (self.cancelled, self.outcome.is_some()) {
-                        (true, _) => "cancelled",
-                        (false, true) => "ready",
-                        (false, false) => "",
-                    });
-                    return;
-                }
-                ui.spinner();
-                ui.label(self.progress_shown().unwrap_or_default());
-                if ui
-                    .button("Cancel")
-                    .on_hover_text("Stop this sampling or relaxation; keep the last drawing.")
-                    .clicked()
-                {
-                    cancel = true;
-                }
-            },
-        );
+        fixed_row(ui, false, |ui| {
+            if !self.busy() {
+                ui.label(match (self.cancelled, self.outcome.is_some()) {
+                    (true, _) => "cancelled",
+                    (false, true) => "ready",
+                    (false, false) => "",
+                });
+                return;
+            }
+            ui.spinner();
+            ui.label(self.progress_shown().unwrap_or_default());
+            if ui
+                .button("Cancel")
+                .on_hover_text("Stop this sampling or relaxation; keep the last drawing.")
+                .clicked()
+            {
+                cancel = true;
+            }
+        });
         if cancel {
             self.cancel_job();
         }
@@ -509,20 +503,13 @@ impl PixelPieApp {
             (None, Some(p)) => (format!("wrote {}", p.display()), ui.visuals().text_color()),
             (None, None) => (String::new(), ui.visuals().text_color()),
         };
-        let row = egui::vec2(ui.available_width(), ui.spacing().interact_size.y);
-        ui.allocate_ui_with_layout(
-            row,
-            egui::Layout::left_to_right(egui::Align::Center),
-            |ui| {
-                ui.set_min_size(row);
-                ui.set_max_size(row);
-                let label = egui::Label::new(egui::RichText::new(&text).color(color)).truncate();
-                let r = ui.add(label);
-                if !text.is_empty() {
-                    r.on_hover_text(&text);
-                }
-            },
-        );
+        fixed_row(ui, true, |ui| {
+            let label = egui::Label::new(egui::RichText::new(&text).color(color)).truncate();
+            let r = ui.add(label);
+            if !text.is_empty() {
+                r.on_hover_text(&text);
+            }
+        });
     }
 
     /// The Export section: plotter options, the path, the format buttons
@@ -837,6 +824,23 @@ impl PixelPieApp {
             }
         }
     }
+}
+
+/// A row at least one control high and the panel's width (at most, with
+/// `clip`), whatever `add` puts in it, so that the rows around it stay put.
+fn fixed_row(ui: &mut egui::Ui, clip: bool, add: impl FnOnce(&mut egui::Ui)) {
+    let row = egui::vec2(ui.available_width(), ui.spacing().interact_size.y);
+    ui.allocate_ui_with_layout(
+        row,
+        egui::Layout::left_to_right(egui::Align::Center),
+        |ui| {
+            ui.set_min_size(row);
+            if clip {
+                ui.set_max_size(row);
+            }
+            add(ui);
+        },
+    );
 }
 
 /// What a disk policy does to a drawing, in plain words.
