@@ -6,8 +6,11 @@
 
 pub mod dialogs;
 mod dots;
+mod export;
+mod panel;
 mod settings;
 pub mod shortcuts;
+mod status;
 mod view;
 mod worker;
 

@@ -1,0 +1,146 @@
+//! The Export section: the plotter options, the path and the format
+//! buttons, and the exports themselves, all through the job's `write`.
+
+use egui::Color32;
+
+use super::PixelPieApp;
+use super::panel::fixed_row;
+use crate::stipple::{DotSize, Order};
+
+impl PixelPieApp {
+    /// Under the Export row: the file written, or why not, on one line of
+    /// fixed height (the whole text on hover), so that nothing above moves.
+    fn export_result_ui(&self, ui: &mut egui::Ui) {
+        let (text, color) = match (&self.export_error, &self.exported) {
+            (Some(e), _) => (e.clone(), Color32::from_rgb(200, 40, 40)),
+            (None, Some(p)) => (format!("wrote {}", p.display()), ui.visuals().text_color()),
+            (None, None) => (String::new(), ui.visuals().text_color()),
+        };
+        fixed_row(ui, true, |ui| {
+            let label = egui::Label::new(egui::RichText::new(&text).color(color)).truncate();
+            let r = ui.add(label);
+            if !text.is_empty() {
+                r.on_hover_text(&text);
+            }
+        });
+    }
+
+    /// The Export section: plotter options, the path, the format buttons
+    /// and the outcome. The job's `write` writes every format, as the CLI's.
+    pub(super) fn export_ui(&mut self, ui: &mut egui::Ui) {
+        let job = &mut self.settings.job;
+        ui.horizontal(|ui| {
+            ui.label("Order");
+            ui.selectable_value(&mut job.order, Order::None, "As sampled")
+                .on_hover_text("The sampler's order");
+            ui.selectable_value(&mut job.order, Order::Tsp, "Plotter (TSP)")
+                .on_hover_text("A short pen path (nearest neighbour and 2-opt), as --order tsp");
+        });
+        ui.horizontal(|ui| {
+            let mut mm = job.width_mm.is_some();
+            ui.checkbox(&mut mm, "Width mm")
+                .on_hover_text("Size the SVG in millimetres (--width-mm); off: pixels");
+            let mut width = job.width_mm.unwrap_or(200.0);
+            ui.add_enabled(
+                mm,
+                egui::DragValue::new(&mut width)
+                    .range(1.0..=5000.0)
+                    .speed(1.0),
+            );
+            job.width_mm = mm.then_some(width);
+            let mut pen = job.pen_mm.is_some();
+            ui.add_enabled(mm, egui::Checkbox::new(&mut pen, "Pen mm"))
+                .on_hover_text("Draw each dot as a pen of this width draws it (--pen-mm)")
+                .on_disabled_hover_text("Needs a width in mm");
+            let mut pen_mm = job.pen_mm.unwrap_or(0.3);
+            ui.add_enabled(
+                mm && pen,
+                egui::DragValue::new(&mut pen_mm)
+                    .range(0.05..=5.0)
+                    .speed(0.01),
+            );
+            job.pen_mm = (mm && pen).then_some(pen_mm);
+        });
+        ui.horizontal(|ui| {
+            ui.label("Export to");
+            if ui
+                .button("Browse…")
+                .on_hover_text("Choose where to export with a file dialog (Ctrl+S)")
+                .clicked()
+            {
+                self.export_dialog();
+            }
+        });
+        ui.add(egui::TextEdit::singleline(&mut self.export_path).desired_width(250.0))
+            .on_hover_text("The file to write; the button picks the format");
+        ui.horizontal(|ui| {
+            for (ext, what) in [
+                ("svg", "The drawing as SVG (browsers, Inkscape, plotters)"),
+                ("png", "The drawing as PNG, at the scale set here"),
+                ("csv", "The dots' centres and radii as CSV"),
+                ("json", "The dots and the settings as JSON"),
+            ] {
+                if ui.button(ext.to_uppercase()).on_hover_text(what).clicked() {
+                    self.export_as(ext);
+                }
+            }
+            ui.add(
+                egui::DragValue::new(&mut self.settings.job.scale)
+                    .range(0.1..=8.0)
+                    .speed(0.05)
+                    .prefix("PNG ×"),
+            )
+            .on_hover_text("PNG pixels per sampled pixel");
+        });
+        self.export_result_ui(ui);
+    }
+
+    /// Exports to the export path with extension `ext`; the outcome shows
+    /// under the Export row.
+    pub fn export_as(&mut self, ext: &str) {
+        let typed = self.export_path.trim();
+        if typed.is_empty() {
+            self.export_error = Some("no file name given: type one or use Browse".into());
+            return;
+        }
+        let path = super::typed_path(typed).with_extension(ext);
+        match self.export(&path) {
+            Ok(()) => {
+                let full = std::fs::canonicalize(&path).unwrap_or(path);
+                if let Some(dir) = full.parent() {
+                    self.settings.last_dir = Some(dir.to_path_buf());
+                }
+                self.export_path = full.display().to_string();
+                self.exported = Some(full);
+                self.export_error = None;
+            }
+            Err(e) => {
+                self.exported = None;
+                self.export_error = Some(crate::text::one_line(&e));
+            }
+        }
+    }
+
+    /// How big the dots are drawn and exported.
+    pub fn dot_size(&self) -> DotSize {
+        self.settings.job().dot_size()
+    }
+
+    /// The dots as drawn: the view's and the exports'.
+    pub fn drawn_dots(&self) -> Vec<crate::stipple::Dot> {
+        self.outcome
+            .as_ref()
+            .map_or_else(Vec::new, |o| self.settings.job().dots(&o.drawing))
+    }
+
+    /// Writes the current drawing with the job's writer, the CLI's, picked
+    /// by extension (any case).
+    pub fn export(&self, path: &std::path::Path) -> crate::Result<()> {
+        let Some(o) = &self.outcome else {
+            return Err(
+                crate::stipple::Error::InvalidParameter("nothing to export yet".into()).into(),
+            );
+        };
+        self.settings.job().write(&o.drawing, path)
+    }
+}

@@ -1,0 +1,448 @@
+//! The side panel's controls, one function per section (header, open,
+//! spacing, levels, darts, dots, view), and the helpers they share.
+
+use egui::{Color32, Sense};
+
+use super::PixelPieApp;
+use super::settings::Background;
+use crate::backend::BackendChoice;
+use crate::importance::{MappingKind, Tones};
+use crate::sampler::Policy;
+use crate::stipple::DotMode;
+
+impl PixelPieApp {
+    /// The side panel's controls, one function per section.
+    pub(super) fn controls(&mut self, ui: &mut egui::Ui) {
+        ui.set_width(270.0);
+        self.header_ui(ui);
+        self.open_ui(ui);
+        ui.separator();
+        self.spacing_ui(ui);
+        self.levels_ui(ui);
+        self.darts_ui(ui);
+        ui.separator();
+        self.dots_ui(ui);
+        self.view_ui(ui);
+    }
+
+    /// The title, Undo and Reset (always in reach, however long the
+    /// panel), and the help button.
+    fn header_ui(&mut self, ui: &mut egui::Ui) {
+        ui.horizontal(|ui| {
+            ui.heading("PixelPie");
+            ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+                if ui
+                    .button("?")
+                    .on_hover_text("Keyboard shortcuts (F1)")
+                    .clicked()
+                {
+                    self.show_help = !self.show_help;
+                }
+                if ui
+                    .button("Reset")
+                    .on_hover_text("Every control back to its default (Undo brings them back)")
+                    .clicked()
+                {
+                    self.reset_settings();
+                }
+                if ui
+                    .button("Undo")
+                    .on_hover_text("Undo the last settings change (Ctrl+Z)")
+                    .clicked()
+                {
+                    self.undo();
+                }
+            });
+        });
+    }
+
+    /// The Open row, its error and the picture's name.
+    fn open_ui(&mut self, ui: &mut egui::Ui) {
+        ui.label("Drop an image or EXR on the window, or open one:");
+        ui.horizontal(|ui| {
+            let edit = ui
+                .add(egui::TextEdit::singleline(&mut self.open_path).desired_width(130.0))
+                .on_hover_text(
+                    "The path of an image (PNG, JPEG, TIFF, BMP, WebP) or OpenEXR; ~/ and \
+                     file:// work",
+                );
+            let enter = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
+            if ui
+                .button("Open")
+                .on_hover_text("Open the image at the typed path")
+                .clicked()
+                || enter
+            {
+                let path = super::typed_path(&self.open_path);
+                let ctx = ui.ctx().clone();
+                self.open(&ctx, &path);
+            }
+            if ui
+                .button("Browse…")
+                .on_hover_text("Choose an image with a file dialog (Ctrl+O)")
+                .clicked()
+            {
+                let ctx = ui.ctx().clone();
+                self.open_dialog(&ctx);
+            }
+        });
+        if let Some(e) = &self.open_error {
+            ui.colored_label(Color32::from_rgb(200, 40, 40), e);
+        }
+        if let Some(name) = self.loading_name() {
+            ui.horizontal(|ui| {
+                ui.spinner();
+                ui.label(format!("decoding {name}…"));
+            });
+        } else if let Some(src) = &self.source {
+            ui.label(format!(
+                "{} ({}×{})",
+                src.path.as_ref().map_or_else(
+                    || super::DEFAULT_IMAGE_NAME.to_owned(),
+                    |p| p
+                        .file_name()
+                        .map_or_else(String::new, |n| n.to_string_lossy().into_owned())
+                ),
+                src.map.width(),
+                src.map.height()
+            ));
+        }
+    }
+
+    /// Count or radius range, mapping, tones, policy and exact spacing.
+    fn spacing_ui(&mut self, ui: &mut egui::Ui) {
+        let s = &mut self.settings;
+        ui.horizontal(|ui| {
+            ui.radio_value(&mut s.use_count, true, "Point count")
+                .on_hover_text("Aim for a number of dots; the radii scale to fit it");
+            ui.radio_value(&mut s.use_count, false, "Radius range")
+                .on_hover_text(
+                    "Use the radius range as it is, in domain pixels (the picture scaled \
+                     as pixelpie stipple scales it: longer side 1024 px or more)",
+                );
+        });
+        ui.add_enabled_ui(s.use_count, |ui| {
+            ui.horizontal(|ui| {
+                let l = ui.label("Points");
+                ui.add(
+                    egui::DragValue::new(&mut s.points)
+                        .range(10..=2_000_000)
+                        .speed(50),
+                )
+                .labelled_by(l.id)
+                .on_hover_text("How many dots the drawing has (within 3%)");
+            });
+        });
+        let imp = &mut s.job.importance;
+        let mut lo = imp.min_radius.unwrap_or(1.0);
+        let mut hi = imp
+            .max_radius
+            .unwrap_or(lo * crate::importance::DEFAULT_RADIUS_RATIO);
+        let (lo0, hi0) = (lo, hi);
+        ui.horizontal(|ui| {
+            let l = ui.label("Radius");
+            ui.add(
+                egui::DragValue::new(&mut lo)
+                    .range(1.0..=500.0)
+                    .speed(0.05)
+                    .prefix("min "),
+            )
+            .labelled_by(l.id)
+            .on_hover_text("Disk radius in black areas: the closest dots");
+            ui.add(
+                egui::DragValue::new(&mut hi)
+                    .range(1.0..=500.0)
+                    .speed(0.05)
+                    .prefix("max "),
+            )
+            .on_hover_text("Disk radius in white areas: the sparsest dots");
+        });
+        if lo != lo0 || hi != hi0 {
+            imp.min_radius = Some(lo);
+            imp.max_radius = Some(hi.max(lo));
+        }
+        let mut tone = imp.mapping != Some(MappingKind::Linear);
+        egui::ComboBox::from_label("Mapping")
+            .selected_text(if tone { "Tone" } else { "Linear" })
+            .show_ui(ui, |ui| {
+                ui.selectable_value(&mut tone, true, "Tone")
+                    .on_hover_text("Calibrated: the drawing's ink equals the picture's darkness.");
+                ui.selectable_value(&mut tone, false, "Linear")
+                    .on_hover_text("The paper's ramp r_min + (r_max − r_min)·v.");
+            })
+            .response
+            .on_hover_text("How a pixel's grey becomes its disk radius");
+        imp.mapping = (!tone).then_some(MappingKind::Linear);
+        egui::ComboBox::from_label("Tones")
+            .selected_text(match imp.tones {
+                Tones::Display => "Display grey",
+                Tones::Linear => "Linear light",
+            })
+            .show_ui(ui, |ui| {
+                ui.selectable_value(&mut imp.tones, Tones::Display, "Display grey")
+                    .on_hover_text("Reproduce the grey a viewer sees (sRGB values).");
+                ui.selectable_value(&mut imp.tones, Tones::Linear, "Linear light")
+                    .on_hover_text("Reproduce luminance: mid tones come out darker.");
+            })
+            .response
+            .on_hover_text("Which grey the ink reproduces");
+        let job = &mut s.job;
+        ui.horizontal(|ui| {
+            egui::ComboBox::from_label("Policy")
+                .selected_text(format!("{:?}", job.policy))
+                .show_ui(ui, |ui| {
+                    for p in Policy::ALL {
+                        ui.selectable_value(&mut job.policy, p, format!("{p:?}"))
+                            .on_hover_text(policy_help(p));
+                    }
+                })
+                .response
+                .on_hover_text(
+                    "The disk policy (paper §3.4): how far apart two dots of different \
+                     sizes must be. Smaller keeps dark areas crisp; Bigger keeps light \
+                     areas open.",
+                );
+            ui.checkbox(&mut job.sampler.exact, "Exact spacing")
+                .on_hover_text(
+                    "No two dot centres closer than the policy allows, not even by a \
+                     fraction of a pixel, and no gap left that a dot would fit in (exact \
+                     mode; about half the speed)",
+                );
+        });
+    }
+
+    /// Levels, gamma, invert and the white cutoff.
+    fn levels_ui(&mut self, ui: &mut egui::Ui) {
+        let imp = &mut self.settings.job.importance;
+        ui.add(
+            egui::Slider::new(&mut imp.gamma, 0.2..=5.0)
+                .logarithmic(true)
+                .text("Gamma"),
+        )
+        .on_hover_text("Above 1 darkens the mid tones, below 1 lightens them");
+        ui.add(egui::Slider::new(&mut imp.black_level, 0.0..=0.95).text("Black level"))
+            .on_hover_text("Greys at or below this count as black");
+        ui.add(egui::Slider::new(&mut imp.white_level, 0.05..=1.0).text("White level"))
+            .on_hover_text("Greys at or above this count as white");
+        imp.white_level = imp.white_level.max(imp.black_level + 0.01);
+        ui.checkbox(&mut imp.invert, "Invert")
+            .on_hover_text("Light parts get the dots (white ink on black paper)");
+        let mut cutoff = imp.white_cutoff.unwrap_or(1.0);
+        ui.add(egui::Slider::new(&mut cutoff, 0.0..=1.0).text("White cutoff"))
+            .on_hover_text("No dots where the picture is lighter than this (1 = off)");
+        imp.white_cutoff = (cutoff < 1.0).then_some(cutoff);
+    }
+
+    /// Sub-pixel bits, seed, periodic domain and backend.
+    fn darts_ui(&mut self, ui: &mut egui::Ui) {
+        let sampler = &mut self.settings.job.sampler;
+        ui.add_enabled(
+            !sampler.exact,
+            egui::Slider::new(&mut sampler.subpixel_bits, 0..=7).text("Sub-pixel bits"),
+        )
+        .on_hover_text(
+            "Dart positions inside a pixel: 0 puts every dot on a pixel centre (the \
+             paper's darts, a faint grid); each bit halves the grid's spacing",
+        )
+        .on_disabled_hover_text("Exact spacing places darts anywhere, to 1/2^F px");
+        let mut reroll = false;
+        ui.horizontal(|ui| {
+            let l = ui.label("Seed");
+            // Re-roll comes first, so that it stays put as the seed grows.
+            if ui
+                .button("Re-roll")
+                .on_hover_text("Another seed: another drawing of the same picture (R)")
+                .clicked()
+            {
+                reroll = true;
+            }
+            ui.add(egui::DragValue::new(&mut sampler.seed))
+                .labelled_by(l.id)
+                .on_hover_text("The dart hash's seed: the same seed gives the same dots");
+        });
+        if reroll {
+            self.reroll();
+        }
+        let s = &mut self.settings;
+        ui.checkbox(&mut s.job.sampler.periodic, "Periodic (tileable)")
+            .on_hover_text(
+                "Wrap the domain around: copies of the drawing tile without seams or crowding",
+            );
+        ui.add_enabled(
+            s.job.sampler.periodic,
+            egui::Checkbox::new(&mut s.tile, "Show 2×2 tiles"),
+        )
+        .on_hover_text("Preview four copies side by side: the seams should vanish");
+        egui::ComboBox::from_label("Backend")
+            .selected_text(format!("{:?}", s.backend))
+            .show_ui(ui, |ui| {
+                for b in [BackendChoice::Auto, BackendChoice::Gpu, BackendChoice::Cpu] {
+                    ui.selectable_value(&mut s.backend, b, format!("{b:?}"));
+                }
+            })
+            .response
+            .on_hover_text(
+                "Where the sampler runs: the GPU (wgpu) or the CPU; Auto picks the CPU on \
+                 software adapters. Both give the same dots.",
+            );
+        ui.label(format!(
+            "Adapter: {}",
+            self.worker.adapter().unwrap_or("none (CPU only)")
+        ));
+    }
+
+    /// Dot mode, size, ratio, relaxation and ink. Every row stays in place
+    /// whatever the mode: rows that do not apply are greyed out.
+    fn dots_ui(&mut self, ui: &mut egui::Ui) {
+        let job = &mut self.settings.job;
+        let mut mode = job.dot_mode();
+        egui::ComboBox::from_label("Dots")
+            .selected_text(format!("{mode:?}"))
+            .show_ui(ui, |ui| {
+                ui.selectable_value(&mut mode, DotMode::Fixed, "Fixed")
+                    .on_hover_text("All dots alike; their density follows the tones.");
+                ui.selectable_value(&mut mode, DotMode::Sized, "Sized")
+                    .on_hover_text("Small dots in light areas, larger in dark ones.");
+                ui.selectable_value(&mut mode, DotMode::Proportional, "Proportional")
+                    .on_hover_text("A fraction of each sample's disk: a texture, not tones.");
+            })
+            .response
+            .on_hover_text("How big each dot is drawn");
+        if mode != job.dot_mode() {
+            job.dot = Some(mode);
+            // Each mode has its own default factor.
+            job.dot_factor = None;
+        }
+        let mut factor = job.dot_factor.unwrap_or(mode.default_factor());
+        let (range, text, help) = match mode {
+            DotMode::Fixed | DotMode::Sized => (
+                0.3..=2.0,
+                "Dot size (× calibrated)",
+                "1 reproduces the picture's tones; more darkens, less lightens.",
+            ),
+            DotMode::Proportional => (
+                0.05..=1.0,
+                "Dot size (× disk)",
+                "The dot's radius as a fraction of its disk's",
+            ),
+        };
+        if ui
+            .add(egui::Slider::new(&mut factor, range).text(text))
+            .on_hover_text(help)
+            .changed()
+        {
+            job.dot_factor = Some(factor);
+        }
+        ui.add_enabled(
+            mode == DotMode::Sized,
+            egui::Slider::new(&mut job.dot_ratio, 0.1..=1.0).text("Lightest / darkest dot"),
+        )
+        .on_hover_text("The lightest dots' radius as a fraction of the darkest dots'")
+        .on_disabled_hover_text("Sized dots only");
+        ui.add(egui::Slider::new(&mut job.relax, 0..=30).text("Relax (Lloyd steps)"))
+            .on_hover_text("Weighted Voronoi relaxation after sampling: more even spacing.");
+        ink_ui(ui, &mut job.ink.0);
+    }
+
+    /// What is behind the dots, the coverage disks and the view's buttons.
+    fn view_ui(&mut self, ui: &mut egui::Ui) {
+        let s = &mut self.settings;
+        ui.horizontal(|ui| {
+            ui.label("Behind");
+            ui.selectable_value(&mut s.background, Background::Paper, "Paper")
+                .on_hover_text("White paper behind the dots");
+            ui.selectable_value(&mut s.background, Background::Importance, "Map")
+                .on_hover_text("The grey the dots reproduce, after levels and gamma");
+            ui.selectable_value(&mut s.background, Background::Photo, "Photo")
+                .on_hover_text("The original picture, faded");
+        });
+        ui.checkbox(&mut s.show_coverage, "Coverage disks (Figure 4)")
+            .on_hover_text(
+                "Each sample's disk in blue (the paper's Figure 4): where the disks overlap \
+                 and how the set covers the picture",
+            );
+        if ui
+            .button("Fit view")
+            .on_hover_text("Fit the picture in the view (F); + and − zoom")
+            .clicked()
+        {
+            self.view.fit_next = true;
+        }
+    }
+}
+
+/// A row at least one control high and the panel's width (at most, with
+/// `clip`), whatever `add` puts in it, so that the rows around it stay put.
+pub(super) fn fixed_row(ui: &mut egui::Ui, clip: bool, add: impl FnOnce(&mut egui::Ui)) {
+    let row = egui::vec2(ui.available_width(), ui.spacing().interact_size.y);
+    ui.allocate_ui_with_layout(
+        row,
+        egui::Layout::left_to_right(egui::Align::Center),
+        |ui| {
+            ui.set_min_size(row);
+            if clip {
+                ui.set_max_size(row);
+            }
+            add(ui);
+        },
+    );
+}
+
+/// What a disk policy does to a drawing, in plain words.
+fn policy_help(p: Policy) -> &'static str {
+    match p {
+        Policy::Prior => {
+            "Prior: the earlier dot's disk decides. Dots placed first keep their space;              edges between light and dark areas blur a little."
+        }
+        Policy::Current => {
+            "Current: the new dot's disk decides. Small dots may crowd up to larger ones."
+        }
+        Policy::Bigger => {
+            "Bigger: the larger disk decides. Light areas stay open; dark areas near them              thin out."
+        }
+        Policy::Smaller => {
+            "Smaller: the smaller disk decides. Dark areas stay dense up to their edges (the              paper's choice for stippling)."
+        }
+    }
+}
+
+/// Ink colours offered as swatches.
+const INKS: &[(&str, [u8; 3])] = &[
+    ("Black", [0, 0, 0]),
+    ("Graphite", [70, 70, 75]),
+    ("Sepia", [112, 66, 20]),
+    ("Indigo", [40, 40, 110]),
+    ("Red", [190, 30, 30]),
+];
+
+/// The dot colour: swatches and R, G, B values (drawn with the bundled
+/// fonts' glyphs only).
+fn ink_ui(ui: &mut egui::Ui, ink: &mut [u8; 3]) {
+    ui.horizontal(|ui| {
+        ui.label("Dot colour")
+            .on_hover_text("The ink, on screen and in the exports");
+        for (name, rgb) in INKS {
+            let (rect, resp) = ui.allocate_exact_size(egui::vec2(16.0, 16.0), Sense::click());
+            let [r, g, b] = *rgb;
+            let stroke = if ink == rgb {
+                egui::Stroke::new(2.0, ui.visuals().strong_text_color())
+            } else {
+                egui::Stroke::new(1.0, Color32::GRAY)
+            };
+            ui.painter()
+                .rect_filled(rect, 2.0, Color32::from_rgb(r, g, b));
+            ui.painter()
+                .rect_stroke(rect, 2.0, stroke, egui::StrokeKind::Inside);
+            resp.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Button, true, *name));
+            if resp.on_hover_text(*name).clicked() {
+                *ink = *rgb;
+            }
+        }
+    });
+    ui.horizontal(|ui| {
+        for (i, c) in ["R ", "G ", "B "].into_iter().enumerate() {
+            ui.add(egui::DragValue::new(&mut ink[i]).prefix(c))
+                .on_hover_text("The ink's red, green and blue (0 to 255)");
+        }
+    });
+}

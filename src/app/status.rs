@@ -1,0 +1,104 @@
+//! The panel's bottom: progress while a job runs (with Cancel) and the
+//! last drawing's statistics, in places of fixed height.
+
+use egui::Color32;
+
+use super::PixelPieApp;
+use super::panel::fixed_row;
+
+impl PixelPieApp {
+    /// Progress and statistics, in a place of fixed height.
+    pub(super) fn stats_ui(&mut self, ui: &mut egui::Ui) {
+        let mut cancel = false;
+        fixed_row(ui, false, |ui| {
+            if !self.busy() {
+                ui.label(match (self.cancelled, self.outcome.is_some()) {
+                    (true, _) => "cancelled",
+                    (false, true) => "ready",
+                    (false, false) => "",
+                });
+                return;
+            }
+            ui.spinner();
+            ui.label(self.progress_shown().unwrap_or_default());
+            if ui
+                .button("Cancel")
+                .on_hover_text("Stop this sampling or relaxation; keep the last drawing.")
+                .clicked()
+            {
+                cancel = true;
+            }
+        });
+        if cancel {
+            self.cancel_job();
+        }
+        let (a, b, c) = match &self.outcome {
+            Some(o) => {
+                let d = &o.drawing;
+                let st = &d.set.stats;
+                let (_, t_sample, t_relax) = d.seconds;
+                (
+                    format!(
+                        "{} dots, {} iterations, {} run(s) in {:.2} s",
+                        d.points.len(),
+                        st.iterations,
+                        d.runs,
+                        o.seconds
+                    ),
+                    format!(
+                        "sampler {t_sample:.2} s, relaxation {t_relax:.2} s; last run: S1 \
+                         {:.1} ms, S2 {:.1} ms, PP {:.1} ms",
+                        st.stages.get("throw") * 1e3,
+                        st.stages.get("cull") * 1e3,
+                        st.stages.get("compact") * 1e3,
+                    ),
+                    format!("{} on {}", st.backend, st.device),
+                )
+            }
+            None => (String::new(), String::new(), String::new()),
+        };
+        ui.label(a)
+            .on_hover_text("The last drawing: dots, sampler iterations and runs");
+        ui.label(b).on_hover_text(
+            "The paper's stages: S1 throws darts, S2 culls the conflicting ones, PP \
+             compacts the still-empty pixels",
+        );
+        ui.label(c);
+        let note = match (&self.error, self.status.is_empty()) {
+            (Some(e), _) => (Color32::from_rgb(200, 40, 40), format!("Error: {e}")),
+            (None, false) => (ui.visuals().text_color(), self.status.clone()),
+            (None, true) => (ui.visuals().text_color(), String::new()),
+        };
+        ui.colored_label(note.0, note.1);
+    }
+
+    /// The progress line while a job is queued or runs: what it does and
+    /// for how long; `None` when idle.
+    #[must_use]
+    pub fn progress_shown(&self) -> Option<String> {
+        if !self.busy() {
+            return None;
+        }
+        if self.done_job == self.next_job {
+            // Queued: the last job's progress is not this one's.
+            return Some("waiting for the controls to rest".into());
+        }
+        let elapsed = self.job_started.map_or(String::new(), |t| {
+            format!(", {:.1} s", t.elapsed().as_secs_f64())
+        });
+        Some(match (&self.progress, self.relaxed) {
+            (_, Some(done)) => {
+                format!(
+                    "relaxing: {done} of {} steps{elapsed}",
+                    self.settings.job.relax
+                )
+            }
+            (Some(p), None) => format!(
+                "iteration {}, {:.0}% covered{elapsed}",
+                p.iteration,
+                100.0 - 100.0 * p.empty_pixels as f64 / p.pixels.max(1) as f64
+            ),
+            (None, None) => format!("sampling{elapsed}"),
+        })
+    }
+}
