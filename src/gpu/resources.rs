@@ -156,6 +156,46 @@ fn s1_target(
     (keys, depth.create_view(&Default::default()))
 }
 
+/// The stage timestamps' query set and the buffer they resolve into.
+fn timestamp_queries(device: &wgpu::Device) -> (wgpu::QuerySet, wgpu::Buffer) {
+    let set = device.create_query_set(&wgpu::QuerySetDescriptor {
+        label: Some("stage timestamps"),
+        ty: wgpu::QueryType::Timestamp,
+        count: QUERIES,
+    });
+    let resolve = util::buffer_of(
+        device,
+        "timestamps",
+        8 * u64::from(QUERIES),
+        wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+    );
+    (set, resolve)
+}
+
+/// Refuses a run whose key rows, darts or coverage words exceed the
+/// adapter's largest storage binding.
+fn check_limits(
+    device: &wgpu::Device,
+    width: u32,
+    strip_rows: u32,
+    dart_bytes: u64,
+    words: u32,
+    capacity: u32,
+) -> Result<()> {
+    let max_binding = device.limits().max_storage_buffer_binding_size;
+    if strip_rows == 0 {
+        return Err(super::error::unusable(format!(
+            "a {width}-pixel row of keys exceeds the adapter's storage binding size"
+        )));
+    }
+    if dart_bytes > max_binding || 4 * u64::from(words) > max_binding {
+        return Err(super::error::unusable(format!(
+            "the batch of {capacity} darts exceeds the adapter's storage binding size"
+        )));
+    }
+    Ok(())
+}
+
 /// Buffers, textures and bind groups of one domain size.
 pub struct Resources {
     width: u32,
@@ -206,19 +246,9 @@ impl Resources {
         use wgpu::BufferUsages as B;
         let (width, height) = (plan.width, plan.height);
         let words = plan.pixels().div_ceil(32);
-        let max_binding = device.limits().max_storage_buffer_binding_size;
         let dart_bytes = u64::from(capacity) * DART_BYTES;
         let strip_rows = strip_rows(device, plan, path, strip_cap);
-        if strip_rows == 0 {
-            return Err(super::error::unusable(format!(
-                "a {width}-pixel row of keys exceeds the adapter's storage binding size"
-            )));
-        }
-        if dart_bytes > max_binding || 4 * u64::from(words) > max_binding {
-            return Err(super::error::unusable(format!(
-                "the batch of {capacity} darts exceeds the adapter's storage binding size"
-            )));
-        }
+        check_limits(device, width, strip_rows, dart_bytes, words, capacity)?;
         let config = util::buffer_of(
             device,
             "config",
@@ -246,20 +276,7 @@ impl Resources {
             HEADER + dart_bytes,
             B::MAP_READ | B::COPY_DST,
         );
-        let queries = timestamps.then(|| {
-            let set = device.create_query_set(&wgpu::QuerySetDescriptor {
-                label: Some("stage timestamps"),
-                ty: wgpu::QueryType::Timestamp,
-                count: QUERIES,
-            });
-            let resolve = util::buffer_of(
-                device,
-                "timestamps",
-                8 * u64::from(QUERIES),
-                B::QUERY_RESOLVE | B::COPY_SRC,
-            );
-            (set, resolve)
-        });
+        let queries = timestamps.then(|| timestamp_queries(device));
         let bindings = Bindings {
             config: &config,
             darts: &darts,
