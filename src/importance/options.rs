@@ -20,7 +20,8 @@ pub enum MappingKind {
     /// r = r_min + (r_max − r_min)·v (paper §3.4).
     #[default]
     Linear,
-    /// Calibrated: the stipple's ink equals the darkness (reproduces tones).
+    /// Calibrated: the stipple's ink equals the darkness (reproduces tones),
+    /// for the dots drawn (sized dots keep their sizes).
     Tone,
 }
 
@@ -154,9 +155,44 @@ impl ImportanceOptions {
         };
         Ok(Prepared {
             map,
-            mapping: self.mapping.map_or(default_mapping, Into::into),
+            mapping: match (self.mapping, default_mapping) {
+                (Some(MappingKind::Linear), _) => Mapping::Linear,
+                // Calibrated for the drawing's dots: a job's own tone
+                // mapping (sized dots stay sized), else equal dots.
+                (Some(MappingKind::Tone), Mapping::Linear) => Mapping::Tone,
+                (Some(MappingKind::Tone) | None, m) => m,
+            },
             range,
             cutoff: self.white_cutoff,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tone_means_calibrated_for_the_dots_drawn() {
+        let map = || ImportanceMap::from_values(4, 4, vec![0.5; 16]).unwrap();
+        let prepare = |mapping, default| {
+            let opts = ImportanceOptions {
+                mapping,
+                ..ImportanceOptions::default()
+            };
+            opts.prepare_map(map(), |w, h| (w, h), default, true)
+                .unwrap()
+                .mapping
+        };
+        let sized = Mapping::ToneSized(0.3);
+        assert_eq!(prepare(Some(MappingKind::Tone), sized), sized);
+        assert_eq!(prepare(None, sized), sized);
+        assert_eq!(prepare(Some(MappingKind::Linear), sized), Mapping::Linear);
+        // Point sets default to the paper's ramp; tone calibrates equal dots.
+        assert_eq!(prepare(None, Mapping::Linear), Mapping::Linear);
+        assert_eq!(
+            prepare(Some(MappingKind::Tone), Mapping::Linear),
+            Mapping::Tone
+        );
     }
 }
