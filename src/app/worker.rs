@@ -191,7 +191,7 @@ fn compute(
     let s = &job.settings;
     let mut note = None;
     let drawing = s.job().run_map(
-        (*job.map).clone(),
+        &job.map,
         |params| Ok(sample(params, s.backend, gpu, ctl, &mut note)?),
         |done| {
             relaxed(done);

@@ -110,17 +110,18 @@ impl ImportanceOptions {
         count_target: bool,
     ) -> Result<Prepared> {
         self.prepare_map(
-            ImportanceMap::open(path, self.hdr_white)?,
+            &ImportanceMap::open(path, self.hdr_white)?,
             size,
             default_mapping,
             count_target,
         )
     }
 
-    /// [`Self::prepare`] for a map already in memory.
+    /// [`Self::prepare`] for a map already in memory (borrowed: the
+    /// prepared map is a resized copy anyway).
     pub fn prepare_map(
         &self,
-        map: ImportanceMap,
+        map: &ImportanceMap,
         size: impl FnOnce(u32, u32) -> (u32, u32),
         default_mapping: Mapping,
         count_target: bool,
@@ -180,7 +181,7 @@ mod tests {
                 mapping,
                 ..ImportanceOptions::default()
             };
-            opts.prepare_map(map(), |w, h| (w, h), default, true)
+            opts.prepare_map(&map(), |w, h| (w, h), default, true)
                 .unwrap()
                 .mapping
         };

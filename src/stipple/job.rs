@@ -460,15 +460,16 @@ impl Job {
         let t0 = std::time::Instant::now();
         let map = ImportanceMap::open(image, self.importance.hdr_white)?;
         let opened = t0.elapsed().as_secs_f64();
-        let mut drawing = self.run_map(map, sample, relaxed)?;
+        let mut drawing = self.run_map(&map, sample, relaxed)?;
         drawing.seconds.0 += opened;
         Ok(drawing)
     }
 
-    /// [`Self::run`] for a picture already in memory.
+    /// [`Self::run`] for a picture already in memory (borrowed: the app
+    /// keeps its picture across jobs).
     pub fn run_map(
         &self,
-        map: ImportanceMap,
+        map: &ImportanceMap,
         sample: impl FnMut(&Params) -> crate::Result<SampleSet>,
         relaxed: impl FnMut(u32) -> bool,
     ) -> crate::Result<Stipple> {

@@ -142,7 +142,7 @@ impl SampleJob {
         self.check()?;
         let (start, make): (f64, Box<dyn Fn(f64) -> crate::Result<Params> + '_>) = match &self.radii
         {
-            Radii::Picture(map) => return self.run_picture(map.clone(), sample),
+            Radii::Picture(map) => return self.run_picture(map, sample),
             Radii::Uniform(r) => {
                 let base = self.base(self.width.unwrap_or(1), self.height.unwrap_or(1));
                 let make = move |s: f64| Ok(base.clone().with_radius(s as f32));
@@ -174,7 +174,7 @@ impl SampleJob {
     /// resize it; the paper's linear ramp unless the options map otherwise.
     fn run_picture(
         &self,
-        map: ImportanceMap,
+        map: &ImportanceMap,
         sample: impl FnMut(&Params) -> crate::Result<SampleSet>,
     ) -> crate::Result<Sampled> {
         let prepared = self.importance.prepare_map(
