@@ -281,6 +281,11 @@ impl GpuSampler {
                 "radii above 32766 px exceed the GPU's row dispatch",
             ));
         }
+        if plan.classes() > 1 {
+            return Err(error::unusable(
+                "multi-class sampling (pens) runs on the CPU backend only for now",
+            ));
+        }
         if plan.exact {
             return self.run_exact(device, queue, &plan, ctl);
         }

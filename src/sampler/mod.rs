@@ -48,6 +48,7 @@
 //! order (unbiased random sequential addition), and maximality in the
 //! continuous domain. It runs on the CPU.
 
+pub mod classes;
 pub mod cpu;
 // Exact mode's and the fixed-point rules are the contract's own; the tests
 // read them, users need not.
@@ -62,6 +63,7 @@ pub(crate) mod run;
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
+pub use classes::ClassRadii;
 pub use options::SamplerOptions;
 pub use output::{BackendKind, Point, Report as StatsReport, SampleSet, Stats};
 pub use params::{

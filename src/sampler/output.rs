@@ -11,6 +11,9 @@ pub struct Point {
     pub y: f32,
     /// The radius at the sample, in pixels.
     pub radius: f32,
+    /// The sample's class (0 without classes, [`super::classes`]).
+    #[serde(skip)]
+    pub class: u32,
 }
 
 /// The backend that ran a set (its name in statistics: `cpu`,

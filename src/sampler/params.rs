@@ -4,6 +4,7 @@
 
 use std::sync::Arc;
 
+use super::classes::ClassRadii;
 use super::fixed::{
     self, KEY_BITS, MAX_SIDE, MAX_SUBPIXEL_BITS, MIN_RADIUS_FX, RADIUS_ONE, radius_to_fx,
 };
@@ -173,6 +174,22 @@ impl RadiusMap {
         self.height
     }
 
+    /// A map of quantized radii that may hold 0 ("no radius here", the
+    /// classes' holes); min and max ignore the zeros. The height may pass
+    /// [`fixed::MAX_SIDE`]: classes stack their maps.
+    pub(crate) fn stacked(width: u32, height: u32, radii: Vec<u32>) -> Self {
+        let real = || radii.iter().copied().filter(|&r| r > 0);
+        let min = real().min().unwrap_or(MIN_RADIUS_FX);
+        let max = real().max().unwrap_or(MIN_RADIUS_FX);
+        Self {
+            width,
+            height,
+            radii,
+            min,
+            max,
+        }
+    }
+
     /// The quantized radii (1/64 px), row-major.
     #[must_use]
     pub fn radii_fx(&self) -> &[u32] {
@@ -199,6 +216,9 @@ pub enum Radius {
     Uniform(f32),
     /// A radius per pixel; its size must equal the domain's.
     Map(Arc<RadiusMap>),
+    /// A radius map per class ([`super::classes`]); its size must equal the
+    /// domain's.
+    Classes(Arc<ClassRadii>),
 }
 
 /// Everything that determines a run's output.
@@ -272,6 +292,13 @@ impl Params {
         self
     }
 
+    /// Sets a radius map per class (multi-class sampling, [`super::classes`]).
+    #[must_use]
+    pub fn with_classes(mut self, classes: Arc<ClassRadii>) -> Self {
+        self.radius = Radius::Classes(classes);
+        self
+    }
+
     /// Sets the disk policy.
     #[must_use]
     pub fn with_policy(mut self, policy: Policy) -> Self {
@@ -327,7 +354,7 @@ impl Params {
     }
 }
 
-fn check_size(width: u32, height: u32) -> Result<()> {
+pub(crate) fn check_size(width: u32, height: u32) -> Result<()> {
     if width == 0 || height == 0 {
         return Err(Error::InvalidSize(format!(
             "{width}x{height}: width and height must be positive"
@@ -410,8 +437,15 @@ pub struct Plan {
     pub(crate) max_iterations: u32,
     /// Smallest and largest radius (1/64 px).
     pub(crate) radius_range: (u32, u32),
-    /// The radius map, or `None` for a uniform radius.
+    /// The radius map, or `None` for a uniform radius. With classes, their
+    /// maps stacked (slot s reads entry s; 0 = no radius).
     pub(crate) map: Option<Arc<RadiusMap>>,
+    /// With classes: the cross-class radius R(p) per pixel.
+    pub(crate) cross: Option<Arc<Vec<u32>>>,
+    /// Classes (1 without).
+    pub(crate) classes: u32,
+    /// Whether some slots start covered (a class without a radius there).
+    pub(crate) holes: bool,
     /// The expected number of points at RSA saturation density.
     pub(crate) expected_points: f64,
     /// Exact mode.
@@ -459,6 +493,32 @@ impl Plan {
                 let expected = m.radii.iter().map(|&r| rsa_per_pixel(r)).sum::<f64>();
                 (Some(m.clone()), (m.min, m.max), expected)
             }
+            Radius::Classes(c) => {
+                if (c.width(), c.height()) != (p.width, p.height) {
+                    return Err(Error::RadiusMapSize {
+                        expected: (p.width, p.height),
+                        len: c.cross.len(),
+                    });
+                }
+                if p.exact {
+                    return Err(Error::InvalidParameter(
+                        "exact mode does not take classes yet".into(),
+                    ));
+                }
+                // The union's count: the cross radii's.
+                let expected = c
+                    .cross
+                    .iter()
+                    .filter(|&&r| r > 0)
+                    .map(|&r| rsa_per_pixel(r))
+                    .sum::<f64>();
+                let m = &c.stacked;
+                (Some(m.clone()), (m.min, m.max), expected)
+            }
+        };
+        let (cross, classes, holes) = match &p.radius {
+            Radius::Classes(c) => (Some(c.cross.clone()), c.classes, c.holes),
+            _ => (None, 1, false),
         };
         let r_max_px = radius_range.1 as f64 / f64::from(RADIUS_ONE);
         let (w, h) = (f64::from(p.width), f64::from(p.height));
@@ -479,7 +539,7 @@ impl Plan {
         // With one radius, Smaller's keys are Prior's (no radius bits, the
         // smaller index wins): the same points, by Prior's cheaper path.
         let policy = match p.policy {
-            Policy::Smaller if radius_range.0 == radius_range.1 => Policy::Prior,
+            Policy::Smaller if radius_range.0 == radius_range.1 && classes == 1 => Policy::Prior,
             other => other,
         };
         let radius_bits = if policy.keys_radius() {
@@ -518,9 +578,51 @@ impl Plan {
             max_iterations: p.max_iterations,
             radius_range,
             map,
+            cross,
+            classes,
+            holes,
             expected_points,
             exact: p.exact,
         })
+    }
+
+    /// The number of classes (1 without).
+    #[must_use]
+    pub fn classes(&self) -> u32 {
+        self.classes
+    }
+
+    /// The slots the empty list starts with: classes × pixels.
+    #[must_use]
+    pub fn slots(&self) -> u32 {
+        self.classes * self.pixels()
+    }
+
+    /// The rows of the stacked slot domain: classes × height.
+    #[must_use]
+    pub fn slot_rows(&self) -> u32 {
+        self.classes * self.height
+    }
+
+    /// The cross-class radius (1/64 px) at pixel `p` (classes only).
+    #[inline]
+    #[must_use]
+    pub fn cross_at(&self, p: u32) -> u32 {
+        match &self.cross {
+            Some(c) => c[p as usize],
+            None => self.radius_at(p),
+        }
+    }
+
+    /// The accepted sample that dart `d` (on slot `d.pixel`) becomes.
+    #[inline]
+    #[must_use]
+    pub fn point(&self, d: &super::Dart) -> super::Point {
+        let mut p = d.point();
+        if self.classes > 1 {
+            p.class = d.pixel / self.pixels();
+        }
+        p
     }
 
     /// The number of pixels.

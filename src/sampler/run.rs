@@ -34,6 +34,7 @@ impl Dart {
             x: fixed::fx_to_pos(self.x),
             y: fixed::fx_to_pos(self.y),
             radius: fixed::fx_to_radius(self.radius),
+            class: 0,
         }
     }
 }

@@ -91,7 +91,7 @@ impl DotSize {
     /// ```
     /// use pixelpie::sampler::Point;
     /// use pixelpie::stipple::DotSize;
-    /// let p = [Point { x: 1.0, y: 2.0, radius: 4.0 }];
+    /// let p = [Point { x: 1.0, y: 2.0, radius: 4.0, class: 0 }];
     /// let cal = |_: &Point| 3.0;
     /// assert_eq!(DotSize::Proportional(0.5).dots(&p, cal)[0].radius, 2.0);
     /// assert_eq!(DotSize::Fixed(1.5).dots(&p, cal)[0].radius, 1.5);
@@ -158,6 +158,7 @@ pub fn relax_points(
                 x,
                 y,
                 radius: radii[(py * w + px) as usize],
+                class: 0,
             }
         })
         .collect())

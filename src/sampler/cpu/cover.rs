@@ -13,9 +13,56 @@ use rayon::prelude::*;
 use crate::sampler::fixed::{POS_FRAC_BITS, RADIUS_FRAC_BITS, inside};
 use crate::sampler::{Dart, Plan, Policy};
 
-/// The largest distance (1/64 px) at which sample `s` can cover a pixel.
+/// A sample's disk on one class's layer of the coverage map: its own
+/// radius on its own layer, the cross-class radius on the others. Without
+/// classes every sample has one disk, on layer 0, of its own radius.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Disk {
+    /// x in 1/256 px.
+    x: u32,
+    /// y in 1/256 px, within the layer.
+    y: u32,
+    /// The disk's radius in 1/64 px.
+    radius: u32,
+    /// The layer (class) it covers.
+    layer: u32,
+    /// Whether the layer is the sample's own class.
+    own: bool,
+}
+
+impl Disk {
+    /// The disks of sample `s` on every layer.
+    fn of(plan: &Plan, s: &Dart) -> impl Iterator<Item = Self> {
+        let (class, local) = (s.pixel / plan.pixels(), s.pixel % plan.pixels());
+        let cross = if plan.classes == 1 {
+            s.radius
+        } else {
+            plan.cross_at(local)
+        };
+        (0..plan.classes).map(move |layer| Self {
+            x: s.x,
+            y: s.y,
+            radius: if layer == class { s.radius } else { cross },
+            layer,
+            own: layer == class,
+        })
+    }
+
+    /// The radius (1/64 px) of pixel `p` of this disk's layer that the
+    /// policy compares with: the class's own, or the cross radius.
+    #[inline]
+    fn pixel_radius(&self, plan: &Plan, p: u32) -> u32 {
+        if self.own {
+            plan.radius_at(self.layer * plan.pixels() + p)
+        } else {
+            plan.cross_at(p)
+        }
+    }
+}
+
+/// The largest distance (1/64 px) at which disk `s` can cover a pixel.
 #[must_use]
-pub fn reach(plan: &Plan, s: &Dart) -> u32 {
+fn reach(plan: &Plan, s: &Disk) -> u32 {
     match plan.policy {
         Policy::Prior | Policy::Smaller => s.radius,
         Policy::Current | Policy::Bigger => s.radius.max(plan.radius_range.1),
@@ -81,8 +128,8 @@ fn set_bits(map: &mut [u64], lo: usize, hi: usize) {
     }
 }
 
-/// The unwrapped rows whose centres may lie within reach of sample `s`.
-fn row_range(plan: &Plan, s: &Dart) -> (i64, i64) {
+/// The unwrapped rows of its layer whose centres may lie within reach of `s`.
+fn row_range(plan: &Plan, s: &Disk) -> (i64, i64) {
     let one = 1i64 << POS_FRAC_BITS;
     let r = i64::from(reach(plan, s)) << (POS_FRAC_BITS - RADIUS_FRAC_BITS);
     let cy = i64::from(s.y);
@@ -93,29 +140,34 @@ fn row_range(plan: &Plan, s: &Dart) -> (i64, i64) {
     )
 }
 
-/// Marks the pixels of rows `band.start..band.end` that sample `s` covers;
-/// `cov` holds those rows.
-fn cover_band(plan: &Plan, s: &Dart, band: std::ops::Range<u32>, cov: &mut [u64]) {
+/// Marks the pixels of the slot rows `band.start..band.end` (rows of the
+/// stacked layers) that disk `s` covers; `cov` holds those rows.
+fn cover_band(plan: &Plan, s: &Disk, band: std::ops::Range<u32>, cov: &mut [u64]) {
     let one = 1i64 << POS_FRAC_BITS;
     let half = one / 2;
     let r = i64::from(reach(plan, s)) << (POS_FRAC_BITS - RADIUS_FRAC_BITS);
     let (cx, cy) = (i64::from(s.x), i64::from(s.y));
     let (y0, y1) = row_range(plan, s);
     let w = plan.width as usize;
+    let top = i64::from(s.layer * plan.height);
     // Off a periodic domain, only the band's own rows are visited.
     let (y0, y1) = if plan.periodic {
         (y0, y1)
     } else {
         (
-            y0.max(i64::from(band.start)),
-            y1.min(i64::from(band.end) - 1),
+            y0.max(i64::from(band.start) - top),
+            y1.min(i64::from(band.end) - 1 - top),
         )
     };
     for qy in y0..=y1 {
-        let Some(y) = wrap(qy, plan.height, plan.periodic).filter(|y| band.contains(y)) else {
+        let Some(y) = wrap(qy, plan.height, plan.periodic) else {
             continue;
         };
-        let row = (y - band.start) as usize * w;
+        let sy = s.layer * plan.height + y;
+        if !band.contains(&sy) {
+            continue;
+        }
+        let row = (sy - band.start) as usize * w;
         let dy = (qy * one + half - cy).unsigned_abs();
         let dx_max = isqrt((r * r) as u64 - dy * dy - 1) as i64;
         let x0 = -(-(cx - dx_max - half)).div_euclid(one);
@@ -131,7 +183,7 @@ fn cover_band(plan: &Plan, s: &Dart, band: std::ops::Range<u32>, cov: &mut [u64]
             let dx = (qx * one + half - cx).unsigned_abs() as u32;
             let f = plan
                 .policy
-                .coverage_radius(s.radius, plan.radius_at(y * plan.width + x));
+                .coverage_radius(s.radius, s.pixel_radius(plan, y * plan.width + x));
             if inside(dx, dy as u32, f) {
                 let p = row + x as usize;
                 cov[p / 64] |= 1 << (p % 64);
@@ -183,25 +235,27 @@ pub(crate) fn for_each_band<T: Sync>(
         .zip(buckets.par_iter())
         .enumerate()
         .for_each(|(b, (cov, list))| {
-            let rows = b as u32 * BAND_ROWS..((b as u32 + 1) * BAND_ROWS).min(plan.height);
+            let rows = b as u32 * BAND_ROWS..((b as u32 + 1) * BAND_ROWS).min(plan.slot_rows());
             for s in list {
                 mark(s, rows.clone(), cov);
             }
         });
 }
 
-/// Marks the pixels that the survivors cover. Each band of [`BAND_ROWS`] rows
-/// is one task: the map is the same for any thread count.
+/// Marks the slots that the survivors cover, on every class's layer. Each
+/// band of [`BAND_ROWS`] slot rows is one task: the map is the same for any
+/// thread count.
 pub fn cover(plan: &Plan, survivors: &[Dart], coverage: &mut [u64]) {
-    let bands = plan.height.div_ceil(BAND_ROWS) as usize;
-    // Copies, not indices: a band then reads its samples in sequence.
-    let mut buckets: Vec<Vec<Dart>> = vec![Vec::new(); bands];
-    for s in survivors {
-        let (y0, y1) = row_range(plan, s);
+    let bands = plan.slot_rows().div_ceil(BAND_ROWS) as usize;
+    // Copies, not indices: a band then reads its disks in sequence.
+    let mut buckets: Vec<Vec<Disk>> = vec![Vec::new(); bands];
+    for s in survivors.iter().flat_map(|s| Disk::of(plan, s)) {
+        let (y0, y1) = row_range(plan, &s);
+        let top = s.layer * plan.height;
         let mut add = |y: u32| {
-            let b = &mut buckets[(y / BAND_ROWS) as usize];
-            if b.last() != Some(s) {
-                b.push(*s);
+            let b = &mut buckets[((top + y) / BAND_ROWS) as usize];
+            if b.last() != Some(&s) {
+                b.push(s);
             }
         };
         if plan.periodic {
@@ -210,7 +264,12 @@ pub fn cover(plan: &Plan, survivors: &[Dart], coverage: &mut [u64]) {
                 .for_each(add);
         } else {
             let (a, b) = (y0.max(0) as u32, y1.min(i64::from(plan.height) - 1) as u32);
-            (a / BAND_ROWS..=b / BAND_ROWS).for_each(|band| add(band * BAND_ROWS));
+            if a > b {
+                continue;
+            }
+            // Every band the rows a..=b of the layer touch.
+            ((top + a) / BAND_ROWS..=(top + b) / BAND_ROWS)
+                .for_each(|band| add((band * BAND_ROWS).max(top + a) - top));
         }
     }
     for_each_band(plan, coverage, &buckets, |s, rows, cov| {

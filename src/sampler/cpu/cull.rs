@@ -88,11 +88,17 @@ fn occluded(plan: &Plan, grid: &DartGrid, e: &GridEntry) -> bool {
             );
             for di in &grid.entries[a as usize..b as usize] {
                 // Keys are unique, so a key beating e's is another dart's.
+                // Another class keeps the cross radius away.
+                let reach = if di.class == e.class {
+                    di.radius
+                } else {
+                    di.cross
+                };
                 hit |= layout.beats(di.key, e.key)
                     & inside(
                         axis_delta(di.x, cx, period_x),
                         axis_delta(di.y, cy, period_y),
-                        di.radius,
+                        reach,
                     );
             }
         }

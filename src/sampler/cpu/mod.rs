@@ -57,11 +57,13 @@ impl<'p> CpuStepper<'p> {
     /// A run of `plan` with every pixel empty.
     #[must_use]
     pub fn new(plan: &'p Plan) -> Self {
-        let pixels = plan.pixels();
+        let slots = plan.slots();
+        let (coverage, empty) = initial(plan);
+        debug_assert_eq!(coverage.len(), slots.div_ceil(64) as usize);
         Self {
             plan,
-            coverage: cover::new_map(pixels),
-            empty: EmptyList::all(pixels, plan.width),
+            coverage,
+            empty,
             darts: Vec::new(),
             survivors: Vec::new(),
             grid: throw::DartGrid::default(),
@@ -69,6 +71,23 @@ impl<'p> CpuStepper<'p> {
             peak_bytes: 0,
         }
     }
+}
+
+/// The coverage map and the empty list before the first iteration: every
+/// slot empty, but for the slots of a class with no radius at their pixel.
+pub(crate) fn initial(plan: &Plan) -> (Vec<u64>, EmptyList) {
+    let slots = plan.slots();
+    let mut coverage = cover::new_map(slots);
+    let mut empty = EmptyList::all(slots, plan.width);
+    if plan.holes
+        && let Some(map) = &plan.map
+    {
+        for (s, _) in map.radii_fx().iter().enumerate().filter(|(_, r)| **r == 0) {
+            coverage[s / 64] |= 1 << (s % 64);
+        }
+        empty.compact(&coverage);
+    }
+    (coverage, empty)
 }
 
 impl Stepper for CpuStepper<'_> {
@@ -100,7 +119,7 @@ impl Stepper for CpuStepper<'_> {
         stages.add("compact", (t3 - t2).as_secs_f64());
         Ok(Step {
             empty: u64::from(self.empty.len()),
-            accepted: self.survivors.iter().map(Dart::point).collect(),
+            accepted: self.survivors.iter().map(|d| plan.point(d)).collect(),
             stages,
             finished: false,
             removed: Vec::new(),

@@ -7,7 +7,7 @@
 use rayon::prelude::*;
 
 use super::compact::EmptyList;
-use crate::sampler::fixed::{self, RADIUS_ONE};
+use crate::sampler::fixed::{self, POS_FRAC_BITS, RADIUS_ONE};
 use crate::sampler::{Dart, Plan};
 
 /// Dart `k` of the iteration with key `iteration_key`.
@@ -15,15 +15,17 @@ use crate::sampler::{Dart, Plan};
 #[must_use]
 pub fn dart(plan: &Plan, iteration_key: u32, k: u32, empty: &EmptyList) -> Dart {
     let h = fixed::dart_hash(iteration_key, k);
-    let pixel = empty.get(fixed::pick(h, empty.len()));
+    // With classes the list holds slots; the row is the slot's row within
+    // its class's layer.
+    let slot = empty.get(fixed::pick(h, empty.len()));
     let o = fixed::offset_hash(h);
     let mask = (1u32 << plan.subpixel_bits) - 1;
     let bits = plan.subpixel_bits;
     Dart {
-        x: fixed::dart_coord(pixel % plan.width, o & mask, bits),
-        y: fixed::dart_coord(pixel / plan.width, (o >> 16) & mask, bits),
-        pixel,
-        radius: plan.radius_at(pixel),
+        x: fixed::dart_coord(slot % plan.width, o & mask, bits),
+        y: fixed::dart_coord(slot / plan.width % plan.height, (o >> 16) & mask, bits),
+        pixel: slot,
+        radius: plan.radius_at(slot),
     }
 }
 
@@ -56,7 +58,7 @@ pub struct DartGrid {
     cell_of: Vec<u32>,
 }
 
-/// A dart as the grid holds it: its depth key, centre and radius, stored
+/// A dart as the grid holds it: its depth key, centre and radii, stored
 /// together so that the cull reads one cell's darts from contiguous memory.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct GridEntry {
@@ -68,6 +70,10 @@ pub struct GridEntry {
     pub y: u32,
     /// Radius in 1/64 px.
     pub radius: u32,
+    /// The cross-class radius in 1/64 px (the radius without classes).
+    pub cross: u32,
+    /// The dart's class (0 without classes).
+    pub class: u32,
 }
 
 impl DartGrid {
@@ -90,7 +96,7 @@ impl DartGrid {
         darts
             .par_iter()
             .map(|d| {
-                let (px, py) = (d.pixel % plan.width, d.pixel / plan.width);
+                let (px, py) = (d.x >> POS_FRAC_BITS, d.y >> POS_FRAC_BITS);
                 (py / cell) * cols + px / cell
             })
             .collect_into_vec(&mut self.cell_of);
@@ -137,11 +143,18 @@ impl DartGrid {
                 for (k, (&c, d)) in cell_of.iter().zip(darts).enumerate() {
                     if (lo..hi).contains(&c) {
                         let slot = &mut start[(c - lo) as usize];
+                        let pixels = plan.pixels();
                         entries[(*slot - first) as usize] = GridEntry {
                             key: plan.layout.key(k as u32, d.radius),
                             x: d.x,
                             y: d.y,
                             radius: d.radius,
+                            cross: if plan.classes == 1 {
+                                d.radius
+                            } else {
+                                plan.cross_at(d.pixel % pixels)
+                            },
+                            class: d.pixel / pixels,
                         };
                         *slot += 1;
                     }

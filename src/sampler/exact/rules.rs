@@ -53,6 +53,7 @@ impl Placed {
             x: self.x as f32 / one,
             y: self.y as f32 / one,
             radius: fixed::fx_to_radius(plan.radius_at(self.pixel)),
+            class: 0,
         }
     }
 }
