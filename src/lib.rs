@@ -36,6 +36,7 @@ pub mod analyze;
 #[cfg(feature = "app")]
 pub mod app;
 pub mod backend;
+pub mod colour;
 pub mod count;
 mod error;
 #[cfg(feature = "gpu")]

@@ -95,25 +95,7 @@ fn check_finite(path: &Path, channel: &str, width: u32, samples: &[f32]) -> Resu
     }
 }
 
-/// The sRGB transfer function, decoded: encoded value in [0, 1] to linear.
-#[must_use]
-pub fn srgb_to_linear(c: f32) -> f32 {
-    if c <= 0.040_45 {
-        c / 12.92
-    } else {
-        ((c + 0.055) / 1.055).powf(2.4)
-    }
-}
-
-/// The sRGB transfer function: linear value in [0, 1] to encoded.
-#[must_use]
-pub fn linear_to_srgb(v: f32) -> f32 {
-    if v <= 0.003_130_8 {
-        12.92 * v
-    } else {
-        1.055 * v.powf(1.0 / 2.4) - 0.055
-    }
-}
+pub use crate::colour::{linear_to_srgb, srgb_to_linear};
 
 /// Decodes an image file held in memory (PNG, JPEG, TIFF, BMP, WebP) into
 /// linear luminance, as [`load`] does a file; `name` names it in errors.

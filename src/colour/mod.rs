@@ -1,0 +1,248 @@
+//! Colour science for drawing in colour: the sRGB transfer function,
+//! CIELAB (D65) and the CIEDE2000 colour difference, the pens a drawing uses
+//! ([`pens`]), and the render model with the separation of a photo into pen
+//! inks ([`separation`]). A leaf: it imports nothing else of the crate.
+
+pub mod pens;
+pub mod separation;
+
+pub use pens::{Pen, PenSet};
+pub use separation::{RenderModel, Separation};
+
+/// The sRGB transfer function's inverse: encoded value in [0, 1] to linear.
+#[must_use]
+pub fn srgb_to_linear(c: f32) -> f32 {
+    if c <= 0.040_45 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// The sRGB transfer function: linear value in [0, 1] to encoded.
+#[must_use]
+pub fn linear_to_srgb(v: f32) -> f32 {
+    if v <= 0.003_130_8 {
+        12.92 * v
+    } else {
+        1.055 * v.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// [`srgb_to_linear`] in `f64`.
+#[must_use]
+pub fn decode(c: f64) -> f64 {
+    if c <= 0.040_45 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// [`linear_to_srgb`] in `f64` (negative values clamp to 0).
+#[must_use]
+pub fn encode(v: f64) -> f64 {
+    if v <= 0.003_130_8 {
+        12.92 * v.max(0.0)
+    } else {
+        1.055 * v.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// A CIELAB colour (D65 white, CIE 1931 2° observer).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Lab {
+    /// Lightness, 0..100.
+    pub l: f64,
+    /// Green–red.
+    pub a: f64,
+    /// Blue–yellow.
+    pub b: f64,
+}
+
+/// D65 white in XYZ (Y = 1).
+const WHITE: [f64; 3] = [0.950_47, 1.0, 1.088_83];
+
+impl Lab {
+    /// The Lab colour of linear sRGB `rgb` (components in [0, 1]).
+    ///
+    /// ```
+    /// use pixelpie::colour::Lab;
+    /// let white = Lab::from_linear([1.0, 1.0, 1.0]);
+    /// assert!((white.l - 100.0).abs() < 1e-3 && white.a.abs() < 1e-3 && white.b.abs() < 1e-3);
+    /// ```
+    #[must_use]
+    pub fn from_linear(rgb: [f64; 3]) -> Self {
+        let [r, g, b] = rgb;
+        let x = 0.412_456_4 * r + 0.357_576_1 * g + 0.180_437_5 * b;
+        let y = 0.212_672_9 * r + 0.715_152_2 * g + 0.072_175_0 * b;
+        let z = 0.019_333_9 * r + 0.119_192_0 * g + 0.950_304_1 * b;
+        let f = |t: f64| {
+            const D: f64 = 6.0 / 29.0;
+            if t > D * D * D {
+                t.cbrt()
+            } else {
+                t / (3.0 * D * D) + 4.0 / 29.0
+            }
+        };
+        let (fx, fy, fz) = (f(x / WHITE[0]), f(y / WHITE[1]), f(z / WHITE[2]));
+        Self {
+            l: 116.0 * fy - 16.0,
+            a: 500.0 * (fx - fy),
+            b: 200.0 * (fy - fz),
+        }
+    }
+
+    /// The Lab colour of sRGB-encoded `rgb` (components in [0, 1]).
+    #[must_use]
+    pub fn from_srgb(rgb: [f64; 3]) -> Self {
+        Self::from_linear(rgb.map(decode))
+    }
+
+    /// The Lab colour of an 8-bit sRGB colour.
+    #[must_use]
+    pub fn from_srgb8(rgb: [u8; 3]) -> Self {
+        Self::from_srgb(rgb.map(|c| f64::from(c) / 255.0))
+    }
+}
+
+/// The CIEDE2000 colour difference ΔE00 (kL = kC = kH = 1), after Sharma,
+/// Wu & Dalal (2005).
+///
+/// ```
+/// use pixelpie::colour::{Lab, delta_e00};
+/// // Pair 1 of Sharma et al.'s test data.
+/// let a = Lab { l: 50.0, a: 2.6772, b: -79.7751 };
+/// let b = Lab { l: 50.0, a: 0.0, b: -82.7485 };
+/// assert!((delta_e00(a, b) - 2.0425).abs() < 1e-4);
+/// ```
+#[must_use]
+pub fn delta_e00(c1: Lab, c2: Lab) -> f64 {
+    use std::f64::consts::PI;
+    let deg = PI / 180.0;
+    let c1s = c1.a.hypot(c1.b);
+    let c2s = c2.a.hypot(c2.b);
+    let cbar = (c1s + c2s) / 2.0;
+    let cbar7 = cbar.powi(7);
+    let g = 0.5 * (1.0 - (cbar7 / (cbar7 + 25f64.powi(7))).sqrt());
+    let a1 = (1.0 + g) * c1.a;
+    let a2 = (1.0 + g) * c2.a;
+    let cp1 = a1.hypot(c1.b);
+    let cp2 = a2.hypot(c2.b);
+    let hue = |b: f64, a: f64| {
+        if a == 0.0 && b == 0.0 {
+            0.0
+        } else {
+            let h = b.atan2(a);
+            if h < 0.0 { h + 2.0 * PI } else { h }
+        }
+    };
+    let h1 = hue(c1.b, a1);
+    let h2 = hue(c2.b, a2);
+    let dl = c2.l - c1.l;
+    let dc = cp2 - cp1;
+    let dh = if cp1 * cp2 == 0.0 {
+        0.0
+    } else {
+        let d = h2 - h1;
+        if d > PI {
+            d - 2.0 * PI
+        } else if d < -PI {
+            d + 2.0 * PI
+        } else {
+            d
+        }
+    };
+    let dhh = 2.0 * (cp1 * cp2).sqrt() * (dh / 2.0).sin();
+    let lbar = (c1.l + c2.l) / 2.0;
+    let cpbar = (cp1 + cp2) / 2.0;
+    let hbar = if cp1 * cp2 == 0.0 {
+        h1 + h2
+    } else if (h1 - h2).abs() <= PI {
+        (h1 + h2) / 2.0
+    } else if h1 + h2 < 2.0 * PI {
+        (h1 + h2 + 2.0 * PI) / 2.0
+    } else {
+        (h1 + h2 - 2.0 * PI) / 2.0
+    };
+    let t = 1.0 - 0.17 * (hbar - 30.0 * deg).cos()
+        + 0.24 * (2.0 * hbar).cos()
+        + 0.32 * (3.0 * hbar + 6.0 * deg).cos()
+        - 0.20 * (4.0 * hbar - 63.0 * deg).cos();
+    let dtheta = 30.0 * deg * (-((hbar / deg - 275.0) / 25.0).powi(2)).exp();
+    let cpbar7 = cpbar.powi(7);
+    let rc = 2.0 * (cpbar7 / (cpbar7 + 25f64.powi(7))).sqrt();
+    let l50 = (lbar - 50.0).powi(2);
+    let sl = 1.0 + 0.015 * l50 / (20.0 + l50).sqrt();
+    let sc = 1.0 + 0.045 * cpbar;
+    let sh = 1.0 + 0.015 * cpbar * t;
+    let rt = -(2.0 * dtheta).sin() * rc;
+    let (tl, tc, th) = (dl / sl, dc / sc, dhh / sh);
+    (tl * tl + tc * tc + th * th + rt * tc * th).sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Sharma, Wu & Dalal (2005), Table 1: a selection of the 34 pairs,
+    /// those that exercise the hue and mean-hue branches.
+    #[test]
+    fn delta_e00_matches_sharmas_test_data() {
+        let pairs = [
+            ((50.0, 2.6772, -79.7751), (50.0, 0.0, -82.7485), 2.0425),
+            ((50.0, 3.1571, -77.2803), (50.0, 0.0, -82.7485), 2.8615),
+            ((50.0, -1.3802, -84.2814), (50.0, 0.0, -82.7485), 1.0),
+            ((50.0, 0.0, 0.0), (50.0, -1.0, 2.0), 2.3669),
+            ((50.0, 2.49, -0.001), (50.0, -2.49, 0.0009), 7.1792),
+            ((50.0, 2.49, -0.001), (50.0, -2.49, 0.0011), 7.2195),
+            ((50.0, -0.001, 2.49), (50.0, 0.0009, -2.49), 4.8045),
+            ((50.0, 2.5, 0.0), (73.0, 25.0, -18.0), 27.1492),
+            (
+                (60.2574, -34.0099, 36.2677),
+                (60.4626, -34.1751, 39.4387),
+                1.2644,
+            ),
+            (
+                (22.7233, 20.0904, -46.694),
+                (23.0331, 14.973, -42.5619),
+                2.0373,
+            ),
+            (
+                (90.8027, -2.0831, 1.441),
+                (91.1528, -1.6435, 0.0447),
+                1.4441,
+            ),
+            ((2.0776, 0.0795, -1.135), (0.9033, -0.0636, -0.5514), 0.9082),
+        ];
+        for ((l1, a1, b1), (l2, a2, b2), want) in pairs {
+            let x = Lab {
+                l: l1,
+                a: a1,
+                b: b1,
+            };
+            let y = Lab {
+                l: l2,
+                a: a2,
+                b: b2,
+            };
+            assert!((delta_e00(x, y) - want).abs() < 1e-4, "{x:?} {y:?}");
+            assert!((delta_e00(y, x) - want).abs() < 1e-4, "symmetric");
+        }
+    }
+
+    #[test]
+    fn lab_of_primaries_matches_the_reference_values() {
+        // sRGB red, green and blue in CIELAB D65 (Lindbloom's calculator).
+        let red = Lab::from_srgb([1.0, 0.0, 0.0]);
+        assert!(
+            (red.l - 53.24).abs() < 0.05
+                && (red.a - 80.09).abs() < 0.1
+                && (red.b - 67.20).abs() < 0.1
+        );
+        let blue = Lab::from_srgb([0.0, 0.0, 1.0]);
+        assert!((blue.l - 32.30).abs() < 0.05 && (blue.b + 107.86).abs() < 0.15);
+        let black = Lab::from_linear([0.0; 3]);
+        assert!(black.l.abs() < 1e-9);
+    }
+}
