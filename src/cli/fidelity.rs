@@ -9,7 +9,10 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 use serde::Serialize;
 
+use pixelpie::analyze::fidelity::colour::{ColourFidelity, Rgb, compare_colour, luminance};
 use pixelpie::analyze::fidelity::{self, Grey};
+use pixelpie::colour::{PenSet, RenderModel};
+use pixelpie::importance::ColourMap;
 use pixelpie::importance::{ImportanceMap, linear_to_srgb};
 use pixelpie::stipple::{raster, read};
 
@@ -26,13 +29,16 @@ pub struct FidelityArgs {
     sigma: Option<f64>,
 }
 
-/// The report, as JSON on stdout.
+/// The report, as JSON on stdout: for a colour drawing the grey measure
+/// is the luminance's, and `colour` holds CIEDE2000.
 #[derive(Serialize)]
 struct Report {
     photo: (u32, u32),
     dots: usize,
     #[serde(flatten)]
     fidelity: fidelity::Fidelity,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    colour: Option<ColourFidelity>,
 }
 
 pub fn run(a: &FidelityArgs) -> Result<()> {
@@ -40,6 +46,9 @@ pub fn run(a: &FidelityArgs) -> Result<()> {
         && !(s.is_finite() && s >= 0.0)
     {
         bail!("--sigma {s} must be a number >= 0");
+    }
+    if let Some((drawing, dots)) = load_colour_drawing(&a.drawing)? {
+        return run_colour(a, &drawing, dots);
     }
     let map = ImportanceMap::open(&a.photo, None)?;
     let (w, h) = (map.width(), map.height());
@@ -57,6 +66,7 @@ pub fn run(a: &FidelityArgs) -> Result<()> {
         photo: (w, h),
         dots,
         fidelity,
+        colour: None,
     };
     println!("{}", serde_json::to_string_pretty(&report)?);
     Ok(())
@@ -125,5 +135,109 @@ fn check_aspect(name: &impl std::fmt::Display, view: (f64, f64), (w, h): (u32, u
             view.1
         );
     }
+    Ok(())
+}
+
+/// A colour drawing (an SVG with several pen layers, or a PNG that is not
+/// grey) as sRGB channels at its own size, with its dot count; `None` for
+/// a grey drawing.
+fn load_colour_drawing(path: &Path) -> Result<Option<(image::RgbImage, usize)>> {
+    let name = path.display();
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    let bytes = std::fs::read(path).with_context(|| format!("cannot read drawing '{name}'"))?;
+    match ext.as_deref() {
+        Some("svg") => {
+            let Ok(text) = String::from_utf8(bytes) else {
+                return Ok(None);
+            };
+            let Ok(d) = read::read_svg(&text) else {
+                return Ok(None);
+            };
+            if d.layers.len() < 2 {
+                return Ok(None);
+            }
+            let pens = PenSet::from_colours(
+                d.layers
+                    .iter()
+                    .map(|(_, c)| pixelpie::colour::pens::hex_of(*c))
+                    .collect::<Vec<_>>()
+                    .iter()
+                    .map(String::as_str),
+            )?;
+            // At four times the view's size per unit, at most 4096 px wide.
+            let k = (4096.0 / d.view_width).min(4.0).max(1e-3);
+            let size = (
+                (d.view_width * k).round().max(1.0) as u32,
+                (d.view_height * k).round().max(1.0) as u32,
+            );
+            let layers = (0..d.layers.len())
+                .map(|l| {
+                    let dots: Vec<_> = d
+                        .dots
+                        .iter()
+                        .zip(&d.layer_of)
+                        .filter(|(_, of)| **of == l)
+                        .map(|(dot, _)| *dot)
+                        .collect();
+                    raster::render_view(&dots, (d.view_width, d.view_height), size)
+                })
+                .collect::<Result<Vec<_>, _>>()?;
+            let img = raster::composite(&layers, &RenderModel::new(&pens, false))?;
+            Ok(Some((img, d.dots.len())))
+        }
+        Some("png") => {
+            let Some(dots) = raster::read_png_dots(&bytes) else {
+                return Ok(None);
+            };
+            let img = image::load_from_memory(&bytes)
+                .map_err(|e| anyhow::anyhow!("cannot decode drawing '{name}': {e}"))?
+                .to_rgb8();
+            let grey = img.pixels().all(|p| p.0[0] == p.0[1] && p.0[1] == p.0[2]);
+            Ok((!grey).then_some((img, dots)))
+        }
+        _ => Ok(None),
+    }
+}
+
+/// The colour measure of a colour drawing, and the grey one of its
+/// luminance.
+fn run_colour(a: &FidelityArgs, drawing: &image::RgbImage, dots: usize) -> Result<()> {
+    let photo = ColourMap::open(&a.photo, None)?;
+    let (w, h) = (photo.width(), photo.height());
+    let name = a.drawing.display();
+    check_aspect(
+        &name,
+        (f64::from(drawing.width()), f64::from(drawing.height())),
+        (w, h),
+    )?;
+    let drawing = if drawing.dimensions() == (w, h) {
+        drawing.clone()
+    } else {
+        image::imageops::resize(drawing, w, h, image::imageops::FilterType::Triangle)
+    };
+    let channel = |f: &dyn Fn(usize, usize) -> f32| -> Rgb {
+        [0, 1, 2].map(|k| Grey {
+            width: w,
+            height: h,
+            values: (0..(w * h) as usize).map(|i| f(i, k)).collect(),
+        })
+    };
+    let photo_rgb = channel(&|i, k| linear_to_srgb(photo.rgb()[i][k]));
+    let drawing_rgb = channel(&|i, k| f32::from(drawing.as_raw()[3 * i + k]) / 255.0);
+    let sigma = a
+        .sigma
+        .unwrap_or_else(|| (f64::from(w) * f64::from(h) / dots.max(1) as f64).sqrt());
+    let colour = compare_colour(&photo_rgb, &drawing_rgb, sigma)?;
+    let fidelity = fidelity::compare(&luminance(&photo_rgb), &luminance(&drawing_rgb), sigma)?;
+    let report = Report {
+        photo: (w, h),
+        dots,
+        fidelity,
+        colour: Some(colour),
+    };
+    println!("{}", serde_json::to_string_pretty(&report)?);
     Ok(())
 }

@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use super::{Error, ImportanceMap, Mapping, RadiusRange};
 use crate::count;
-use crate::sampler::{Params, RadiusMap, SampleSet};
+use crate::sampler::{ClassRadii, Params, RadiusMap, SampleSet};
 
 /// An adjusted importance map with its mapping, radius range and cutoff.
 pub struct Prepared {
@@ -89,6 +89,86 @@ impl Prepared {
         Ok(Fitted {
             set,
             range: self.range.scaled(scale.max(floor)),
+            runs,
+            short_of: short.then_some(n),
+        })
+    }
+}
+
+/// The sampling of several importance maps at once, one class each
+/// ([`crate::sampler::classes`]): the pens of a colour drawing. The maps
+/// share the mapping and the radius range; where a map asks for less ink
+/// than half of what its lightest dots put down, its class has no samples.
+pub struct Classes<'a> {
+    /// One prepared map per class (same size, mapping and range).
+    pub maps: &'a [Prepared],
+}
+
+impl Classes<'_> {
+    /// `base` with every class's radii at `scale`.
+    pub fn params(&self, base: &Params, scale: f64) -> crate::sampler::Result<Params> {
+        let first = &self.maps[0];
+        let range = first.range.scaled(scale);
+        // The ink of the lightest dots: below half of it, no dots.
+        let white = f64::from(range.max);
+        let lightest = super::ink::ink(
+            f64::from(first.mapping.dot_radius(1.0, range)) / white,
+            white,
+        );
+        let radii: Vec<Vec<f32>> = self
+            .maps
+            .iter()
+            .map(|m| {
+                m.map
+                    .radii(m.mapping, range)
+                    .into_iter()
+                    .zip(m.map.values())
+                    .map(|(r, &v)| {
+                        if f64::from(1.0 - v) < lightest / 2.0 {
+                            f32::INFINITY
+                        } else {
+                            r
+                        }
+                    })
+                    .collect()
+            })
+            .collect();
+        let classes = ClassRadii::new(first.map.width(), first.map.height(), &radii)?;
+        Ok(base.clone().with_classes(Arc::new(classes)))
+    }
+
+    /// Samples the classes with `run`, fitting the common radius scale to
+    /// `points` in all (±3%) when given, as [`Prepared::sample`] does.
+    pub fn sample<E: From<crate::sampler::Error> + From<Error>>(
+        &self,
+        base: &Params,
+        points: Option<usize>,
+        mut run: impl FnMut(&Params) -> Result<SampleSet, E>,
+    ) -> Result<Fitted, E> {
+        let range = self.maps[0].range;
+        let Some(n) = points else {
+            return Ok(Fitted {
+                set: run(&self.params(base, 1.0)?)?,
+                range,
+                runs: 1,
+                short_of: None,
+            });
+        };
+        let floor = 1.0 / f64::from(range.min);
+        let expected = self.params(base, 1.0)?.plan()?.expected_points();
+        if expected <= 0.0 {
+            return Err(Error::InvalidParameter("the picture needs no ink".into()).into());
+        }
+        let initial = (expected / n as f64).sqrt().max(floor);
+        let (scale, set, runs) = count::fit_scale(n, initial, |s| -> Result<_, E> {
+            let set = run(&self.params(base, s.max(floor))?)?;
+            Ok((set.points.len(), set))
+        })?;
+        let got = set.points.len() as f64;
+        let short = (got - n as f64).abs() > count::COUNT_TOLERANCE * n as f64;
+        Ok(Fitted {
+            set,
+            range: range.scaled(scale.max(floor)),
             runs,
             short_of: short.then_some(n),
         })

@@ -24,6 +24,7 @@
 //!    between r_min and r_max; [`ImportanceMap::keeps`] applies the white
 //!    cutoff (no dots where v is above it).
 
+mod colour;
 mod fit;
 pub mod ink;
 mod ink_table;
@@ -33,7 +34,8 @@ mod options;
 
 use std::path::{Path, PathBuf};
 
-pub use fit::{Fitted, Prepared};
+pub use colour::ColourMap;
+pub use fit::{Classes, Fitted, Prepared};
 pub use load::{Luminance, Range, linear_to_srgb, load, load_bytes, srgb_to_linear};
 pub use mapping::{Mapping, RadiusRange};
 pub use options::{DEFAULT_RADIUS_RATIO, ImportanceOptions, MappingKind};

@@ -117,6 +117,22 @@ impl ImportanceOptions {
         )
     }
 
+    /// The radius range at scale 1: the given ends, the other at
+    /// [`DEFAULT_RADIUS_RATIO`] from it; with a count target (a point count
+    /// will scale the radii) a missing range defaults to 1..8 px.
+    pub fn radius_range(&self, count_target: bool) -> Result<RadiusRange> {
+        let ratio = DEFAULT_RADIUS_RATIO;
+        match (self.min_radius, self.max_radius) {
+            (Some(lo), Some(hi)) => RadiusRange::new(lo, hi),
+            (Some(lo), None) => RadiusRange::new(lo, lo * ratio),
+            (None, Some(hi)) if count_target => RadiusRange::new(hi / ratio, hi),
+            (None, _) if count_target => RadiusRange::new(1.0, ratio),
+            (None, _) => Err(Error::InvalidParameter(
+                "give --points or --min-radius with an importance map".into(),
+            )),
+        }
+    }
+
     /// [`Self::prepare`] for a map already in memory (borrowed: the
     /// prepared map is a resized copy anyway).
     pub fn prepare_map(
@@ -142,18 +158,7 @@ impl ImportanceOptions {
         }
         let (w, h) = size(map.width(), map.height());
         let map = map.resized(w, h)?.toned(self.tones).adjusted(&adjust)?;
-        let ratio = DEFAULT_RADIUS_RATIO;
-        let range = match (self.min_radius, self.max_radius) {
-            (Some(lo), Some(hi)) => RadiusRange::new(lo, hi)?,
-            (Some(lo), None) => RadiusRange::new(lo, lo * ratio)?,
-            (None, Some(hi)) if count_target => RadiusRange::new(hi / ratio, hi)?,
-            (None, _) if count_target => RadiusRange::new(1.0, ratio)?,
-            (None, _) => {
-                return Err(Error::InvalidParameter(
-                    "give --points or --min-radius with an importance map".into(),
-                ));
-            }
-        };
+        let range = self.radius_range(count_target)?;
         Ok(Prepared {
             map,
             mapping: match (self.mapping, default_mapping) {

@@ -47,6 +47,70 @@ pub fn write_points(path: &Path, set: &SampleSet, parameters: &impl Serialize) -
     })
 }
 
+/// [`write_points`] for a colour drawing: each point's class is its pen.
+/// CSV gets a `pen` column (the pen's index), JSON a `pens` list (name
+/// and colour) and a `pen` per point.
+pub fn write_points_pens(
+    path: &Path,
+    set: &SampleSet,
+    parameters: &impl Serialize,
+    pens: &crate::colour::PenSet,
+) -> Result<()> {
+    let format = PointFormat::from_path(path)?;
+    super::write_atomic(path, |w| match format {
+        PointFormat::Csv => {
+            writeln!(w, "x,y,radius,pen")?;
+            for p in &set.points {
+                writeln!(w, "{},{},{},{}", p.x, p.y, p.radius, p.class)?;
+            }
+            Ok(())
+        }
+        PointFormat::Json => {
+            #[derive(Serialize)]
+            struct PenPoint {
+                x: f32,
+                y: f32,
+                radius: f32,
+                pen: u32,
+            }
+            #[derive(Serialize)]
+            struct Doc<'a, P> {
+                parameters: &'a P,
+                width: u32,
+                height: u32,
+                maximal: bool,
+                iterations: u32,
+                pens: &'a crate::colour::PenSet,
+                points: Vec<PenPoint>,
+            }
+            let points = set
+                .points
+                .iter()
+                .map(|p| PenPoint {
+                    x: p.x,
+                    y: p.y,
+                    radius: p.radius,
+                    pen: p.class,
+                })
+                .collect();
+            serde_json::to_writer(
+                &mut *w,
+                &Doc {
+                    parameters,
+                    width: set.width,
+                    height: set.height,
+                    maximal: set.maximal(),
+                    iterations: set.iterations(),
+                    pens,
+                    points,
+                },
+            )?;
+            writeln!(w)?;
+            Ok(())
+        }
+    })
+}
+
 fn write_csv(w: &mut dyn Write, set: &SampleSet) -> Result<(), BoxError> {
     writeln!(w, "x,y,radius")?;
     for p in &set.points {

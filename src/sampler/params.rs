@@ -505,14 +505,14 @@ impl Plan {
                         "exact mode does not take classes yet".into(),
                     ));
                 }
-                // The union's count: the cross radii's.
-                let expected = c
-                    .cross
+                // The classes' own counts, summed.
+                let m = &c.stacked;
+                let expected = m
+                    .radii
                     .iter()
                     .filter(|&&r| r > 0)
                     .map(|&r| rsa_per_pixel(r))
                     .sum::<f64>();
-                let m = &c.stacked;
                 (Some(m.clone()), (m.min, m.max), expected)
             }
         };

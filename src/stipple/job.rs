@@ -16,8 +16,10 @@ use std::str::FromStr;
 use serde::{Deserialize, Serialize};
 
 use super::{Dot, DotSize, Error, relax, svg, tsp};
+use crate::colour::PenSet;
 use crate::importance::{
-    DEFAULT_RADIUS_RATIO, ImportanceMap, ImportanceOptions, Mapping, RadiusRange, fit_size,
+    ColourMap, DEFAULT_RADIUS_RATIO, ImportanceMap, ImportanceOptions, Mapping, RadiusRange,
+    fit_size,
 };
 use crate::sampler::{DEFAULT_POLICY, Params, Point, Policy, SampleSet, SamplerOptions};
 
@@ -251,6 +253,13 @@ pub struct Job {
     /// The ink's colour in the SVG and the PNG: black or #rrggbb.
     #[cfg_attr(feature = "cli", arg(long, default_value_t = Ink::BLACK))]
     pub ink: Ink,
+    /// Draw in colour with several pens, sampled together so that they
+    /// interleave: cmyk, a list of #rrggbb colours ("#000000,#d62728"), or
+    /// a .toml file of [[pen]] entries (name, colour, width_mm). --points
+    /// counts the dots of all pens. [default: one pen in --ink]
+    #[cfg_attr(feature = "cli", arg(long, conflicts_with = "ink"))]
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pens: Option<PenSet>,
     /// Disk policy for varying radii (paper §3.4); the paper stipples with
     /// the smaller disk, which keeps large light-area disks out of dark areas.
     #[cfg_attr(feature = "cli", arg(long, value_enum, default_value_t = DEFAULT_POLICY))]
@@ -278,6 +287,7 @@ impl Default for Job {
             width_mm: None,
             pen_mm: None,
             ink: Ink::BLACK,
+            pens: None,
             policy: DEFAULT_POLICY,
             sampler: SamplerOptions::default(),
         }
@@ -311,6 +321,8 @@ pub struct Stipple {
     pub tour: Option<tsp::Tour>,
     /// Seconds spent loading, sampling and relaxing.
     pub seconds: (f64, f64, f64),
+    /// The pens of a colour drawing (each point's class is its pen).
+    pub pens: Option<PenSet>,
 }
 
 /// The default domain: the image scaled so its longer side is
@@ -369,6 +381,26 @@ impl Job {
                     "--dot-radius excludes --points and --min-radius: it sets the radii itself"
                         .into(),
                 );
+            }
+        }
+        if self.colour() {
+            let imp = &self.importance;
+            let grey_only = [
+                (self.relax > 0, "--relax"),
+                (imp.invert, "--invert"),
+                (imp.gamma != 1.0, "--gamma"),
+                (
+                    imp.black_level != 0.0 || imp.white_level != 1.0,
+                    "the levels",
+                ),
+                (imp.white_cutoff.is_some(), "--white-cutoff"),
+                (
+                    imp.mapping == Some(crate::importance::MappingKind::Linear),
+                    "--mapping linear",
+                ),
+            ];
+            if let Some((_, what)) = grey_only.iter().find(|(on, _)| *on) {
+                return bad(format!("{what} applies to grey drawings, not with --pens"));
             }
         }
         if !(self.scale.is_finite() && self.scale > 0.0) {
@@ -458,6 +490,13 @@ impl Job {
         relaxed: impl FnMut(u32) -> bool,
     ) -> crate::Result<Stipple> {
         let t0 = std::time::Instant::now();
+        if self.colour() {
+            let picture = ColourMap::open(image, self.importance.hdr_white)?;
+            let opened = t0.elapsed().as_secs_f64();
+            let mut drawing = self.run_colour(&picture, sample)?;
+            drawing.seconds.0 += opened;
+            return Ok(drawing);
+        }
         let map = ImportanceMap::open(image, self.importance.hdr_white)?;
         let opened = t0.elapsed().as_secs_f64();
         let mut drawing = self.run_map(&map, sample, relaxed)?;
@@ -475,43 +514,16 @@ impl Job {
     ) -> crate::Result<Stipple> {
         let t0 = std::time::Instant::now();
         self.check()?;
-        // The dots' own radius sets the sample radii, or the count does; a
-        // pen alone sets the darkest dots to its width.
-        let pen_sized =
-            self.pen_mm.is_some() && self.points.is_none() && self.importance.min_radius.is_none();
-        let by_dot = self.dot_radius.is_some() || pen_sized;
-        let points = match (self.points, self.importance.min_radius) {
-            (Some(n), _) => Some(n),
-            _ if by_dot => None,
-            (None, Some(_)) => None,
-            (None, None) => Some(DEFAULT_POINTS),
-        };
-        let dot = self.dot_mode();
-        let mapping = dot.mapping(self.dot_ratio);
+        let (points, count_target) = self.count();
+        let mapping = self.dot_mode().mapping(self.dot_ratio);
         let mut prepared = self.importance.prepare_map(
             map,
-            |w, h| match (self.width, self.height) {
-                (None, None) => default_domain(w, h, points.unwrap_or(DEFAULT_POINTS)),
-                (wd, hd) => fit_size((w, h), wd, hd),
-            },
+            |w, h| self.domain_for((w, h), points),
             mapping,
-            points.is_some() || by_dot,
+            count_target,
         )?;
         let (width, height) = (prepared.map.width(), prepared.map.height());
-        let pen_dot = match (self.pen_mm, self.width_mm) {
-            (Some(pen), Some(mm)) if pen_sized && self.dot_radius.is_none() => {
-                Some((pen / 2.0 * f64::from(width) / mm) as f32)
-            }
-            _ => None,
-        };
-        if let Some(rho) = self.dot_radius.or(pen_dot) {
-            let min = Mapping::range_for_dot(rho, 1.0)?.min;
-            let max = self
-                .importance
-                .max_radius
-                .unwrap_or(min * DEFAULT_RADIUS_RATIO);
-            prepared.range = RadiusRange::new(min, max.max(min))?;
-        }
+        prepared.range = self.dot_range(prepared.range, width)?;
         let t_load = t0.elapsed().as_secs_f64();
         let base = self
             .sampler
@@ -556,9 +568,66 @@ impl Job {
             short_of: fitted.short_of,
             tour,
             seconds: (t_load, t_sample, t_relax),
+            pens: None,
         };
         drawing.dots = self.dots(&drawing);
         Ok(drawing)
+    }
+
+    /// Whether the dots' own radius or the pen sets the sample radii (else
+    /// the count does, or the minimum radius).
+    fn pen_sized(&self) -> bool {
+        self.pen_mm.is_some() && self.points.is_none() && self.importance.min_radius.is_none()
+    }
+
+    /// The dot count to fit, if any, and whether something scales the
+    /// radii (a count, the dots' radius or the pen): then a missing radius
+    /// range may default.
+    pub(crate) fn count(&self) -> (Option<usize>, bool) {
+        // The dots' own radius sets the sample radii, or the count does; a
+        // pen alone sets the darkest dots to its width.
+        let by_dot = self.dot_radius.is_some() || self.pen_sized();
+        let points = match (self.points, self.importance.min_radius) {
+            (Some(n), _) => Some(n),
+            _ if by_dot => None,
+            (None, Some(_)) => None,
+            (None, None) => Some(DEFAULT_POINTS),
+        };
+        (points, points.is_some() || by_dot)
+    }
+
+    /// The domain for a picture of `size`: the asked size, or the default.
+    pub(crate) fn domain_for(&self, size: (u32, u32), points: Option<usize>) -> (u32, u32) {
+        match (self.width, self.height) {
+            (None, None) => default_domain(size.0, size.1, points.unwrap_or(DEFAULT_POINTS)),
+            (wd, hd) => fit_size(size, wd, hd),
+        }
+    }
+
+    /// `range`, or the range whose darkest dots have the asked dot radius
+    /// (or the pen's, on a domain `width` px wide).
+    pub(crate) fn dot_range(&self, range: RadiusRange, width: u32) -> crate::Result<RadiusRange> {
+        let pen_dot = match (self.pen_mm, self.width_mm) {
+            (Some(pen), Some(mm)) if self.pen_sized() && self.dot_radius.is_none() => {
+                Some((pen / 2.0 * f64::from(width) / mm) as f32)
+            }
+            _ => None,
+        };
+        let Some(rho) = self.dot_radius.or(pen_dot) else {
+            return Ok(range);
+        };
+        let min = Mapping::range_for_dot(rho, 1.0)?.min;
+        let max = self
+            .importance
+            .max_radius
+            .unwrap_or(min * DEFAULT_RADIUS_RATIO);
+        Ok(RadiusRange::new(min, max.max(min))?)
+    }
+
+    /// Whether the job draws in colour: pens other than one black pen.
+    #[must_use]
+    pub fn colour(&self) -> bool {
+        self.pens.as_ref().is_some_and(|p| !p.is_black())
     }
 
     /// [`Self::run`] on the chosen backend (the CLI's fallback policy,
@@ -586,6 +655,9 @@ impl Job {
     pub fn write(&self, drawing: &Stipple, path: &Path) -> crate::Result<()> {
         let format = Format::from_path(path)?;
         self.check()?;
+        if drawing.pens.is_some() {
+            return self.write_colour(drawing, format, path);
+        }
         let domain = drawing.domain;
         match format {
             Format::Svg => {

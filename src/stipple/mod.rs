@@ -5,6 +5,7 @@
 //! All coordinates are in the sampling domain's pixels, origin top left, as
 //! in [`crate::sampler`].
 
+mod colour;
 mod job;
 pub mod raster;
 pub mod read;

@@ -10,7 +10,7 @@
 
 use std::io::Write;
 
-use image::{GrayImage, Luma};
+use image::{GrayImage, Luma, RgbImage};
 
 use super::{Dot, Error, Result};
 
@@ -103,20 +103,26 @@ pub const DOTS_KEYWORD: &str = "pixelpie:dots";
 /// the software and the drawing's number of `dots` ([`DOTS_KEYWORD`]), so
 /// that [`read_png_dots`] recognises our drawings.
 pub fn write_png(w: &mut dyn Write, img: &GrayImage, dots: usize) -> Result<()> {
-    encode(w, img, png::ColorType::Grayscale, img.as_raw(), dots)
+    encode(
+        w,
+        img.dimensions(),
+        png::ColorType::Grayscale,
+        img.as_raw(),
+        dots,
+    )
 }
 
-/// Writes `data` (rows of `color` pixels, `img`'s size) as an 8-bit PNG with
+/// Writes `data` (rows of `color` pixels, `width`×`height`) as an 8-bit PNG with
 /// our text chunks.
 fn encode(
     w: &mut dyn Write,
-    img: &GrayImage,
+    (width, height): (u32, u32),
     color: png::ColorType,
     data: &[u8],
     dots: usize,
 ) -> Result<()> {
     let encode = |e: png::EncodingError| Error::Encode(e.to_string());
-    let mut enc = png::Encoder::new(w, img.width(), img.height());
+    let mut enc = png::Encoder::new(w, width, height);
     enc.set_color(color);
     enc.set_depth(png::BitDepth::Eight);
     enc.add_text_chunk("Software".into(), "pixelpie".into())
@@ -141,7 +147,7 @@ pub fn write_png_ink(w: &mut dyn Write, img: &GrayImage, ink: [u8; 3], dots: usi
             ink.map(|c| ((u32::from(c) * (255 - paper) + 255 * paper + 127) / 255) as u8)
         })
         .collect();
-    encode(w, img, png::ColorType::Rgb, &rgb, dots)
+    encode(w, img.dimensions(), png::ColorType::Rgb, &rgb, dots)
 }
 
 /// The dot count of a PNG drawing we wrote ([`write_png`]), or `None` for
@@ -188,4 +194,42 @@ pub fn mean_ink(img: &GrayImage, x0: u32, y0: u32, x1: u32, y1: u32) -> f64 {
         }
     }
     if n == 0 { 0.0 } else { sum / n as f64 }
+}
+
+/// The composite of a colour drawing's layers, each rendered as by
+/// [`render`] (paper white, grey where its pen's ink is), under the render
+/// model ([`crate::colour::separation`]): at every pixel pen k covers
+/// a_k = 1 − its layer's paper, and the pixel shows `model.mix(a)`, the
+/// overlapping inks multiplied. `model` should average sRGB values (the
+/// display convention), as the grey PNG does.
+pub fn composite(layers: &[GrayImage], model: &crate::colour::RenderModel) -> Result<RgbImage> {
+    let Some(first) = layers.first() else {
+        return Err(Error::InvalidParameter(
+            "a colour drawing needs a layer".into(),
+        ));
+    };
+    let (w, h) = first.dimensions();
+    let mut rgb = vec![0u8; 3 * w as usize * h as usize];
+    rgb.chunks_exact_mut(3).enumerate().for_each(|(i, px)| {
+        let mut a = [0f64; crate::colour::pens::MAX_PENS];
+        for (k, l) in layers.iter().enumerate() {
+            a[k] = 1.0 - f64::from(l.as_raw()[i]) / 255.0;
+        }
+        let c = model.mix(&a[..layers.len()]);
+        let c = if model.linear() {
+            c.map(crate::colour::encode)
+        } else {
+            c
+        };
+        for (o, v) in px.iter_mut().zip(c) {
+            *o = (255.0 * v.clamp(0.0, 1.0)).round() as u8;
+        }
+    });
+    RgbImage::from_raw(w, h, rgb)
+        .ok_or_else(|| Error::Encode("pixel buffer of the wrong size".into()))
+}
+
+/// Encodes a colour drawing as an 8-bit RGB PNG with our text chunks.
+pub fn write_png_rgb(w: &mut dyn Write, img: &RgbImage, dots: usize) -> Result<()> {
+    encode(w, img.dimensions(), png::ColorType::Rgb, img.as_raw(), dots)
 }

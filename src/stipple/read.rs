@@ -30,6 +30,12 @@ pub struct Drawing {
     pub view_height: f64,
     /// The dots in document order, relative to the viewBox's top-left corner.
     pub dots: Vec<Dot>,
+    /// The Inkscape layers, in document order: label and colour (its
+    /// `fill`, else its `stroke`; black when neither is a `#rrggbb` colour).
+    /// A colour drawing has one per pen.
+    pub layers: Vec<(String, [u8; 3])>,
+    /// The layer of each dot (an index into `layers`; 0 outside layers).
+    pub layer_of: Vec<usize>,
 }
 
 /// Parses an SVG written by pixelpie. Err with a one-line message if it is
@@ -86,10 +92,12 @@ fn parse(text: &str) -> Result<Drawing, String> {
 /// Whether a comment's text is `N dots, made by pixelpie`.
 fn is_our_comment(text: &str) -> bool {
     let words: Vec<&str> = text.split_whitespace().collect();
-    matches!(
-        words.as_slice(),
-        [n, "dots,", "made", "by", "pixelpie"] if n.bytes().all(|b| b.is_ascii_digit())
-    )
+    let digits = |n: &str| n.bytes().all(|b| b.is_ascii_digit());
+    match words.as_slice() {
+        [n, "dots,", "made", "by", "pixelpie"] => digits(n),
+        [n, "dots", "in", k, "pens,", "made", "by", "pixelpie"] => digits(n) && digits(k),
+        _ => false,
+    }
 }
 
 /// The viewBox: origin and size.
@@ -107,6 +115,8 @@ struct ViewBox {
 struct Frame {
     transform: Affine,
     hidden: bool,
+    /// The Inkscape layer it is in.
+    layer: Option<usize>,
 }
 
 /// What the parse has found so far.
@@ -124,6 +134,10 @@ struct Document {
     dots: Vec<Dot>,
     /// The first dot that could not be read; reported only for our files.
     bad_dot: Option<String>,
+    /// The Inkscape layers found.
+    layers: Vec<(String, [u8; 3])>,
+    /// Each dot's layer.
+    layer_of: Vec<usize>,
 }
 
 impl Document {
@@ -160,6 +174,7 @@ impl Document {
         Ok(Frame {
             transform: Affine::IDENTITY,
             hidden: false,
+            layer: None,
         })
     }
 
@@ -173,14 +188,32 @@ impl Document {
             }
         };
         let hidden = parent.hidden || NOT_DRAWN.contains(&name);
+        let mut layer = parent.layer;
+        if name == "g" && attrs.get("inkscape:groupmode") == Some("layer") {
+            let colour = [attrs.get("fill"), attrs.get("stroke")]
+                .into_iter()
+                .flatten()
+                .find_map(|c| crate::colour::pens::parse_hex(c).ok())
+                .unwrap_or([0, 0, 0]);
+            let label = attrs.get("inkscape:label").unwrap_or_default().to_owned();
+            self.layers.push((label, colour));
+            layer = Some(self.layers.len() - 1);
+        }
         if !hidden {
             match self.dot(name, attrs, transform) {
-                Ok(Some(d)) => self.dots.push(d),
+                Ok(Some(d)) => {
+                    self.dots.push(d);
+                    self.layer_of.push(layer.unwrap_or(0));
+                }
                 Ok(None) => {}
                 Err(e) => self.fail(e),
             }
         }
-        Frame { transform, hidden }
+        Frame {
+            transform,
+            hidden,
+            layer,
+        }
     }
 
     /// Remembers the first error about a dot.
@@ -230,6 +263,8 @@ impl Document {
             view_width: view_box.width,
             view_height: view_box.height,
             dots: self.dots,
+            layers: self.layers,
+            layer_of: self.layer_of,
         })
     }
 }

@@ -186,6 +186,14 @@ pub fn write(w: &mut dyn Write, dots: &[Dot], opts: &SvgOptions) -> Result<()> {
     )?;
     writeln!(w, "<!-- {} dots, made by pixelpie -->", dots.len())?;
     writeln!(w, r#"<g fill="{}" stroke="none">"#, opts.ink_name())?;
+    write_circles(w, dots)?;
+    writeln!(w, "</g>")?;
+    writeln!(w, "</svg>")?;
+    Ok(())
+}
+
+/// One `<circle>` per dot.
+fn write_circles(w: &mut dyn Write, dots: &[Dot]) -> Result<()> {
     for d in dots {
         writeln!(
             w,
@@ -195,8 +203,98 @@ pub fn write(w: &mut dyn Write, dots: &[Dot], opts: &SvgOptions) -> Result<()> {
             num(f64::from(d.radius))
         )?;
     }
-    writeln!(w, "</g>")?;
+    Ok(())
+}
+
+/// One pen's dots in a colour drawing: an Inkscape layer of its own.
+#[derive(Clone, Copy, Debug)]
+pub struct Layer<'a> {
+    /// The layer's label (the pen's name).
+    pub name: &'a str,
+    /// The pen's colour.
+    pub ink: [u8; 3],
+    /// The pen's width in mm, when it differs from the options' pen.
+    pub pen_mm: Option<f64>,
+    /// The pen's dots, in drawing order.
+    pub dots: &'a [Dot],
+}
+
+/// Writes a colour drawing: one Inkscape layer per pen
+/// (`<g inkscape:groupmode="layer" inkscape:label="cyan" fill="#00ffff">`,
+/// or `stroke` with a pen), in the layers' order. The options' ink is not
+/// used; each layer has its own.
+pub fn write_layers(w: &mut dyn Write, layers: &[Layer<'_>], opts: &SvgOptions) -> Result<()> {
+    let pen = opts.pen()?;
+    let all: Vec<Dot> = layers.iter().flat_map(|l| l.dots.iter().copied()).collect();
+    check_finite(&all)?;
+    let (dw, dh) = opts.domain;
+    let scale = opts
+        .size_mm
+        .map_or(1.0, |(mm, _)| mm / f64::from(dw.max(1)));
+    let (width, height, view) = match (pen, opts.size_mm) {
+        (Some(_), Some((a, b))) => (
+            format!("{}mm", num(a)),
+            format!("{}mm", num(b)),
+            format!("{} {}", num(a), num(b)),
+        ),
+        (_, Some((a, b))) => (
+            format!("{}mm", num(a)),
+            format!("{}mm", num(b)),
+            format!("{dw} {dh}"),
+        ),
+        (_, None) => (format!("{dw}px"), format!("{dh}px"), format!("{dw} {dh}")),
+    };
+    writeln!(w, r#"<?xml version="1.0" encoding="UTF-8"?>"#)?;
+    writeln!(
+        w,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" xmlns:inkscape="http://www.inkscape.org/namespaces/inkscape" version="1.1" width="{width}" height="{height}" viewBox="0 0 {view}">"#
+    )?;
+    writeln!(
+        w,
+        "<!-- {} dots in {} pens, made by pixelpie -->",
+        all.len(),
+        layers.len()
+    )?;
+    for (i, l) in layers.iter().enumerate() {
+        let ink = super::super::colour::pens::hex_of(l.ink);
+        let id = i + 1;
+        let label = l.name.replace(['"', '<', '>', '&'], "_");
+        match pen {
+            None => {
+                writeln!(
+                    w,
+                    r#"<g inkscape:groupmode="layer" id="layer{id}" inkscape:label="{label}" fill="{ink}" stroke="none">"#
+                )?;
+                write_circles(w, l.dots)?;
+            }
+            Some((pen, _)) => {
+                let pen = l.pen_mm.unwrap_or(pen);
+                writeln!(
+                    w,
+                    r#"<g inkscape:groupmode="layer" id="layer{id}" inkscape:label="{label}" fill="none" stroke="{ink}" stroke-width="{}" stroke-linecap="round" stroke-linejoin="round">"#,
+                    num(pen)
+                )?;
+                write_pen_dots(w, l.dots, scale, pen)?;
+            }
+        }
+        writeln!(w, "</g>")?;
+    }
     writeln!(w, "</svg>")?;
+    Ok(())
+}
+
+/// Err for the first dot that is not finite.
+fn check_finite(dots: &[Dot]) -> Result<()> {
+    if let Some((i, d)) = dots
+        .iter()
+        .enumerate()
+        .find(|(_, d)| !(d.x.is_finite() && d.y.is_finite() && d.radius.is_finite()))
+    {
+        return Err(Error::InvalidParameter(format!(
+            "dot {i} ({}, {}, radius {}) is not finite",
+            d.x, d.y, d.radius
+        )));
+    }
     Ok(())
 }
 
@@ -210,16 +308,7 @@ fn write_pen(
     pen: f64,
     ink: &str,
 ) -> Result<()> {
-    if let Some((i, d)) = dots
-        .iter()
-        .enumerate()
-        .find(|(_, d)| !(d.x.is_finite() && d.y.is_finite() && d.radius.is_finite()))
-    {
-        return Err(Error::InvalidParameter(format!(
-            "dot {i} ({}, {}, radius {}) is not finite",
-            d.x, d.y, d.radius
-        )));
-    }
+    check_finite(dots)?;
     let scale = width / f64::from(domain.0.max(1));
     let (width, height) = (num(width), num(height));
     writeln!(w, r#"<?xml version="1.0" encoding="UTF-8"?>"#)?;
@@ -234,6 +323,15 @@ fn write_pen(
         ink,
         num(pen)
     )?;
+    write_pen_dots(w, dots, scale, pen)?;
+    writeln!(w, "</g>")?;
+    writeln!(w, "</svg>")?;
+    Ok(())
+}
+
+/// One stroked path per dot, as a pen `pen` mm wide draws it, the dots
+/// scaled by `scale` mm per domain pixel.
+fn write_pen_dots(w: &mut dyn Write, dots: &[Dot], scale: f64, pen: f64) -> Result<()> {
     let mut line = String::new();
     for d in dots {
         let (cx, cy, r) = (
@@ -254,8 +352,6 @@ fn write_pen(
         let _ = write!(line, r#"" data-dot="{} {} {}"/>"#, num(cx), num(cy), num(r));
         writeln!(w, "{line}")?;
     }
-    writeln!(w, "</g>")?;
-    writeln!(w, "</svg>")?;
     Ok(())
 }
 

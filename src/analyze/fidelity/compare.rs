@@ -40,7 +40,7 @@ pub fn compare(
 }
 
 /// The errors of [`compare`].
-fn validate(photo: &Grey, drawing: &Grey, sigma: f64) -> Result<(), String> {
+pub(super) fn validate(photo: &Grey, drawing: &Grey, sigma: f64) -> Result<(), String> {
     if !(sigma.is_finite() && sigma >= 0.0) {
         return Err(format!("blur sigma {sigma} must be a finite number >= 0"));
     }

@@ -44,6 +44,7 @@
 //! K1 = 0.01, K2 = 0.03 match.
 
 mod blur;
+pub mod colour;
 mod compare;
 mod psnr;
 mod ssim;
@@ -124,7 +125,7 @@ impl Grey {
     }
 
     /// The same image with every value mapped by `f`.
-    fn map(&self, f: impl Fn(f32) -> f32 + Sync) -> Self {
+    pub(crate) fn map(&self, f: impl Fn(f32) -> f32 + Sync) -> Self {
         Self {
             width: self.width,
             height: self.height,

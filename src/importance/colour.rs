@@ -1,0 +1,200 @@
+//! Colour pictures for drawing with several pens: linear RGB per pixel,
+//! composited over white paper, resized like [`super::ImportanceMap`], and
+//! separated into one importance map per pen ([`ColourMap::separate`]).
+//!
+//! Loading follows the grey pipeline's rules ([`super::load`]): 8- and
+//! 16-bit samples are sRGB-decoded, float images (EXR, float TIFF) are
+//! divided by their luminance's white point and clipped, NaN is refused,
+//! and alpha composites over white. An EXR without R, G and B is grey.
+
+use std::path::Path;
+
+use super::{Error, ImportanceMap, Range, Result, load};
+use crate::colour::Separation;
+
+/// A colour picture: linear RGB in [0, 1] per pixel, row-major.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ColourMap {
+    width: u32,
+    height: u32,
+    rgb: Vec<[f32; 3]>,
+}
+
+impl ColourMap {
+    /// A map from linear RGB values in [0, 1].
+    pub fn from_linear(width: u32, height: u32, rgb: Vec<[f32; 3]>) -> Result<Self> {
+        if width == 0 || height == 0 || rgb.len() as u64 != u64::from(width) * u64::from(height) {
+            return Err(Error::InvalidParameter(format!(
+                "{} colours for a {width}x{height} picture",
+                rgb.len()
+            )));
+        }
+        if rgb.iter().flatten().any(|v| !(0.0..=1.0).contains(v)) {
+            return Err(Error::InvalidParameter(
+                "colours must be linear RGB values in [0, 1]".into(),
+            ));
+        }
+        Ok(Self { width, height, rgb })
+    }
+
+    /// Loads a picture file in colour (`hdr_white`: the white point of
+    /// float images, by default their luminance's 99.5th percentile).
+    pub fn open(path: &Path, hdr_white: Option<f32>) -> Result<Self> {
+        // The grey loader checks the file (empty, damaged, NaN) and finds
+        // the white point; the colours are decoded next to it.
+        let lum = load(path)?;
+        let white = match (lum.range, hdr_white) {
+            (Range::Unit, _) => 1.0,
+            (Range::Float, Some(w)) if w.is_finite() && w > 0.0 => w,
+            (Range::Float, Some(w)) => {
+                return Err(Error::InvalidParameter(format!(
+                    "HDR white point {w} must be a positive number"
+                )));
+            }
+            (Range::Float, None) => lum.white_point(),
+        };
+        let exr = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
+        let (w, h) = (lum.width, lum.height);
+        let mut rgb = if exr {
+            exr_rgb(path, &lum)?
+        } else {
+            raster_rgb(path, lum.range)?
+        };
+        // Over white paper: straight alpha for raster images, premultiplied
+        // for EXR (OpenEXR's convention).
+        for (i, c) in rgb.iter_mut().enumerate() {
+            let a = lum.alpha.as_ref().map_or(1.0, |a| a[i]);
+            for v in c.iter_mut() {
+                let v0 = (*v / white).max(0.0);
+                let over = if lum.premultiplied {
+                    v0 + (1.0 - a)
+                } else {
+                    a * v0 + (1.0 - a)
+                };
+                *v = over.clamp(0.0, 1.0);
+            }
+        }
+        Self::from_linear(w, h, rgb)
+    }
+
+    /// Width in pixels.
+    #[must_use]
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+
+    /// Height in pixels.
+    #[must_use]
+    pub fn height(&self) -> u32 {
+        self.height
+    }
+
+    /// The linear colours, row-major.
+    #[must_use]
+    pub fn rgb(&self) -> &[[f32; 3]] {
+        &self.rgb
+    }
+
+    /// The picture's luminance as a grey importance map (linear light).
+    #[must_use]
+    pub fn luminance(&self) -> ImportanceMap {
+        let values = self
+            .rgb
+            .iter()
+            .map(|c| (0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]).clamp(0.0, 1.0))
+            .collect();
+        ImportanceMap::from_values(self.width, self.height, values)
+            .expect("luminance of a checked picture is in range")
+    }
+
+    /// The picture resampled to `width`×`height` with a triangle filter, on
+    /// linear values (as [`ImportanceMap::resized`]).
+    pub fn resized(&self, width: u32, height: u32) -> Result<Self> {
+        if (width, height) == (self.width, self.height) {
+            return Ok(self.clone());
+        }
+        if width == 0 || height == 0 {
+            return Err(Error::InvalidParameter(format!(
+                "cannot resize the picture to {width}x{height}"
+            )));
+        }
+        let flat: Vec<f32> = self.rgb.iter().flatten().copied().collect();
+        let buf = image::ImageBuffer::<image::Rgb<f32>, Vec<f32>>::from_raw(
+            self.width,
+            self.height,
+            flat,
+        )
+        .ok_or_else(|| Error::InvalidParameter("picture buffer has the wrong size".into()))?;
+        let out =
+            image::imageops::resize(&buf, width, height, image::imageops::FilterType::Triangle);
+        let rgb = out
+            .into_raw()
+            .chunks_exact(3)
+            .map(|c| [c[0], c[1], c[2]].map(|v| v.clamp(0.0, 1.0)))
+            .collect();
+        Ok(Self { width, height, rgb })
+    }
+
+    /// One importance map per pen: v = 1 − the pen's ink (0 = full ink),
+    /// by `separation`.
+    pub fn separate(&self, separation: &Separation) -> Vec<ImportanceMap> {
+        separation
+            .image(&self.rgb)
+            .into_iter()
+            .map(|ink| {
+                let v = ink.iter().map(|a| (1.0 - a).clamp(0.0, 1.0)).collect();
+                ImportanceMap::from_values(self.width, self.height, v).expect("inks are in range")
+            })
+            .collect()
+    }
+}
+
+/// The linear RGB of a raster image file (not yet divided by the white
+/// point), with its alpha left to the caller.
+fn raster_rgb(path: &Path, range: Range) -> Result<Vec<[f32; 3]>> {
+    let decode = |e: &dyn std::fmt::Display| Error::Decode {
+        path: path.to_owned(),
+        message: crate::text::single_line(&e.to_string()),
+    };
+    let img = image::ImageReader::open(path)
+        .map_err(|error| Error::Io {
+            path: path.to_owned(),
+            error,
+        })?
+        .with_guessed_format()
+        .map_err(|e| decode(&e))?
+        .decode()
+        .map_err(|e| decode(&e))?;
+    if range == Range::Float {
+        return Ok(img.to_rgb32f().pixels().map(|p| p.0).collect());
+    }
+    let lut: Vec<f32> = (0..=u16::MAX)
+        .map(|v| crate::colour::srgb_to_linear(f32::from(v) / 65535.0))
+        .collect();
+    Ok(img
+        .to_rgb16()
+        .pixels()
+        .map(|p| p.0.map(|v| lut[usize::from(v)]))
+        .collect())
+}
+
+/// The linear RGB of an EXR: its R, G and B channels, or its luminance.
+fn exr_rgb(path: &Path, lum: &super::Luminance) -> Result<Vec<[f32; 3]>> {
+    let img = crate::io::read_exr(path).map_err(|e| Error::Decode {
+        path: path.to_owned(),
+        message: crate::text::single_line(&e.to_string()),
+    })?;
+    let find = |name: &str| {
+        img.channels
+            .iter()
+            .find(|(n, _)| n.rsplit('.').next() == Some(name))
+            .map(|(_, v)| v)
+    };
+    Ok(match (find("Y"), find("R"), find("G"), find("B")) {
+        (None, Some(r), Some(g), Some(b)) => (0..r.len()).map(|i| [r[i], g[i], b[i]]).collect(),
+        _ => lum.values.iter().map(|&v| [v; 3]).collect(),
+    })
+}
