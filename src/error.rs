@@ -20,6 +20,9 @@ pub enum Error {
     /// Reading or writing a file.
     #[error(transparent)]
     Io(#[from] crate::io::Error),
+    /// A pen set that cannot be used.
+    #[error(transparent)]
+    Pens(#[from] crate::colour::pens::PenError),
 }
 
 /// The library's result type.

@@ -29,6 +29,33 @@ fn row(r: f64) -> [f64; INK[0].len()] {
     std::array::from_fn(|j| INK[i][j] + f * (INK[i + 1][j] - INK[i][j]))
 }
 
+/// The density of the maximal sets the curve was measured on, over RSA's
+/// ([`crate::sampler::RSA_DENSITY`] / (π r²/4)), at each of the curve's
+/// radii: pixel-mode sets hold fewer points at small radii. Measured with
+/// `pixelpie sample --width 2048 --height 2048 --radius R --periodic` (seed
+/// 0, one set per radius).
+pub const DENSITY: [f64; RADII.len()] = [
+    0.6744, 0.7783, 0.8185, 0.8796, 0.9021, 0.9338, 0.9449, 0.9630, 0.9764, 0.9885, 0.9910,
+];
+
+/// The density of a maximal set of radius `r` px over RSA's ([`DENSITY`],
+/// interpolated in log r, clamped to the measured radii).
+///
+/// ```
+/// use pixelpie::importance::ink;
+/// assert!(ink::density(1.0) < ink::density(8.0) && ink::density(8.0) < 1.0);
+/// ```
+#[must_use]
+pub fn density(r: f64) -> f64 {
+    let lr = r.max(RADII[0]).min(RADII[RADII.len() - 1]).ln();
+    let i = RADII
+        .windows(2)
+        .position(|w| lr <= w[1].ln())
+        .unwrap_or(RADII.len() - 2);
+    let f = ((lr - RADII[i].ln()) / (RADII[i + 1].ln() - RADII[i].ln())).clamp(0.0, 1.0);
+    DENSITY[i] + f * (DENSITY[i + 1] - DENSITY[i])
+}
+
 /// The ink of dots of radius `t`·`r` on a maximal set of radius `r` px.
 ///
 /// ```

@@ -9,6 +9,9 @@ use std::path::Path;
 
 use super::job::{Format, Job, Order, Stipple};
 use super::{Dot, svg, tsp};
+use rayon::prelude::*;
+
+use crate::colour::pens::MAX_PENS;
 use crate::colour::{RenderModel, Separation};
 use crate::importance::ink::{self, K_MAX};
 use crate::importance::{Classes, ColourMap, Prepared, RadiusRange, Tones};
@@ -91,7 +94,7 @@ impl Job {
             }
         }
         let density = Density::new(&ordered, &prepared, range, (width, height));
-        let calibrated = ordered
+        let mut calibrated: Vec<f32> = ordered
             .iter()
             .map(|p| {
                 let map = &prepared[p.class as usize];
@@ -99,6 +102,18 @@ impl Job {
                 map.dot_radius(p, range) * density.dot_factor(p, ink)
             })
             .collect();
+        if matches!(self.dot_size(), super::DotSize::Calibrated(_)) {
+            let inks: Vec<f64> = ordered
+                .iter()
+                .map(|p| f64::from(1.0 - prepared[p.class as usize].map.value_at(p.x, p.y)))
+                .collect();
+            Correction::new(&picture, &separation, (width, height), ordered.len())?.apply(
+                &ordered,
+                &inks,
+                &mut calibrated,
+                pens.len(),
+            )?;
+        }
         let mut drawing = Stipple {
             dots: Vec::new(),
             points: ordered,
@@ -189,65 +204,74 @@ impl Job {
 /// for ([`crate::importance::ink`]), at the spacing they actually have.
 ///
 /// Counts are taken in a square window of half-side [`WINDOW`] × the dot's
-/// sample radius (about a hundred neighbours), from summed-area tables of
-/// the pens' points and of their RSA densities at the sampled radii.
+/// sample radius (about thirty neighbours), from summed-area tables of the
+/// pens' points and of the density a maximal set of one pen has at the
+/// sampled radii ([`ink::density`]).
 struct Density {
-    width: usize,
-    height: usize,
-    /// Per pen: summed-area table of point counts, (w+1)×(h+1).
+    /// The grid's cells per row and column.
+    cols: usize,
+    rows: usize,
+    /// Per pen: summed-area table of point counts, (cols+1)×(rows+1).
     counts: Vec<Vec<u32>>,
-    /// Per pen: summed-area table of the expected point density.
+    /// Per pen: summed-area table of the expected point count.
     expected: Vec<Vec<f64>>,
 }
 
 /// The counting window's half-side in sample radii.
 const WINDOW: f32 = 3.0;
+/// The side in px of the cells the counts are kept in (windows are tens of
+/// pixels wide: the sample radii are).
+const CELL: usize = 4;
+
+/// The summed-area table of `cols`×`rows` values `f(cell)`.
+fn summed<T: Copy + Default + std::ops::Add<Output = T>>(
+    cols: usize,
+    rows: usize,
+    f: impl Fn(usize) -> T,
+) -> Vec<T> {
+    let mut t = vec![T::default(); (cols + 1) * (rows + 1)];
+    for y in 0..rows {
+        let mut row = T::default();
+        for x in 0..cols {
+            row = row + f(y * cols + x);
+            t[(y + 1) * (cols + 1) + x + 1] = t[y * (cols + 1) + x + 1] + row;
+        }
+    }
+    t
+}
 
 impl Density {
     fn new(points: &[Point], maps: &[Prepared], range: RadiusRange, (w, h): (u32, u32)) -> Self {
         let (w, h) = (w as usize, h as usize);
-        let sat = |f: &dyn Fn(usize) -> f64| -> Vec<f64> {
-            let mut t = vec![0f64; (w + 1) * (h + 1)];
-            for y in 0..h {
-                let mut row = 0.0;
-                for x in 0..w {
-                    row += f(y * w + x);
-                    t[(y + 1) * (w + 1) + x + 1] = t[y * (w + 1) + x + 1] + row;
-                }
-            }
-            t
-        };
+        let (cols, rows) = (w.div_ceil(CELL), h.div_ceil(CELL));
+        let cell_of = |x: usize, y: usize| (y / CELL) * cols + x / CELL;
         let expected = maps
-            .iter()
+            .par_iter()
             .map(|m| {
                 let radii = m.map.radii(m.mapping, range);
-                sat(&|i| {
-                    let r = f64::from(radii[i]);
-                    crate::sampler::RSA_DENSITY / (std::f64::consts::PI * r * r / 4.0)
-                })
+                let mut per_cell = vec![0f64; cols * rows];
+                for (i, &r) in radii.iter().enumerate() {
+                    let r = f64::from(r);
+                    per_cell[cell_of(i % w, i / w)] += ink::density(r)
+                        * crate::sampler::RSA_DENSITY
+                        / (std::f64::consts::PI * r * r / 4.0);
+                }
+                summed(cols, rows, |c| per_cell[c])
             })
             .collect();
         let counts = (0..maps.len() as u32)
             .map(|c| {
-                let mut n = vec![0u32; w * h];
+                let mut n = vec![0u32; cols * rows];
                 for p in points.iter().filter(|p| p.class == c) {
                     let (x, y) = ((p.x as usize).min(w - 1), (p.y as usize).min(h - 1));
-                    n[y * w + x] += 1;
+                    n[cell_of(x, y)] += 1;
                 }
-                let mut t = vec![0u32; (w + 1) * (h + 1)];
-                for y in 0..h {
-                    let mut row = 0;
-                    for x in 0..w {
-                        row += n[y * w + x];
-                        t[(y + 1) * (w + 1) + x + 1] = t[y * (w + 1) + x + 1] + row;
-                    }
-                }
-                t
+                summed(cols, rows, |c| n[c])
             })
             .collect();
         Self {
-            width: w,
-            height: h,
+            cols,
+            rows,
             counts,
             expected,
         }
@@ -257,11 +281,12 @@ impl Density {
     /// down `ink` there.
     fn dot_factor(&self, p: &Point, ink: f64) -> f32 {
         let half = WINDOW * p.radius;
-        let x0 = (p.x - half).max(0.0) as usize;
-        let y0 = (p.y - half).max(0.0) as usize;
-        let x1 = ((p.x + half).max(0.0) as usize + 1).min(self.width);
-        let y1 = ((p.y + half).max(0.0) as usize + 1).min(self.height);
-        let stride = self.width + 1;
+        let cell = CELL as f32;
+        let x0 = ((p.x - half).max(0.0) / cell) as usize;
+        let y0 = ((p.y - half).max(0.0) / cell) as usize;
+        let x1 = (((p.x + half).max(0.0) / cell) as usize + 1).min(self.cols);
+        let y1 = (((p.y + half).max(0.0) / cell) as usize + 1).min(self.rows);
+        let stride = self.cols + 1;
         let c = p.class as usize;
         let n = self.counts[c][y1 * stride + x1] + self.counts[c][y0 * stride + x0]
             - self.counts[c][y0 * stride + x1]
@@ -279,5 +304,259 @@ impl Density {
         let want = ink::dot_ratio(k, r_eff) * r_eff;
         let had = ink::dot_ratio(k, r) * r;
         if had > 0.0 { (want / had) as f32 } else { 1.0 }
+    }
+}
+
+/// The correction of the calibrated dots toward the separation's colours,
+/// closing the loop that the render model leaves open: pens placed apart
+/// by the cross spacing overlap less than independent ones (the model's
+/// assumption), and calibration is exact only on average. The drawing is
+/// rendered at about the photo's resolution, blurred by the measure's σ
+/// (the mean dot spacing) and compared with the separation's own colours,
+/// blurred alike; the error is turned into ink changes per pen by the
+/// model's Jacobian (damped least norm), and each dot is resized by the ink
+/// curve to put down its pen's new ink. [`CORRECTIONS`] rounds.
+struct Correction {
+    /// The grid's size.
+    size: (u32, u32),
+    /// Grid pixels per domain pixel.
+    scale: f32,
+    /// The inks of the separation at every grid pixel, one plane per pen.
+    inks: Vec<Vec<f32>>,
+    /// The target: the separation's colours, blurred, one plane per channel.
+    target: [crate::analyze::fidelity::Grey; 3],
+    /// The blur's σ in grid pixels.
+    sigma: f64,
+    /// The render model.
+    model: RenderModel,
+}
+
+/// Rounds of [`Correction`].
+const CORRECTIONS: usize = 3;
+/// The correction grid's longer side, at most.
+const CORRECTION_SIDE: u32 = 640;
+
+impl Correction {
+    fn new(
+        picture: &ColourMap,
+        separation: &Separation,
+        domain: (u32, u32),
+        dots: usize,
+    ) -> crate::Result<Self> {
+        use crate::analyze::fidelity::{Grey, blur};
+        let long = domain.0.max(domain.1);
+        let scale = (CORRECTION_SIDE as f32 / long as f32).min(1.0);
+        let size = (
+            ((domain.0 as f32 * scale).round() as u32).max(1),
+            ((domain.1 as f32 * scale).round() as u32).max(1),
+        );
+        let grid = picture.resized(size.0, size.1)?;
+        let inks = separation.image(grid.rgb());
+        let model = separation.model().clone();
+        let n = (size.0 * size.1) as usize;
+        let colours: Vec<[f64; 3]> = (0..n)
+            .map(|i| {
+                let a: Vec<f64> = inks.iter().map(|p| f64::from(p[i])).collect();
+                model.mix(&a)
+            })
+            .collect();
+        let sigma = (f64::from(domain.0) * f64::from(domain.1) / dots.max(1) as f64).sqrt()
+            * f64::from(scale);
+        let target = [0, 1, 2].map(|k| {
+            blur(
+                &Grey {
+                    width: size.0,
+                    height: size.1,
+                    values: colours.iter().map(|c| c[k] as f32).collect(),
+                },
+                sigma,
+            )
+        });
+        Ok(Self {
+            size,
+            scale,
+            inks,
+            target,
+            sigma,
+            model,
+        })
+    }
+
+    /// Corrects `calibrated` (the dots' radii) of `points`, whose pens were
+    /// to put down `inks`, in [`CORRECTIONS`] rounds.
+    fn apply(
+        &self,
+        points: &[Point],
+        inks: &[f64],
+        calibrated: &mut [f32],
+        pens: usize,
+    ) -> crate::Result<()> {
+        use crate::analyze::fidelity::{Grey, blur};
+        let (w, h) = self.size;
+        let mut assumed = inks.to_vec();
+        for _ in 0..CORRECTIONS {
+            let layers = (0..pens as u32)
+                .map(|k| {
+                    let dots: Vec<Dot> = points
+                        .iter()
+                        .zip(calibrated.iter())
+                        .filter(|(p, _)| p.class == k)
+                        .map(|(p, &r)| Dot {
+                            x: p.x * self.scale,
+                            y: p.y * self.scale,
+                            radius: r * self.scale,
+                        })
+                        .collect();
+                    super::raster::render(&dots, self.size, 1.0)
+                })
+                .collect::<Result<Vec<_>, _>>()?;
+            // What the drawing shows, in the model's space.
+            let shown: Vec<[f64; 3]> = (0..(w * h) as usize)
+                .into_par_iter()
+                .map(|i| {
+                    let mut a = [0f64; MAX_PENS];
+                    for (k, l) in layers.iter().enumerate() {
+                        a[k] = 1.0 - f64::from(l.as_raw()[i]) / 255.0;
+                    }
+                    self.model.mix(&a[..pens])
+                })
+                .collect();
+            let drawn = [0, 1, 2].map(|k| {
+                blur(
+                    &Grey {
+                        width: w,
+                        height: h,
+                        values: shown.iter().map(|c| c[k] as f32).collect(),
+                    },
+                    self.sigma,
+                )
+            });
+            // The ink change per pen at every grid pixel.
+            let delta: Vec<[f32; MAX_PENS]> = (0..(w * h) as usize)
+                .into_par_iter()
+                .map(|i| {
+                    let mut a = [0f64; MAX_PENS];
+                    for (k, p) in self.inks.iter().enumerate() {
+                        a[k] = f64::from(p[i]);
+                    }
+                    let e =
+                        [0, 1, 2].map(|k| f64::from(self.target[k].values[i] - drawn[k].values[i]));
+                    let d = self.step(&a[..pens], e);
+                    let mut out = [0f32; MAX_PENS];
+                    for (o, v) in out.iter_mut().zip(d) {
+                        *o = v as f32;
+                    }
+                    out
+                })
+                .collect();
+            for (j, p) in points.iter().enumerate() {
+                let gx = ((p.x * self.scale) as u32).min(w - 1);
+                let gy = ((p.y * self.scale) as u32).min(h - 1);
+                let g = (gy * w + gx) as usize;
+                let k = p.class as usize;
+                let before = assumed[j];
+                if before < 1e-3 {
+                    continue;
+                }
+                let after = (before + f64::from(delta[g][k])).clamp(0.5 * before, K_MAX);
+                let r = f64::from(p.radius);
+                let had = ink::dot_ratio(before, r);
+                if had <= 0.0 {
+                    continue;
+                }
+                let factor = (ink::dot_ratio(after, r) / had).clamp(0.7, 1.4);
+                calibrated[j] *= factor as f32;
+                assumed[j] = after;
+            }
+        }
+        Ok(())
+    }
+
+    /// The damped least-norm ink change Δa with J·Δa = `e`, J the model's
+    /// Jacobian at inks `a` (3 × pens).
+    fn step(&self, a: &[f64], e: [f64; 3]) -> impl Iterator<Item = f64> {
+        let n = a.len();
+        let base = self.model.mix(a);
+        let mut jac = [[0f64; 3]; MAX_PENS];
+        let jac = &mut jac[..n];
+        let mut b = [0f64; MAX_PENS];
+        b[..n].copy_from_slice(a);
+        let b = &mut b[..n];
+        for k in 0..n {
+            let h = if a[k] > 0.5 { -1e-3 } else { 1e-3 };
+            b[k] = a[k] + h;
+            let c = self.model.mix(b);
+            b[k] = a[k];
+            for i in 0..3 {
+                jac[k][i] = (c[i] - base[i]) / h;
+            }
+        }
+        // (J Jᵀ + λI) y = e, Δa = Jᵀ y.
+        let lambda = 1e-2;
+        let mut m = [[0f64; 3]; 3];
+        for i in 0..3 {
+            for j in 0..3 {
+                m[i][j] = jac.iter().map(|c| c[i] * c[j]).sum::<f64>()
+                    + if i == j { lambda } else { 0.0 };
+            }
+        }
+        let y = solve3(m, e);
+        let jac: Vec<[f64; 3]> = jac.to_vec();
+        jac.into_iter()
+            .map(move |c| 0.8 * (c[0] * y[0] + c[1] * y[1] + c[2] * y[2]))
+    }
+}
+
+/// Solves the 3×3 system `m`·x = `b` (Cramer's rule; `m` is positive
+/// definite here).
+fn solve3(m: [[f64; 3]; 3], b: [f64; 3]) -> [f64; 3] {
+    let det = |m: [[f64; 3]; 3]| {
+        m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+            - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+            + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
+    };
+    let d = det(m);
+    if d.abs() < 1e-12 {
+        return [0.0; 3];
+    }
+    std::array::from_fn(|c| {
+        let mut mc = m;
+        for r in 0..3 {
+            mc[r][c] = b[r];
+        }
+        det(mc) / d
+    })
+}
+
+impl Job {
+    /// How `drawing` looks at `size` pixels: each pen's dots (this job's
+    /// [`Job::dots`]) in its colour, overlapping inks multiplied, averaged
+    /// as sRGB values (the display render model), as the PNG shows it. A
+    /// grey drawing is one pen in the job's ink.
+    pub fn picture(&self, drawing: &Stipple, size: (u32, u32)) -> crate::Result<image::RgbImage> {
+        let dots = self.dots(drawing);
+        let pens = match &drawing.pens {
+            Some(p) => p.clone(),
+            None => crate::colour::PenSet::from_colours([
+                crate::colour::pens::hex_of(self.ink.0).as_str()
+            ])?,
+        };
+        let view = (f64::from(drawing.domain.0), f64::from(drawing.domain.1));
+        let layers = (0..pens.len() as u32)
+            .map(|k| {
+                let layer: Vec<Dot> = drawing
+                    .points
+                    .iter()
+                    .zip(&dots)
+                    .filter(|(p, _)| p.class == k)
+                    .map(|(_, d)| *d)
+                    .collect();
+                super::raster::render_view(&layer, view, size)
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(super::raster::composite(
+            &layers,
+            &RenderModel::new(&pens, false),
+        )?)
     }
 }
