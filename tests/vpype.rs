@@ -113,7 +113,11 @@ fn stat(vpype: &Path, svg: &Path) -> Stat {
 /// Runs `pixelpie stipple` on the default asset into `svg`, drawing with a
 /// pen `pen_mm` wide on a page 200 mm wide, and returns the file's text.
 fn stipple(svg: &Path, pen_mm: &str, extra: &[&str]) -> String {
-    let image = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/default.png");
+    let image = Path::new(env!("CARGO_MANIFEST_DIR")).join(if extra.contains(&"--pens") {
+        "assets/rocket.jpg"
+    } else {
+        "assets/default.png"
+    });
     let out = Command::new(env!("CARGO_BIN_EXE_pixelpie"))
         .arg("stipple")
         .arg(&image)
@@ -223,4 +227,70 @@ fn parses_vpype_stat() {
     let s = parse_stat(text);
     assert_eq!((s.layers, s.paths), (1, 2000));
     assert_eq!(s.pen_up, 679400.1327466836);
+}
+
+/// `vpype read --no-crop FILE propget -l all vp_color`: each layer's colour,
+/// as vpype takes it from the layer's `stroke`.
+fn layer_colours(vpype: &Path, svg: &Path) -> Vec<String> {
+    let out = Command::new(vpype)
+        .arg("read")
+        .arg("--no-crop")
+        .arg(svg)
+        .args(["propget", "-l", "all", "vp_color"])
+        .output()
+        .unwrap_or_else(|e| panic!("cannot run {}: {e}", vpype.display()));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    // Lines such as "layer 2 property vp_color: (color) #ff00ff".
+    String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .filter_map(|l| l.rsplit(' ').next().filter(|c| c.starts_with('#')))
+        .map(str::to_owned)
+        .collect()
+}
+
+#[test]
+fn vpype_reads_one_layer_per_pen_in_its_colour() {
+    let Some(vpype) = vpype() else {
+        return;
+    };
+    let dir = tempfile::tempdir().expect("temp dir");
+    let svg = dir.path().join("cmyk.svg");
+    let text = stipple(&svg, "0.3", &["--pens", "cmyk", "--order", "tsp"]);
+    let d = pixelpie::stipple::read::read_svg(&text).expect("reads back");
+    let mut per_pen = vec![0usize; d.layers.len()];
+    for &l in &d.layer_of {
+        per_pen[l] += 1;
+    }
+    assert_eq!(d.layers.len(), 4);
+    assert_eq!(text.matches("data-dot=").count(), d.dots.len());
+    let out = Command::new(&vpype)
+        .arg("read")
+        .arg("--no-crop")
+        .arg(&svg)
+        .arg("stat")
+        .output()
+        .expect("run vpype");
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert_eq!(parse_stat(&stdout).layers, 4, "{stdout}");
+    // Each "Layer N" section's path count is that pen's dot count.
+    let counts: Vec<usize> = stdout
+        .split("\nLayer ")
+        .skip(1)
+        .map(|sec| {
+            sec.lines()
+                .find_map(|l| l.trim().strip_prefix("Path count: "))
+                .and_then(|n| n.trim().parse().ok())
+                .unwrap_or_else(|| panic!("no path count in:\n{sec}"))
+        })
+        .collect();
+    assert_eq!(
+        counts, per_pen,
+        "vpype's paths per layer vs our dots per pen"
+    );
+    let colours = layer_colours(&vpype, &svg);
+    assert_eq!(colours, ["#00ffff", "#ff00ff", "#ffff00", "#000000"]);
 }

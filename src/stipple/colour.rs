@@ -94,22 +94,28 @@ impl Job {
             }
         }
         let density = Density::new(&ordered, &prepared, range, (width, height));
+        let inks: Vec<f64> = ordered
+            .iter()
+            .map(|p| f64::from(1.0 - prepared[p.class as usize].map.value_at(p.x, p.y)))
+            .collect();
+        let spacing: Vec<f64> = ordered
+            .iter()
+            .map(|p| density.effective_radius(p))
+            .collect();
         let mut calibrated: Vec<f32> = ordered
             .iter()
-            .map(|p| {
+            .zip(&inks)
+            .zip(&spacing)
+            .map(|((p, &ink), &r_eff)| {
                 let map = &prepared[p.class as usize];
-                let ink = f64::from(1.0 - map.map.value_at(p.x, p.y));
-                map.dot_radius(p, range) * density.dot_factor(p, ink)
+                map.dot_radius(p, range) * dot_factor(ink, f64::from(p.radius), r_eff)
             })
             .collect();
         if matches!(self.dot_size(), super::DotSize::Calibrated(_)) {
-            let inks: Vec<f64> = ordered
-                .iter()
-                .map(|p| f64::from(1.0 - prepared[p.class as usize].map.value_at(p.x, p.y)))
-                .collect();
             Correction::new(&picture, &separation, (width, height), ordered.len())?.apply(
                 &ordered,
                 &inks,
+                &spacing,
                 &mut calibrated,
                 pens.len(),
             )?;
@@ -183,8 +189,8 @@ impl Job {
                     .iter()
                     .map(|d| super::raster::render(d, drawing.domain, self.scale))
                     .collect::<Result<Vec<_>, _>>()?;
-                let model = RenderModel::new(pens, false);
-                let img = super::raster::composite(&papers, &model)?;
+                let linear = self.importance.tones == Tones::Linear;
+                let img = super::raster::composite(&papers, &RenderModel::new(pens, linear))?;
                 crate::io::write_atomic(path, |w| {
                     Ok(super::raster::write_png_rgb(w, &img, dots.len())?)
                 })?;
@@ -277,9 +283,10 @@ impl Density {
         }
     }
 
-    /// The factor on the calibrated dot radius of point `p` whose pen puts
-    /// down `ink` there.
-    fn dot_factor(&self, p: &Point, ink: f64) -> f32 {
+    /// The radius of the single-pen maximal set that has point `p`'s pen's
+    /// local density: its sample radius, or more where the other pens thin
+    /// it out.
+    fn effective_radius(&self, p: &Point) -> f64 {
         let half = WINDOW * p.radius;
         let cell = CELL as f32;
         let x0 = ((p.x - half).max(0.0) / cell) as usize;
@@ -294,17 +301,22 @@ impl Density {
         let e = self.expected[c][y1 * stride + x1] + self.expected[c][y0 * stride + x0]
             - self.expected[c][y0 * stride + x1]
             - self.expected[c][y1 * stride + x0];
-        if n == 0 || e <= 0.0 {
-            return 1.0;
-        }
-        let q = (f64::from(n) / e).clamp(0.1, 4.0);
         let r = f64::from(p.radius);
-        let r_eff = r / q.sqrt();
-        let k = ink.clamp(0.0, K_MAX);
-        let want = ink::dot_ratio(k, r_eff) * r_eff;
-        let had = ink::dot_ratio(k, r) * r;
-        if had > 0.0 { (want / had) as f32 } else { 1.0 }
+        if n == 0 || e <= 0.0 {
+            return r;
+        }
+        r / (f64::from(n) / e).clamp(0.1, 4.0).sqrt()
     }
+}
+
+/// The factor on a calibrated dot radius (for ink `ink` on a maximal set
+/// of radius `r`) that puts down the same ink at the spacing of a maximal
+/// set of radius `r_eff`.
+fn dot_factor(ink: f64, r: f64, r_eff: f64) -> f32 {
+    let k = ink.clamp(0.0, K_MAX);
+    let want = ink::dot_ratio(k, r_eff) * r_eff;
+    let had = ink::dot_ratio(k, r) * r;
+    if had > 0.0 { (want / had) as f32 } else { 1.0 }
 }
 
 /// The correction of the calibrated dots toward the separation's colours,
@@ -312,8 +324,9 @@ impl Density {
 /// by the cross spacing overlap less than independent ones (the model's
 /// assumption), and calibration is exact only on average. The drawing is
 /// rendered at about the photo's resolution, blurred by the measure's σ
-/// (the mean dot spacing) and compared with the separation's own colours,
-/// blurred alike; the error is turned into ink changes per pen by the
+/// (the mean dot spacing) and compared with the photo's colours where the
+/// pens make them (the separation's nearest colours elsewhere), blurred
+/// alike; the error is turned into ink changes per pen by the
 /// model's Jacobian (damped least norm), and each dot is resized by the ink
 /// curve to put down its pen's new ink. [`CORRECTIONS`] rounds.
 struct Correction {
@@ -331,10 +344,19 @@ struct Correction {
     model: RenderModel,
 }
 
+/// The ink below which a pen is taken to have no dots in a correction.
+const MIN_INK: f64 = 0.005;
+/// The most ink a correction asks of a pen: past the separation's
+/// [`K_MAX`], since overlaps with other pens' dots hide some of it.
+const MAX_CORRECTED_INK: f64 = 0.995;
+/// The fraction of each round's ink change that is made.
+const DAMPING: f64 = 0.7;
+/// The error's own blur, in σ.
+const ERROR_BLUR: f64 = 1.0;
 /// Rounds of [`Correction`].
 const CORRECTIONS: usize = 3;
 /// The correction grid's longer side, at most.
-const CORRECTION_SIDE: u32 = 640;
+const CORRECTION_SIDE: u32 = 1024;
 
 impl Correction {
     fn new(
@@ -354,10 +376,21 @@ impl Correction {
         let inks = separation.image(grid.rgb());
         let model = separation.model().clone();
         let n = (size.0 * size.1) as usize;
+        // The photo's own colour where the pens make it (the separation's
+        // table is exact only at its nodes), the separation's nearest colour
+        // where they do not, blended between ΔE00 2 and 4.
         let colours: Vec<[f64; 3]> = (0..n)
+            .into_par_iter()
             .map(|i| {
-                let a: Vec<f64> = inks.iter().map(|p| f64::from(p[i])).collect();
-                model.mix(&a)
+                let mut a = [0f64; MAX_PENS];
+                for (k, p) in inks.iter().enumerate() {
+                    a[k] = f64::from(p[i]);
+                }
+                let made = model.mix(&a[..inks.len()]);
+                let photo = model.from_linear(grid.rgb()[i].map(f64::from));
+                let off = crate::colour::delta_e00(model.lab(made), model.lab(photo));
+                let w = ((off - 2.0) / 2.0).clamp(0.0, 1.0);
+                std::array::from_fn(|k| (1.0 - w) * photo[k] + w * made[k])
             })
             .collect();
         let sigma = (f64::from(domain.0) * f64::from(domain.1) / dots.max(1) as f64).sqrt()
@@ -388,6 +421,7 @@ impl Correction {
         &self,
         points: &[Point],
         inks: &[f64],
+        spacing: &[f64],
         calibrated: &mut [f32],
         pens: usize,
     ) -> crate::Result<()> {
@@ -431,6 +465,24 @@ impl Correction {
                     self.sigma,
                 )
             });
+            // The error, smoothed once more: corrections follow the local
+            // bias, not each dot's own noise.
+            let error = [0, 1, 2].map(|k| {
+                let values = self.target[k]
+                    .values
+                    .iter()
+                    .zip(&drawn[k].values)
+                    .map(|(t, d)| t - d)
+                    .collect();
+                blur(
+                    &Grey {
+                        width: w,
+                        height: h,
+                        values,
+                    },
+                    ERROR_BLUR * self.sigma,
+                )
+            });
             // The ink change per pen at every grid pixel.
             let delta: Vec<[f32; MAX_PENS]> = (0..(w * h) as usize)
                 .into_par_iter()
@@ -439,8 +491,7 @@ impl Correction {
                     for (k, p) in self.inks.iter().enumerate() {
                         a[k] = f64::from(p[i]);
                     }
-                    let e =
-                        [0, 1, 2].map(|k| f64::from(self.target[k].values[i] - drawn[k].values[i]));
+                    let e = [0, 1, 2].map(|k| f64::from(error[k].values[i]));
                     let d = self.step(&a[..pens], e);
                     let mut out = [0f32; MAX_PENS];
                     for (o, v) in out.iter_mut().zip(d) {
@@ -458,13 +509,14 @@ impl Correction {
                 if before < 1e-3 {
                     continue;
                 }
-                let after = (before + f64::from(delta[g][k])).clamp(0.5 * before, K_MAX);
-                let r = f64::from(p.radius);
+                let after =
+                    (before + f64::from(delta[g][k])).clamp(0.5 * before, MAX_CORRECTED_INK);
+                let r = spacing[j];
                 let had = ink::dot_ratio(before, r);
                 if had <= 0.0 {
                     continue;
                 }
-                let factor = (ink::dot_ratio(after, r) / had).clamp(0.7, 1.4);
+                let factor = (ink::dot_ratio(after, r) / had).clamp(0.6, 1.6);
                 calibrated[j] *= factor as f32;
                 assumed[j] = after;
             }
@@ -483,6 +535,10 @@ impl Correction {
         b[..n].copy_from_slice(a);
         let b = &mut b[..n];
         for k in 0..n {
+            // A pen without dots here cannot change: no column.
+            if a[k] < MIN_INK {
+                continue;
+            }
             let h = if a[k] > 0.5 { -1e-3 } else { 1e-3 };
             b[k] = a[k] + h;
             let c = self.model.mix(b);
@@ -503,7 +559,7 @@ impl Correction {
         let y = solve3(m, e);
         let jac: Vec<[f64; 3]> = jac.to_vec();
         jac.into_iter()
-            .map(move |c| 0.8 * (c[0] * y[0] + c[1] * y[1] + c[2] * y[2]))
+            .map(move |c| DAMPING * (c[0] * y[0] + c[1] * y[1] + c[2] * y[2]))
     }
 }
 
@@ -529,10 +585,11 @@ fn solve3(m: [[f64; 3]; 3], b: [f64; 3]) -> [f64; 3] {
 }
 
 impl Job {
-    /// How `drawing` looks at `size` pixels: each pen's dots (this job's
-    /// [`Job::dots`]) in its colour, overlapping inks multiplied, averaged
-    /// as sRGB values (the display render model), as the PNG shows it. A
-    /// grey drawing is one pen in the job's ink.
+    /// How `drawing` looks at `size` pixels, as the PNG shows it: each
+    /// pen's dots (this job's [`Job::dots`]) in its colour, overlapping inks
+    /// multiplied, a pixel's partial inks averaged under the job's render
+    /// model (sRGB values, or linear light with `--tones linear`). A grey
+    /// drawing is one pen in the job's ink.
     pub fn picture(&self, drawing: &Stipple, size: (u32, u32)) -> crate::Result<image::RgbImage> {
         let dots = self.dots(drawing);
         let pens = match &drawing.pens {
@@ -554,9 +611,10 @@ impl Job {
                 super::raster::render_view(&layer, view, size)
             })
             .collect::<Result<Vec<_>, _>>()?;
+        let linear = self.importance.tones == Tones::Linear;
         Ok(super::raster::composite(
             &layers,
-            &RenderModel::new(&pens, false),
+            &RenderModel::new(&pens, linear),
         )?)
     }
 }

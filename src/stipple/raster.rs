@@ -200,8 +200,8 @@ pub fn mean_ink(img: &GrayImage, x0: u32, y0: u32, x1: u32, y1: u32) -> f64 {
 /// [`render`] (paper white, grey where its pen's ink is), under the render
 /// model ([`crate::colour::separation`]): at every pixel pen k covers
 /// a_k = 1 − its layer's paper, and the pixel shows `model.mix(a)`, the
-/// overlapping inks multiplied. `model` should average sRGB values (the
-/// display convention), as the grey PNG does.
+/// overlapping inks multiplied, its partial inks averaged under the model's
+/// convention (sRGB values, as the grey PNG does, or linear light).
 pub fn composite(layers: &[GrayImage], model: &crate::colour::RenderModel) -> Result<RgbImage> {
     let Some(first) = layers.first() else {
         return Err(Error::InvalidParameter(

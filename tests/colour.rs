@@ -1,0 +1,326 @@
+//! Colour drawings (`--pens`): flat colour patches come back within ΔE00 2
+//! after the blur, under both tone conventions; a grey photo needs only the
+//! black pen; transparent pixels need no dots; the outputs carry one layer
+//! (SVG), one colour (PNG) and one pen column (CSV, JSON) per pen; and bad
+//! pens end in one `error:` line with no output.
+
+mod fixtures;
+
+use std::path::Path;
+use std::process::Command;
+
+use image::{ImageBuffer, Rgb, Rgba};
+use pixelpie::analyze::fidelity::{Grey, blur};
+use pixelpie::colour::{Lab, PenSet, delta_e00};
+use pixelpie::importance::Tones;
+use pixelpie::sampler::cpu;
+use pixelpie::stipple::{Job, Stipple};
+
+/// Six in-gamut colours of the CMYK pens, 8-bit sRGB.
+const PATCHES: [[u8; 3]; 6] = [
+    [204, 77, 51],
+    [51, 128, 179],
+    [128, 128, 128],
+    [230, 217, 102],
+    [77, 153, 77],
+    [64, 56, 110],
+];
+const SIDE: u32 = 120;
+
+fn patches(dir: &Path) -> std::path::PathBuf {
+    let img = ImageBuffer::from_fn(3 * SIDE, 2 * SIDE, |x, y| {
+        Rgb(PATCHES[(y / SIDE * 3 + x / SIDE) as usize])
+    });
+    let path = dir.join("patches.png");
+    img.save(&path).unwrap();
+    path
+}
+
+fn run(job: &Job, path: &Path) -> Stipple {
+    job.run(path, |p| Ok(cpu::sample(p, Default::default())?), |_| true)
+        .unwrap()
+}
+
+fn cmyk(points: usize) -> Job {
+    let mut job = Job::default();
+    job.points = Some(points);
+    job.pens = Some(PenSet::cmyk());
+    job
+}
+
+/// The blurred drawing's colour in the middle of each patch against the
+/// patch's own, ΔE00, under the job's convention.
+fn patch_errors(job: &Job, drawing: &Stipple, linear: bool) -> Vec<f64> {
+    // At the drawing's own resolution, where its dots are several pixels wide.
+    let (w, h) = drawing.domain;
+    let side = w / 3;
+    let img = job.picture(drawing, (w, h)).unwrap();
+    let sigma = (f64::from(w * h) / drawing.points.len() as f64).sqrt();
+    let planes: Vec<Grey> = (0..3)
+        .map(|k| {
+            let values = img
+                .pixels()
+                .map(|p| {
+                    let v = f32::from(p.0[k]) / 255.0;
+                    if linear {
+                        pixelpie::colour::srgb_to_linear(v)
+                    } else {
+                        v
+                    }
+                })
+                .collect();
+            blur(&Grey::new(w, h, values).unwrap(), sigma)
+        })
+        .collect();
+    (0..6)
+        .map(|i| {
+            let (x0, y0) = ((i % 3) * side, (i / 3) * side);
+            let mut mean = [0f64; 3];
+            let mut n = 0.0;
+            for y in y0 + side / 4..y0 + 3 * side / 4 {
+                for x in x0 + side / 4..x0 + 3 * side / 4 {
+                    for (k, m) in mean.iter_mut().enumerate() {
+                        *m += f64::from(planes[k].values[(y * w + x) as usize]);
+                    }
+                    n += 1.0;
+                }
+            }
+            let mean = mean.map(|m| m / n);
+            let got = if linear {
+                Lab::from_linear(mean)
+            } else {
+                Lab::from_srgb(mean)
+            };
+            delta_e00(got, Lab::from_srgb8(PATCHES[i as usize]))
+        })
+        .collect()
+}
+
+#[test]
+fn flat_patches_inside_the_gamut_come_back_within_delta_e_2() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = patches(dir.path());
+    for tones in [Tones::Display, Tones::Linear] {
+        let mut job = cmyk(20_000);
+        job.importance.tones = tones;
+        let drawing = run(&job, &path);
+        let errors = patch_errors(&job, &drawing, tones == Tones::Linear);
+        eprintln!("{tones:?}: ΔE00 per patch {errors:.2?}");
+        for (e, c) in errors.iter().zip(PATCHES) {
+            assert!(*e < 2.0, "{tones:?}: patch {c:?} comes back {e:.2} off");
+        }
+    }
+}
+
+#[test]
+fn a_grey_photo_needs_only_the_black_pen_and_alpha_is_paper() {
+    let dir = tempfile::tempdir().unwrap();
+    let grey = dir.path().join("grey.png");
+    fixtures::halves_gray8(300, 200, 40, 180)
+        .save(&grey)
+        .unwrap();
+    let drawing = run(&cmyk(3000), &grey);
+    assert!(drawing.points.len() > 2000);
+    assert!(
+        drawing.points.iter().all(|p| p.class == 3),
+        "colour dots on a grey photo"
+    );
+
+    // A red photo whose right half is transparent: no dots there.
+    let alpha = dir.path().join("alpha.png");
+    ImageBuffer::from_fn(300, 200, |x, _| {
+        Rgba([200u8, 40, 40, if x < 150 { 255 } else { 0 }])
+    })
+    .save(&alpha)
+    .unwrap();
+    let drawing = run(&cmyk(3000), &alpha);
+    let (w, _) = drawing.domain;
+    assert!(drawing.points.len() > 1000);
+    assert!(
+        drawing.points.iter().all(|p| p.x < w as f32 / 2.0 + 10.0),
+        "dots on transparent paper"
+    );
+}
+
+fn pixelpie(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_pixelpie"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn asset(name: &str) -> String {
+    format!("{}/assets/{name}", env!("CARGO_MANIFEST_DIR"))
+}
+
+#[test]
+fn every_output_carries_the_pens() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = |name: &str| dir.path().join(name).display().to_string();
+    let pens = dir.path().join("pens.toml");
+    std::fs::write(
+        &pens,
+        "[[pen]]\nname = \"ink\"\ncolour = \"#101010\"\nwidth_mm = 0.5\ndot_gain = 1.3\n\
+         [[pen]]\nname = \"red\"\ncolour = \"#d62728\"\n\
+         [[pen]]\nname = \"blue\"\ncolour = \"#1f77b4\"\n",
+    )
+    .unwrap();
+    let pens = pens.display().to_string();
+    let rocket = asset("rocket.jpg");
+    for f in ["d.svg", "d.csv", "d.json", "d.png", "p.svg"] {
+        let target = out(f);
+        let mut args = vec!["stipple", &rocket, "-o", &target];
+        args.extend([
+            "--pens",
+            &pens,
+            "--points",
+            "3000",
+            "--backend",
+            "cpu",
+            "-q",
+        ]);
+        if f == "p.svg" {
+            args.extend(["--width-mm", "150", "--pen-mm", "0.3", "--order", "tsp"]);
+        }
+        let o = pixelpie(&args);
+        assert!(
+            o.status.success(),
+            "{f}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+    }
+    // CSV: a pen column; every pen draws.
+    let csv = std::fs::read_to_string(out("d.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(lines.next(), Some("x,y,radius,pen"));
+    let mut per_pen = [0usize; 3];
+    for l in lines {
+        per_pen[l.rsplit(',').next().unwrap().parse::<usize>().unwrap()] += 1;
+    }
+    assert!(per_pen.iter().all(|&n| n > 50), "{per_pen:?}");
+    // SVG: one Inkscape layer per pen, in its colour, the same dots.
+    for (f, attr) in [("d.svg", "fill"), ("p.svg", "stroke")] {
+        let text = std::fs::read_to_string(out(f)).unwrap();
+        for (name, c) in [("ink", "#101010"), ("red", "#d62728"), ("blue", "#1f77b4")] {
+            let (label, colour) = (
+                format!(r#"inkscape:label="{name}""#),
+                format!(r#"{attr}="{c}""#),
+            );
+            assert!(
+                text.lines()
+                    .any(|l| l.contains(&label) && l.contains(&colour)),
+                "{f}: no layer {label} {colour}"
+            );
+        }
+        let d = pixelpie::stipple::read::read_svg(&text).unwrap();
+        assert_eq!(d.layers.len(), 3, "{f}");
+        let mut counts = [0usize; 3];
+        for &l in &d.layer_of {
+            counts[l] += 1;
+        }
+        assert!(counts.iter().all(|&n| n > 50), "{f}: {counts:?}");
+        if f == "d.svg" {
+            assert_eq!(counts, per_pen, "{f}: dots per layer");
+        }
+        assert_eq!(d.layers[1], ("red".to_owned(), [0xd6, 0x27, 0x28]));
+    }
+    // The pen file's own width for its pen, --pen-mm for the others.
+    let text = std::fs::read_to_string(out("p.svg")).unwrap();
+    assert!(text.contains(r##"stroke="#101010" stroke-width="0.5""##));
+    assert!(text.contains(r##"stroke="#d62728" stroke-width="0.3""##));
+    // JSON: the pens and a pen per point.
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out("d.json")).unwrap()).unwrap();
+    assert_eq!(json["pens"][2]["colour"], "#1f77b4");
+    assert_eq!(
+        json["points"].as_array().unwrap().len(),
+        per_pen.iter().sum::<usize>()
+    );
+    assert!(json["points"][0]["pen"].is_u64());
+    // PNG: in colour, and measured as one.
+    let png = image::open(out("d.png")).unwrap().to_rgb8();
+    assert!(
+        png.pixels().any(|p| p.0[0] > p.0[2] + 60),
+        "no red in the PNG"
+    );
+    let f = pixelpie(&["fidelity", &asset("rocket.jpg"), &out("d.png")]);
+    let report: serde_json::Value = serde_json::from_slice(&f.stdout).unwrap();
+    let de = report["colour"]["delta_e00_mean"].as_f64().unwrap();
+    assert!(de > 0.0 && de < 30.0, "{report}");
+    let f = pixelpie(&["fidelity", &asset("rocket.jpg"), &out("d.svg")]);
+    let from_svg: serde_json::Value = serde_json::from_slice(&f.stdout).unwrap();
+    assert!(from_svg["colour"]["delta_e00_p95"].as_f64().unwrap() >= de * 0.5);
+}
+
+#[test]
+fn one_black_pen_is_the_grey_drawing() {
+    let dir = tempfile::tempdir().unwrap();
+    let a = dir.path().join("a.svg").display().to_string();
+    let b = dir.path().join("b.svg").display().to_string();
+    let rocket = asset("rocket.jpg");
+    let base = [
+        "stipple",
+        &rocket,
+        "--points",
+        "2000",
+        "--backend",
+        "cpu",
+        "-q",
+        "-o",
+    ];
+    assert!(pixelpie(&[&base[..], &[&a]].concat()).status.success());
+    assert!(
+        pixelpie(&[&base[..], &[&b, "--pens", "black"]].concat())
+            .status
+            .success()
+    );
+    assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
+}
+
+#[test]
+fn bad_pens_end_in_one_error_line_and_no_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad_file = dir.path().join("bad.toml");
+    std::fs::write(&bad_file, "[[pen]]\nname = \"x\"\ncolour = \"#12345g\"\n").unwrap();
+    let empty_file = dir.path().join("empty.toml");
+    std::fs::write(&empty_file, "").unwrap();
+    let out = dir.path().join("out.svg");
+    for pens in [
+        "rainbow",
+        "#00ff",
+        "#000000,red",
+        "",
+        "#000000,#000000",
+        bad_file.to_str().unwrap(),
+        empty_file.to_str().unwrap(),
+        "missing.toml",
+    ] {
+        let o = pixelpie(&[
+            "stipple",
+            &asset("rocket.jpg"),
+            "-o",
+            out.to_str().unwrap(),
+            "--pens",
+            pens,
+            "--points",
+            "1000",
+        ]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "--pens {pens:?} was accepted");
+        assert_eq!(err.trim().lines().count(), 1, "--pens {pens:?}: {err}");
+        assert!(err.starts_with("error:"), "--pens {pens:?}: {err}");
+        assert!(!out.exists(), "--pens {pens:?} left an output");
+    }
+    // Options that only a grey drawing has are refused with pens.
+    let o = pixelpie(&[
+        "stipple",
+        &asset("rocket.jpg"),
+        "-o",
+        out.to_str().unwrap(),
+        "--pens",
+        "cmyk",
+        "--relax",
+        "2",
+    ]);
+    assert!(!o.status.success() && !out.exists());
+}
