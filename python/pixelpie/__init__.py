@@ -146,7 +146,8 @@ def stipple(
     With ``output`` (``.svg``, ``.png``, ``.csv`` or ``.json``) the drawing
     is written there: the same file as the command line writes for the same
     options. Returns the dots as an (N, 3) float32 array of x, y and drawn
-    radius, in domain pixels and in drawing order.
+    radius, in domain pixels and in drawing order; with ``pens`` an (N, 4)
+    array whose fourth column is each dot's pen (its index in the pens).
 
     ``options`` are the command line's, with underscores, and the same
     defaults (the library's drawing job, ``pixelpie::stipple::Job``, holds
@@ -163,9 +164,15 @@ def stipple(
     reproduce the grey a viewer sees; ``"linear"``: linear light),
     ``mapping``, ``min_radius``, ``max_radius``, ``gamma``,
     ``black_level``, ``white_level``, ``invert``, ``white_cutoff`` and
-    ``hdr_white``. An unknown name raises ``ValueError``.
+    ``hdr_white``; ``pens`` draws in colour with several pens sampled
+    together: ``"cmyk"``, a list of ``"#rrggbb"`` colours, or the path of a
+    ``.toml`` pen file. An unknown name raises ``ValueError``.
     """
-    given = {k: v for k, v in options.items() if v is not None}
+    given = {
+        k: os.fspath(v) if isinstance(v, os.PathLike) else v
+        for k, v in options.items()
+        if v is not None
+    }
     return _pixelpie.stipple(
         os.fspath(image),
         _path(output),

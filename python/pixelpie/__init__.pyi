@@ -1,7 +1,7 @@
 """Type stubs of the pixelpie package."""
 
 import os
-from typing import Any, Callable, Dict, Optional, Tuple, Union
+from typing import Any, Callable, Dict, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -67,8 +67,10 @@ def stipple(
     invert: Optional[bool] = ...,
     white_cutoff: Optional[float] = ...,
     hdr_white: Optional[float] = ...,
+    pens: Optional[Union[str, Sequence[str], os.PathLike[str]]] = ...,
 ) -> npt.NDArray[np.float32]:
-    """A stipple drawing of ``image``, written to ``output``; its dots (x, y, radius)."""
+    """A stipple drawing of ``image``, written to ``output``; its dots (x, y,
+    radius), with ``pens`` also each dot's pen."""
 
 def analyze(
     points: npt.ArrayLike,

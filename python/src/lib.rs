@@ -212,7 +212,7 @@ fn sample<'py>(
 fn job_from(options: &str) -> PyResult<Job> {
     let given: serde_json::Map<String, serde_json::Value> =
         serde_json::from_str(options).map_err(|e| bad(format!("options: {e}")))?;
-    let known = match serde_json::to_value(Job::default()) {
+    let known = match job_options() {
         Ok(serde_json::Value::Object(m)) => m,
         _ => {
             return Err(PyRuntimeError::new_err(
@@ -250,7 +250,18 @@ fn job_from(options: &str) -> PyResult<Job> {
 /// `stipple` takes).
 #[pyfunction]
 fn stipple_defaults() -> PyResult<String> {
-    serde_json::to_string(&Job::default()).map_err(|e| PyRuntimeError::new_err(e.to_string()))
+    let options = job_options().map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    serde_json::to_string(&options).map_err(|e| PyRuntimeError::new_err(e.to_string()))
+}
+
+/// Every option of the job with its default, `null` where the job picks
+/// (the pens included, which a grey job leaves out of its JSON).
+fn job_options() -> serde_json::Result<serde_json::Value> {
+    let mut v = serde_json::to_value(Job::default())?;
+    if let serde_json::Value::Object(m) = &mut v {
+        m.entry("pens").or_insert(serde_json::Value::Null);
+    }
+    Ok(v)
 }
 
 /// The native `stipple`; see `pixelpie.stipple`.
@@ -278,7 +289,18 @@ fn stipple_py<'py>(
         }
         Ok(drawing)
     })?;
-    points_array(py, drawing.dots.iter().map(|d| [d.x, d.y, d.radius]))
+    if drawing.pens.is_none() {
+        return points_array(py, drawing.dots.iter().map(|d| [d.x, d.y, d.radius]));
+    }
+    // Colour: a fourth column, the pen's index.
+    let flat: Vec<f32> = drawing
+        .dots
+        .iter()
+        .zip(&drawing.points)
+        .flat_map(|(d, p)| [d.x, d.y, d.radius, p.class as f32])
+        .collect();
+    let n = flat.len() / 4;
+    Ok(PyArray1::from_vec(py, flat).reshape([n, 4])?.into_any())
 }
 
 /// The native `analyze`; see `pixelpie.analyze`.

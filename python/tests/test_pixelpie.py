@@ -150,6 +150,7 @@ EVERY_OPTION = [
     ("invert", True, "a.svg"),
     ("white_cutoff", 0.85, "a.svg"),
     ("hdr_white", 0.7, "a.svg"),
+    ("pens", "cmyk", "a.svg"),
 ]
 
 
@@ -159,7 +160,7 @@ def test_every_stipple_option_is_tested_against_the_cli():
 
 @pytest.mark.parametrize("name,value,out", EVERY_OPTION, ids=[o[0] for o in EVERY_OPTION])
 def test_every_stipple_option_gives_the_clis_file(tmp_path, name, value, out):
-    image = ASSETS / ("gradient.exr" if name == "hdr_white" else "default.png")
+    image = ASSETS / {"hdr_white": "gradient.exr", "pens": "rocket.jpg"}.get(name, "default.png")
     kwargs = {name: value}
     args = ["--" + name.replace("_", "-")]
     if value is not True:
@@ -175,6 +176,30 @@ def test_every_stipple_option_gives_the_clis_file(tmp_path, name, value, out):
     pixelpie.stipple(image, ours, **kwargs)
     cli("stipple", str(image), "-o", str(theirs), "--quiet", *args)
     assert ours.read_bytes() == theirs.read_bytes()
+
+
+def test_pens_return_a_pen_column_and_write_the_clis_files(tmp_path):
+    image = ASSETS / "rocket.jpg"
+    dots = pixelpie.stipple(image, tmp_path / "py.csv", pens="cmyk", points=2000)
+    cli("stipple", str(image), "-o", str(tmp_path / "cli.csv"), "--quiet",
+        "--pens", "cmyk", "--points", "2000")
+    assert (tmp_path / "py.csv").read_bytes() == (tmp_path / "cli.csv").read_bytes()
+    assert dots.shape == (len(dots), 4) and len(dots) > 1500
+    pens = dots[:, 3]
+    assert set(np.unique(pens)) <= {0.0, 1.0, 2.0, 3.0}
+    assert len(np.unique(pens)) >= 3
+    # The pen column of the CSV is the array's.
+    csv = np.loadtxt(tmp_path / "py.csv", delimiter=",", skiprows=1)
+    assert np.array_equal(np.sort(csv[:, 3]), np.sort(pens))
+    # A list of colours, and a pen file given as a path.
+    two = pixelpie.stipple(image, pens=["#000000", "#d62728"], points=1000)
+    assert set(np.unique(two[:, 3])) == {0.0, 1.0}
+    pen_file = tmp_path / "pens.toml"
+    pen_file.write_text('[[pen]]\nname = "blue"\ncolour = "#1f77b4"\n[[pen]]\nname = "k"\ncolour = "#000000"\n')
+    assert pixelpie.stipple(image, pens=pen_file, points=1000).shape[1] == 4
+    for bad in ["rainbow", ["#000000", "#000000"], [], "#12345"]:
+        with pytest.raises(ValueError, match="pens"):
+            pixelpie.stipple(image, pens=bad, points=1000)
 
 
 def test_unknown_options_are_refused_with_the_known_ones():
