@@ -59,3 +59,15 @@ fn fs_dot(in: VsOut) -> @location(0) vec4<f32> {
     }
     return vec4<f32>(view.color.rgb * view.color.a * coverage, view.color.a * coverage);
 }
+
+// A colour drawing's pens: the ink multiplies what is below (the render
+// model's overprint), blended as src × dst; the partly covered edge mixes
+// paper and ink.
+@fragment
+fn fs_dot_multiply(in: VsOut) -> @location(0) vec4<f32> {
+    let coverage = clamp(in.radius_px + 0.5 - length(in.local), 0.0, 1.0);
+    if coverage <= 0.0 {
+        discard;
+    }
+    return vec4<f32>(mix(vec3<f32>(1.0), view.color.rgb, coverage * view.color.a), 1.0);
+}

@@ -867,3 +867,101 @@ fn errors_and_modes_leave_the_controls_in_place_and_the_view_refits() {
     let after = h.state().zoom();
     assert!(after < before * 0.9, "zoom {before} -> {after}: no refit");
 }
+
+#[test]
+fn the_pens_section_draws_and_exports_in_colour() {
+    let dir = tempfile::tempdir().unwrap();
+    let photo = dir.path().join("colour.png");
+    // Red on the left, blue on the right, a grey ramp down the middle.
+    image::RgbImage::from_fn(240, 160, |x, y| {
+        if x < 100 {
+            image::Rgb([200, 40, 40])
+        } else if x >= 140 {
+            image::Rgb([40, 60, 190])
+        } else {
+            let g = (y * 255 / 160) as u8;
+            image::Rgb([g, g, g])
+        }
+    })
+    .save(&photo)
+    .unwrap();
+    let mut h = harness(&photo);
+    settle(&mut h);
+    h.get_by_label("Points").set_value_accesskit(3000.0);
+    settle(&mut h);
+    assert!(h.state().outcome.as_ref().unwrap().drawing.pens.is_none());
+    // CMYK: four pens, each drawing, and the swatches named.
+    h.get_by_label("CMYK").click();
+    settle(&mut h);
+    let drawing = &h.state().outcome.as_ref().unwrap().drawing;
+    let pens = drawing.pens.clone().expect("a colour drawing");
+    assert_eq!(pens.len(), 4);
+    let mut per_pen = [0usize; 4];
+    for p in &drawing.points {
+        per_pen[p.class as usize] += 1;
+    }
+    assert!(per_pen.iter().all(|&n| n > 20), "{per_pen:?}");
+    assert!((drawing.points.len() as f64 - 3000.0).abs() <= 90.0);
+    for name in ["cyan", "magenta", "yellow", "black"] {
+        assert!(
+            h.query_by_label(&format!("pen {name}")).is_some(),
+            "no swatch of {name}"
+        );
+    }
+    // The view shows the composite; hiding every pen leaves white paper.
+    h.run_steps(2);
+    let shown = h.render().expect("render");
+    let dark = |img: &image::RgbaImage| {
+        img.pixels()
+            .filter(|p| p.0[0] < 128 || p.0[2] < 128)
+            .count()
+    };
+    let with_pens = dark(&shown);
+    h.state_mut().settings.hidden_pens = vec![true; 4];
+    h.run_steps(3);
+    let without = dark(&h.render().expect("render"));
+    assert!(
+        with_pens > without + 500,
+        "pens shown {with_pens} vs hidden {without}"
+    );
+    h.state_mut().settings.hidden_pens = vec![false; 4];
+    // Add a pen (a fifth colour), remove it again.
+    // Below the fold of the panel: scroll to it first.
+    h.get_by_label("Add pen").scroll_to_me();
+    h.run_steps(3);
+    h.get_by_label("Add pen").click();
+    settle(&mut h);
+    assert_eq!(h.state().settings.job.pens.as_ref().unwrap().len(), 5);
+    h.get_all_by_label("−").last().unwrap().scroll_to_me();
+    h.run_steps(3);
+    h.get_all_by_label("−").last().unwrap().click();
+    settle(&mut h);
+    assert_eq!(
+        h.state().settings.job.pens,
+        Some(pixelpie::colour::PenSet::cmyk())
+    );
+    // The export: one Inkscape layer per pen, the CLI's own file.
+    let svg = dir.path().join("app.svg");
+    export(&mut h, &svg);
+    let text = std::fs::read_to_string(&svg).unwrap();
+    let d = pixelpie::stipple::read::read_svg(&text).unwrap();
+    assert_eq!(d.layers.len(), 4);
+    let cli_svg = dir.path().join("cli.svg");
+    cli(&[
+        "stipple",
+        photo.to_str().unwrap(),
+        "-o",
+        cli_svg.to_str().unwrap(),
+        "--pens",
+        "cmyk",
+        "--points",
+        "3000",
+        "--backend",
+        "cpu",
+    ]);
+    assert_eq!(text, std::fs::read_to_string(&cli_svg).unwrap());
+    // One ink again: the grey drawing.
+    h.get_by_label("One ink").click();
+    settle(&mut h);
+    assert!(h.state().outcome.as_ref().unwrap().drawing.pens.is_none());
+}

@@ -52,9 +52,12 @@ pub struct DotLayer {
     pub generation: u64,
     /// The view transform and style.
     pub view: ViewUniform,
-    /// Which slot of the renderer holds the layer: 2 × tile + (0 = coverage,
-    /// 1 = dots), for up to [`SLOTS`] / 2 tiles.
+    /// Which slot of the renderer holds the layer: [`LAYERS`] × tile + (0 =
+    /// coverage, 1 + k = the dots of pen k), for up to four tiles.
     pub slot: usize,
+    /// Multiply the dots into what is below (a colour drawing's inks, as
+    /// the render model overprints them) instead of covering it.
+    pub multiply: bool,
 }
 
 struct Slot {
@@ -68,12 +71,15 @@ struct Slot {
 /// GPU state kept in egui_wgpu's callback resources.
 pub struct DotRenderer {
     pipeline: wgpu::RenderPipeline,
+    multiply: wgpu::RenderPipeline,
     layout: wgpu::BindGroupLayout,
     slots: [Option<Slot>; SLOTS],
 }
 
-/// Layers the renderer holds: coverage and dots for each of 2×2 tiles.
-pub const SLOTS: usize = 8;
+/// Layers per tile: the coverage disks and one per pen.
+pub const LAYERS: usize = 1 + crate::colour::pens::MAX_PENS;
+/// Layers the renderer holds: [`LAYERS`] for each of 2×2 tiles.
+pub const SLOTS: usize = 4 * LAYERS;
 
 impl DotRenderer {
     /// Builds the pipeline for egui's target format.
@@ -91,33 +97,53 @@ impl DotRenderer {
             label: Some("dots.wgsl"),
             source: wgpu::ShaderSource::Wgsl(SHADER.into()),
         });
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("dots"),
-            layout: Some(&crate::gpu::util::pipeline_layout(device, &layout)),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_dot"),
-                compilation_options: Default::default(),
-                buffers: &[],
+        let make = |entry: &str, blend: wgpu::BlendState| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("dots"),
+                layout: Some(&crate::gpu::util::pipeline_layout(device, &layout)),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some("vs_dot"),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                primitive: wgpu::PrimitiveState::default(),
+                depth_stencil: None,
+                multisample: wgpu::MultisampleState::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some(entry),
+                    compilation_options: Default::default(),
+                    targets: &[Some(wgpu::ColorTargetState {
+                        format,
+                        blend: Some(blend),
+                        write_mask: wgpu::ColorWrites::ALL,
+                    })],
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        let pipeline = make("fs_dot", wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING);
+        // out = src × dst: each pen's ink multiplies what is below it.
+        let multiply = make(
+            "fs_dot_multiply",
+            wgpu::BlendState {
+                color: wgpu::BlendComponent {
+                    src_factor: wgpu::BlendFactor::Dst,
+                    dst_factor: wgpu::BlendFactor::Zero,
+                    operation: wgpu::BlendOperation::Add,
+                },
+                alpha: wgpu::BlendComponent {
+                    src_factor: wgpu::BlendFactor::Zero,
+                    dst_factor: wgpu::BlendFactor::One,
+                    operation: wgpu::BlendOperation::Add,
+                },
             },
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: None,
-            multisample: wgpu::MultisampleState::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_dot"),
-                compilation_options: Default::default(),
-                targets: &[Some(wgpu::ColorTargetState {
-                    format,
-                    blend: Some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),
-                    write_mask: wgpu::ColorWrites::ALL,
-                })],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+        );
         Self {
             pipeline,
+            multiply,
             layout,
             slots: std::array::from_fn(|_| None),
         }
@@ -206,7 +232,11 @@ impl egui_wgpu::CallbackTrait for DotLayer {
         if s.count == 0 {
             return;
         }
-        pass.set_pipeline(&r.pipeline);
+        pass.set_pipeline(if self.multiply {
+            &r.multiply
+        } else {
+            &r.pipeline
+        });
         pass.set_bind_group(0, &s.group, &[]);
         pass.draw(0..6, 0..s.count);
     }

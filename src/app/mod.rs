@@ -8,6 +8,7 @@ pub mod dialogs;
 mod dots;
 mod export;
 mod panel;
+mod pens;
 mod settings;
 pub mod shortcuts;
 mod status;
@@ -24,7 +25,7 @@ pub use dots::SHADER as DOTS_SHADER;
 pub use settings::{Background, Settings};
 use worker::{Job, Outcome, Reply, Worker};
 
-use crate::importance::ImportanceMap;
+use crate::importance::{ColourMap, ImportanceMap};
 use crate::sampler::Progress;
 
 /// How long the controls must rest before a re-sample starts.
@@ -42,6 +43,8 @@ pub struct Source {
     pub path: Option<PathBuf>,
     /// The importance map.
     pub map: Arc<ImportanceMap>,
+    /// The picture in colour (grey for a grey picture), for pens.
+    pub colour: Arc<ColourMap>,
     importance: egui::TextureHandle,
     photo: egui::TextureHandle,
 }
@@ -77,6 +80,10 @@ pub struct PixelPieApp {
     relaxed: Option<u32>,
     dots_generation: u64,
     dot_instances: Arc<Vec<dots::DotInstance>>,
+    /// Why the last pen edit was refused (duplicate colours).
+    pens_error: Option<String>,
+    /// A colour drawing's dots, pen by pen, with the pen's colour.
+    pen_layers: Vec<([u8; 3], Arc<Vec<dots::DotInstance>>)>,
     view: view::ViewState,
     gpu_dots: bool,
     /// The path typed in the Open field.
@@ -105,6 +112,7 @@ struct Loading {
 /// A decoded picture: the importance map and its two display images.
 struct Decoded {
     map: ImportanceMap,
+    colour: ColourMap,
     importance: egui::ColorImage,
     photo: egui::ColorImage,
 }
@@ -144,6 +152,8 @@ impl PixelPieApp {
             relaxed: None,
             dots_generation: 0,
             dot_instances: Arc::new(Vec::new()),
+            pen_layers: Vec::new(),
+            pens_error: None,
             view: view::ViewState::default(),
             gpu_dots,
             open_path: String::new(),
@@ -221,6 +231,7 @@ impl PixelPieApp {
                 let source = Source {
                     path: loading.path.clone(),
                     map: Arc::new(decoded.map),
+                    colour: Arc::new(decoded.colour),
                     importance: ctx.load_texture(
                         "importance",
                         decoded.importance,
@@ -312,6 +323,7 @@ impl PixelPieApp {
         self.open_error = None;
         self.outcome = None;
         self.dot_instances = Arc::new(Vec::new());
+        self.pen_layers.clear();
         self.dots_generation += 1;
         self.error = None;
         self.last_key = None;
@@ -371,6 +383,7 @@ impl PixelPieApp {
         self.worker.submit(Job {
             id: self.next_job,
             map: src.map.clone(),
+            colour: src.colour.clone(),
             settings: self.settings.clone(),
         });
     }
@@ -405,6 +418,25 @@ impl PixelPieApp {
                                     })
                                     .collect(),
                             );
+                            self.pen_layers = match &outcome.drawing.pens {
+                                Some(pens) => pens
+                                    .pens()
+                                    .iter()
+                                    .enumerate()
+                                    .map(|(k, pen)| {
+                                        let dots = outcome
+                                            .drawing
+                                            .points
+                                            .iter()
+                                            .zip(self.dot_instances.iter())
+                                            .filter(|(p, _)| p.class == k as u32)
+                                            .map(|(_, d)| *d)
+                                            .collect();
+                                        (pen.colour, Arc::new(dots))
+                                    })
+                                    .collect(),
+                                None => Vec::new(),
+                            };
                             self.dots_generation += 1;
                             self.outcome = Some(outcome);
                             self.error = None;
@@ -461,8 +493,15 @@ fn decode(path: Option<&Path>) -> Result<Decoded, String> {
             || egui::ColorImage::new([w, h], gray),
             |img| egui::ColorImage::from_rgba_unmultiplied([w, h], img.as_raw()),
         );
+    // The colours the pens separate: the file's own, or the luminance's
+    // grey (the built-in photo is grey).
+    let colour = match path {
+        Some(p) => ColourMap::open(p, None).unwrap_or_else(|_| map_grey(&map)),
+        None => map_grey(&map),
+    };
     Ok(Decoded {
         map,
+        colour,
         importance,
         photo,
     })
@@ -553,4 +592,9 @@ pub fn wgpu_setup() -> egui_wgpu::WgpuSetup {
         ..Default::default()
     });
     egui_wgpu::WgpuSetup::CreateNew(setup)
+}
+
+/// A grey picture's colours.
+fn map_grey(map: &ImportanceMap) -> ColourMap {
+    map.colours()
 }

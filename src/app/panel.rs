@@ -1,5 +1,6 @@
 //! The side panel's controls, one function per section (header, open,
-//! spacing, levels, darts, dots, view), and the helpers they share.
+//! spacing, levels, darts, dots, pens (`pens.rs`), view), and the helpers
+//! they share.
 
 use egui::{Color32, Sense};
 
@@ -22,6 +23,7 @@ impl PixelPieApp {
         self.darts_ui(ui);
         ui.separator();
         self.dots_ui(ui);
+        self.pens_ui(ui);
         self.view_ui(ui);
     }
 

@@ -46,6 +46,9 @@ pub struct Settings {
     pub last_dir: Option<PathBuf>,
     /// With a periodic domain, show the drawing tiled 2×2.
     pub tile: bool,
+    /// A colour drawing's pens hidden in the view (by index; the exports
+    /// keep every pen).
+    pub hidden_pens: Vec<bool>,
 }
 
 impl Default for Settings {
@@ -60,6 +63,7 @@ impl Default for Settings {
             show_coverage: false,
             last_dir: None,
             tile: true,
+            hidden_pens: Vec::new(),
         }
     }
 }

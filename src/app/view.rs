@@ -187,6 +187,7 @@ impl PixelPieApp {
                 offset: [pan.x, pan.y],
                 ..base
             };
+            let slot = super::dots::LAYERS * t;
             if s.show_coverage {
                 layers.push(DotLayer {
                     dots: self.dot_instances.clone(),
@@ -197,15 +198,36 @@ impl PixelPieApp {
                         color: [0.2, 0.45, 0.9, 0.18],
                         ..base
                     },
-                    slot: 2 * t,
+                    slot,
+                    multiply: false,
                 });
             }
-            layers.push(DotLayer {
-                dots: self.dot_instances.clone(),
-                generation: self.dots_generation,
-                view: base,
-                slot: 2 * t + 1,
-            });
+            if self.pen_layers.is_empty() {
+                layers.push(DotLayer {
+                    dots: self.dot_instances.clone(),
+                    generation: self.dots_generation,
+                    view: base,
+                    slot: slot + 1,
+                    multiply: false,
+                });
+            }
+            // A colour drawing: each pen's layer in its ink, multiplied in.
+            for (k, (colour, dots)) in self.pen_layers.iter().enumerate() {
+                if s.hidden_pens.get(k).copied().unwrap_or(false) {
+                    continue;
+                }
+                let [r, g, b] = colour.map(|c| f32::from(c) / 255.0);
+                layers.push(DotLayer {
+                    dots: dots.clone(),
+                    generation: self.dots_generation,
+                    view: ViewUniform {
+                        color: [r, g, b, 1.0],
+                        ..base
+                    },
+                    slot: slot + 1 + k,
+                    multiply: true,
+                });
+            }
         }
         layers
     }

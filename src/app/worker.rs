@@ -12,7 +12,7 @@ use egui_wgpu::wgpu;
 use super::settings::Settings;
 use crate::backend::BackendChoice;
 use crate::gpu::GpuSampler;
-use crate::importance::ImportanceMap;
+use crate::importance::{ColourMap, ImportanceMap};
 use crate::sampler::{self, Control, Params, Progress, SampleSet};
 use crate::stipple::Stipple;
 
@@ -22,6 +22,8 @@ pub struct Job {
     pub id: u64,
     /// The importance map.
     pub map: Arc<ImportanceMap>,
+    /// The picture in colour, for drawings with pens.
+    pub colour: Arc<ColourMap>,
     /// The settings.
     pub settings: Settings,
 }
@@ -190,14 +192,21 @@ fn compute(
 ) -> crate::Result<Outcome> {
     let s = &job.settings;
     let mut note = None;
-    let drawing = s.job().run_map(
-        &job.map,
-        |params| Ok(sample(params, s.backend, gpu, ctl, &mut note)?),
-        |done| {
-            relaxed(done);
-            ctl.check().is_ok()
-        },
-    )?;
+    let run = s.job();
+    let drawing = if run.colour() {
+        run.run_colour(&job.colour, |params| {
+            Ok(sample(params, s.backend, gpu, ctl, &mut note)?)
+        })?
+    } else {
+        run.run_map(
+            &job.map,
+            |params| Ok(sample(params, s.backend, gpu, ctl, &mut note)?),
+            |done| {
+                relaxed(done);
+                ctl.check().is_ok()
+            },
+        )?
+    };
     ctl.check()?;
     if let Some(n) = drawing.short_of {
         note = Some(format!(

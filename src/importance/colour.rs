@@ -152,6 +152,18 @@ impl ColourMap {
     }
 }
 
+impl ImportanceMap {
+    /// The map's grey as a colour picture (its values as linear light).
+    #[must_use]
+    pub fn colours(&self) -> ColourMap {
+        ColourMap {
+            width: self.width(),
+            height: self.height(),
+            rgb: self.values().iter().map(|&v| [v; 3]).collect(),
+        }
+    }
+}
+
 /// The linear RGB of a raster image file (not yet divided by the white
 /// point), with its alpha left to the caller.
 fn raster_rgb(path: &Path, range: Range) -> Result<Vec<[f32; 3]>> {

@@ -1,0 +1,159 @@
+//! The Pens section of the panel: one ink, or several pens sampled
+//! together (presets, a list with swatches, add and remove, each pen's
+//! width), and which pens the view shows.
+
+use egui::{Color32, Sense};
+
+use super::PixelPieApp;
+use crate::colour::pens::{Pen, PenSet, name_of};
+
+/// Colours offered, in order, for a pen added to the set.
+const NEW_PENS: &[[u8; 3]] = &[
+    [0, 0, 0],
+    [214, 39, 40],
+    [31, 119, 180],
+    [255, 127, 14],
+    [44, 160, 44],
+    [148, 103, 189],
+    [140, 86, 75],
+    [0, 255, 255],
+    [255, 0, 255],
+    [255, 255, 0],
+];
+
+impl PixelPieApp {
+    /// Presets, the list of pens and the pens shown.
+    pub(super) fn pens_ui(&mut self, ui: &mut egui::Ui) {
+        let job = &mut self.settings.job;
+        ui.horizontal(|ui| {
+            ui.label("Pens").on_hover_text(
+                "Draw with several pens sampled together, so that their dots interleave; \
+                 the photo is separated into their inks",
+            );
+            if ui
+                .selectable_label(job.pens.is_none(), "One ink")
+                .on_hover_text("One pen in the dot colour below: the grey drawing")
+                .clicked()
+            {
+                job.pens = None;
+            }
+            if ui
+                .selectable_label(job.pens == Some(PenSet::cmyk()), "CMYK")
+                .on_hover_text("Cyan, magenta, yellow and black pens")
+                .clicked()
+            {
+                job.pens = Some(PenSet::cmyk());
+            }
+        });
+        let Some(set) = job.pens.clone() else {
+            return;
+        };
+        let mut pens: Vec<Pen> = set.pens().to_vec();
+        let mut changed = false;
+        let mut remove = None;
+        self.settings.hidden_pens.resize(pens.len(), false);
+        for (k, pen) in pens.iter_mut().enumerate() {
+            ui.horizontal(|ui| {
+                let shown = &mut self.settings.hidden_pens[k];
+                let mut visible = !*shown;
+                if ui
+                    .checkbox(&mut visible, "")
+                    .on_hover_text("Show this pen's dots in the view (exports keep every pen)")
+                    .changed()
+                {
+                    *shown = !visible;
+                }
+                swatch(ui, pen.colour, &pen.name);
+                let mut rgb = pen.colour;
+                for (i, c) in ["R ", "G ", "B "].into_iter().enumerate() {
+                    if ui
+                        .add(egui::DragValue::new(&mut rgb[i]).prefix(c))
+                        .on_hover_text("The pen's ink: red, green and blue (0 to 255)")
+                        .changed()
+                    {
+                        pen.colour = rgb;
+                        if pen.name.starts_with('#') {
+                            pen.name = name_of(rgb);
+                        }
+                        changed = true;
+                    }
+                }
+                let mut width = pen.width_mm.unwrap_or(0.0);
+                if ui
+                    .add(
+                        egui::DragValue::new(&mut width)
+                            .range(0.0..=5.0)
+                            .speed(0.01)
+                            .suffix(" mm"),
+                    )
+                    .on_hover_text(
+                        "The pen's width in the SVG's pen paths (0: the export's Pen mm)",
+                    )
+                    .changed()
+                {
+                    pen.width_mm = (width > 0.0).then_some(width);
+                    changed = true;
+                }
+                if ui
+                    .add_enabled(set.len() > 1, egui::Button::new("−"))
+                    .on_hover_text("Remove this pen")
+                    .clicked()
+                {
+                    remove = Some(k);
+                }
+            });
+        }
+        if let Some(k) = remove {
+            pens.remove(k);
+            self.settings.hidden_pens.remove(k);
+            changed = true;
+        }
+        if ui
+            .add_enabled(
+                pens.len() < crate::colour::pens::MAX_PENS,
+                egui::Button::new("Add pen"),
+            )
+            .on_hover_text("Add a pen in a colour the set lacks")
+            .clicked()
+            && let Some(&c) = NEW_PENS
+                .iter()
+                .find(|c| pens.iter().all(|p| p.colour != **c))
+        {
+            pens.push(Pen {
+                name: name_of(c),
+                colour: c,
+                width_mm: None,
+            });
+            changed = true;
+        }
+        if changed {
+            match PenSet::new(pens) {
+                Ok(set) => {
+                    self.settings.job.pens = Some(set);
+                    self.pens_error = None;
+                }
+                Err(e) => self.pens_error = Some(e.to_string()),
+            }
+        }
+        if let Some(e) = &self.pens_error {
+            ui.colored_label(ui.visuals().error_fg_color, e);
+        }
+    }
+}
+
+/// A pen's colour swatch, named for screen readers and tests.
+fn swatch(ui: &mut egui::Ui, colour: [u8; 3], name: &str) {
+    let (rect, resp) = ui.allocate_exact_size(egui::vec2(16.0, 16.0), Sense::hover());
+    let [r, g, b] = colour;
+    ui.painter()
+        .rect_filled(rect, 2.0, Color32::from_rgb(r, g, b));
+    ui.painter().rect_stroke(
+        rect,
+        2.0,
+        egui::Stroke::new(1.0, Color32::GRAY),
+        egui::StrokeKind::Inside,
+    );
+    let label = format!("pen {name}");
+    resp.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Image, true, &label));
+    resp.on_hover_text(name);
+}
