@@ -23,7 +23,7 @@ struct Config {
     splat: u32,         // 1 = S1 rasterized by splat.wgsl into a key buffer
     strip_y0: u32,      // the key buffer holds rows strip_y0 ..
     strip_rows: u32,    // .. strip_y0 + strip_rows (all rows unless chunked)
-    pad0: u32,
+    classes: u32,       // classes: slot = class * width * height + pixel
 }
 
 // Mirrors `sampler::Dart` (src/sampler/run.rs).

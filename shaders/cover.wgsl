@@ -20,6 +20,11 @@ fn radius_at(x: u32, y: u32) -> u32 {
     return textureLoad(radius_map, vec2<i32>(i32(x), i32(y)), 0).x;
 }
 
+// The cross-class radius at (x, y): the rows below the classes' maps.
+fn cross_at(x: u32, y: u32) -> u32 {
+    return textureLoad(radius_map, vec2<i32>(i32(x), i32(cfg.classes * cfg.height + y)), 0).x;
+}
+
 // A row's bits, set a word at a time: `run` holds the word being filled
 // and its mask, written with one atomicOr when the row leaves the word.
 fn mark(run: ptr<function, vec2<u32>>, p: u32) {
@@ -36,10 +41,12 @@ fn flush(run: vec2<u32>) {
     }
 }
 
-// Thread (k, row) covers row `row` of survivor k's reach: one row per thread
-// keeps every loop short (llvmpipe caps a loop at 65535 iterations) and gives
-// a GPU many small tasks. Dispatched as (ceil(darts / 256), rows of the
-// largest reach).
+// Thread (k, row, layer) covers row `row` of survivor k's reach on the
+// coverage layer of class `layer` (wg.z; one layer without classes): its own
+// radius and the class's radii on its own class's layer, the cross radii on
+// the others. One row per thread keeps every loop short (llvmpipe caps a
+// loop at 65535 iterations) and gives a GPU many small tasks. Dispatched as
+// (ceil(darts / 256), rows of the largest reach, classes).
 @compute @workgroup_size(256)
 fn cover(
     @builtin(workgroup_id) wg: vec3<u32>,
@@ -50,9 +57,17 @@ fn cover(
         return;
     }
     let s = survivors[k];
-    var reach = s.radius;
+    let layer = wg.z;
+    let pixels = cfg.width * cfg.height;
+    let own = layer == s.pixel / pixels;
+    var radius = s.radius;
+    if !own {
+        let p = s.pixel % pixels;
+        radius = cross_at(p % cfg.width, p / cfg.width);
+    }
+    var reach = radius;
     if cfg.policy == POLICY_CURRENT || cfg.policy == POLICY_BIGGER {
-        reach = max(s.radius, cfg.max_radius);
+        reach = max(radius, cfg.max_radius);
     }
     let r = i32(reach << (POS_FRAC_BITS - RADIUS_FRAC_BITS));
     let cx = i32(s.x);
@@ -61,6 +76,7 @@ fn cover(
         return;
     }
     let y = row.y;
+    let top = layer * cfg.height;
     let dy = row.dy;
     var run = vec2<u32>(0xffffffffu, 0u);
     for (var qx = row.x0; qx <= row.x1; qx++) {
@@ -71,11 +87,17 @@ fn cover(
         var covered = cfg.policy == POLICY_PRIOR;
         if !covered {
             let dx = u32(abs(qx * 256 + 128 - cx));
-            let f = coverage_radius(cfg.policy, s.radius, radius_at(u32(x), u32(y)));
+            var rp = 0u;
+            if own {
+                rp = radius_at(u32(x), top + u32(y));
+            } else {
+                rp = cross_at(u32(x), u32(y));
+            }
+            let f = coverage_radius(cfg.policy, radius, rp);
             covered = inside(dx, dy, f);
         }
         if covered {
-            mark(&run, u32(y) * cfg.width + u32(x));
+            mark(&run, (top + u32(y)) * cfg.width + u32(x));
         }
     }
     flush(run);

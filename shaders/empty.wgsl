@@ -20,7 +20,7 @@ fn select_empty(i: u32) -> u32 {
     }
     var r = i - prefix[lo];
     let bits = coverage[lo];
-    let total = cfg.width * cfg.height;
+    let total = cfg.width * cfg.height * cfg.classes;
     for (var j = 0u; j < 32u; j++) {
         let p = lo * 32u + j;
         if p < total && ((bits >> j) & 1u) == 0u {
@@ -33,6 +33,7 @@ fn select_empty(i: u32) -> u32 {
     return lo * 32u;
 }
 
+// The radius of a pixel, or of a slot (classes stack their maps' rows).
 fn radius_at(pixel: u32) -> u32 {
     if cfg.uniform_radius != 0u {
         return cfg.uniform_radius;

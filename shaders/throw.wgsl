@@ -29,7 +29,8 @@ fn throw_darts(
     let mask = (1u << cfg.subpixel_bits) - 1u;
     var d: Dart;
     d.x = dart_coord(pixel % cfg.width, o & mask, cfg.subpixel_bits);
-    d.y = dart_coord(pixel / cfg.width, (o >> 16u) & mask, cfg.subpixel_bits);
+    // With classes `pixel` is a slot; its row within its class's layer.
+    d.y = dart_coord((pixel / cfg.width) % cfg.height, (o >> 16u) & mask, cfg.subpixel_bits);
     d.pixel = pixel;
     d.radius = radius_at(pixel);
     darts[k] = d;

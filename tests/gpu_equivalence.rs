@@ -337,3 +337,74 @@ fn exact_mode_with_repairs_small_batches_and_caps_matches_reference_implementati
         assert!(!g.maximal() && g.iterations() == 2);
     }
 }
+
+/// Three classes: a dense one fading out to the right, a uniform one, and
+/// one that only exists in a disc (the others are holes: slots that start
+/// covered).
+fn class_maps(w: u32, h: u32) -> pixelpie::sampler::ClassRadii {
+    let mut maps = vec![Vec::new(), Vec::new(), Vec::new()];
+    for y in 0..h {
+        for x in 0..w {
+            maps[0].push(if x < w * 3 / 4 {
+                2.0 + 6.0 * x as f32 / w as f32
+            } else {
+                f32::INFINITY
+            });
+            maps[1].push(5.0);
+            let (dx, dy) = (x as f32 - w as f32 * 0.6, y as f32 - h as f32 / 2.0);
+            maps[2].push(if dx * dx + dy * dy < 1600.0 {
+                3.0
+            } else {
+                f32::INFINITY
+            });
+        }
+    }
+    pixelpie::sampler::ClassRadii::new(w, h, &maps).unwrap()
+}
+
+/// Multi-class sampling (the pens of a colour drawing): the GPU's key and
+/// coverage layers give the CPU's points and classes, bit for bit, under
+/// every policy, periodic or not, whole or in strips of the key buffer.
+#[test]
+fn classes_match_reference_implementation() {
+    let Some(g) = gpu() else { return };
+    let classes = Arc::new(class_maps(160, 120));
+    for policy in Policy::ALL {
+        for periodic in [false, true] {
+            let params = Params::new(160, 120)
+                .with_classes(classes.clone())
+                .with_policy(policy)
+                .with_periodic(periodic)
+                .with_seed(8);
+            let what = format!("classes, {policy:?} periodic {periodic}");
+            assert_identical(&params, &what);
+            let (on_gpu, on_cpu) = both(&params).unwrap();
+            let class = |s: &SampleSet| s.points.iter().map(|p| p.class).collect::<Vec<_>>();
+            assert_eq!(class(&on_gpu), class(&on_cpu), "{what}: classes");
+            assert!(on_cpu.maximal(), "{what}");
+            assert!(
+                (0..3).all(|c| class(&on_cpu).contains(&c)),
+                "{what}: a class is missing"
+            );
+            assert_eq!(on_gpu.stats.backend, BackendKind::GpuCompute);
+        }
+    }
+    // The key buffer in strips of 5 stacked rows (a strip may span two
+    // classes' layers), and small batches.
+    let mut s = g.sampler.lock().unwrap();
+    s.set_strip_cap(Some(5));
+    let params = Params::new(160, 120)
+        .with_classes(classes)
+        .with_batch(37)
+        .with_seed(3);
+    let chunked = s
+        .sample(&g.ctx.device, &g.ctx.queue, &params, Control::default())
+        .expect("GPU");
+    s.set_strip_cap(None);
+    drop(s);
+    let reference = cpu::sample(&params, Control::default()).unwrap();
+    assert_eq!(
+        chunked.points, reference.points,
+        "classes in strips of 5 rows"
+    );
+}

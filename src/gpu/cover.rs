@@ -98,20 +98,22 @@ impl CoverStage {
     ) {
         pass.set_pipeline(&self.cover_exact);
         pass.set_bind_group(0, group, &[]);
-        util::dispatch_rows(pass, darts, util::disk_rows(reach));
+        util::dispatch_rows(pass, darts, util::disk_rows(reach), 1);
     }
 
     /// Covers the pixels of up to `darts` survivors whose reach is at most
-    /// `reach` (1/64 px): one thread per survivor and row.
+    /// `reach` (1/64 px) on each of `classes` coverage layers: one thread per
+    /// survivor, row and layer.
     pub fn encode(
         &self,
         pass: &mut wgpu::ComputePass<'_>,
         group: &wgpu::BindGroup,
         darts: u32,
         reach: u32,
+        classes: u32,
     ) {
         pass.set_pipeline(&self.cover);
         pass.set_bind_group(0, group, &[]);
-        util::dispatch_rows(pass, darts, util::disk_rows(reach));
+        util::dispatch_rows(pass, darts, util::disk_rows(reach), classes);
     }
 }

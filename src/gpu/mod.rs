@@ -25,7 +25,6 @@ pub use error::GpuError;
 pub use resources::S1Path;
 pub(crate) use resources::{Resources, Shape, Stages};
 
-use crate::sampler::Dart;
 use crate::sampler::fixed::iteration_key;
 use crate::sampler::run::{self, StageTimes, Step, Stepper};
 use crate::sampler::{BackendKind, Control, Params, Plan, Result, SampleSet, Stats};
@@ -53,10 +52,12 @@ pub(crate) struct Config {
     splat: u32,
     /// The first row of the key buffer's strip (compute S1 path).
     strip_y0: u32,
-    /// Rows of the strip: the domain's height unless the key buffer is
-    /// chunked.
+    /// Rows of the strip: the (stacked) domain's height unless the key
+    /// buffer is chunked.
     strip_rows: u32,
-    pad0: u32,
+    /// Classes (1 without): the empty list, coverage and keys stack one
+    /// layer per class.
+    classes: u32,
 }
 
 impl Config {
@@ -79,14 +80,14 @@ impl Config {
                 plan.radius_range.0
             },
             iteration_key: 0,
-            empty: plan.pixels(),
+            empty: plan.slots(),
             darts: 0,
             first: 1,
-            words: plan.pixels().div_ceil(32),
+            words: plan.slots().div_ceil(32),
             splat: 0,
             strip_y0: 0,
-            strip_rows: plan.height,
-            pad0: 0,
+            strip_rows: plan.slot_rows(),
+            classes: plan.classes(),
         }
     }
 }
@@ -281,16 +282,24 @@ impl GpuSampler {
                 "radii above 32766 px exceed the GPU's row dispatch",
             ));
         }
-        if plan.classes() > 1 {
-            return Err(error::unusable(
-                "multi-class sampling (pens) runs on the CPU backend only for now",
-            ));
-        }
         if plan.exact {
             return self.run_exact(device, queue, &plan, ctl);
         }
-        let path = self.path_for(device, queue)?;
-        let cap = plan.batch.min(plan.pixels()).min(plan.layout.max_batch());
+        // Classes rasterize a key layer per class: the compute path's.
+        let path = if plan.classes() > 1 {
+            S1Path::Compute
+        } else {
+            self.path_for(device, queue)?
+        };
+        let map_rows = plan.slot_rows() + if plan.classes() > 1 { plan.height } else { 0 };
+        if map_rows > max {
+            return Err(error::unusable(format!(
+                "{} classes of {} rows exceed the adapter's largest texture, {max} rows",
+                plan.classes(),
+                plan.height
+            )));
+        }
+        let cap = plan.batch.min(plan.slots()).min(plan.layout.max_batch());
         let timestamps = device.features().contains(wgpu::Features::TIMESTAMP_QUERY);
         let shape = Shape {
             capacity: cap,
@@ -321,6 +330,12 @@ impl GpuSampler {
         let mut encoder = device.create_command_encoder(&Default::default());
         encoder.clear_buffer(&res.coverage, 0, None);
         queue.submit([encoder.finish()]);
+        if plan.holes {
+            // Slots of a class with no radius start covered: the first
+            // iteration reads a scanned list, not every slot.
+            config.empty = res.cover_holes(device, queue, stages, &plan)?;
+            config.first = 0;
+        }
 
         let stats = Stats {
             backend: match path {
@@ -434,7 +449,7 @@ impl Stepper for GpuStepper<'_> {
         }
         Ok(Step {
             empty: u64::from(it.empty),
-            accepted: it.survivors.iter().map(Dart::point).collect(),
+            accepted: it.survivors.iter().map(|d| self.plan.point(d)).collect(),
             stages,
             finished: false,
             removed: Vec::new(),
@@ -455,7 +470,7 @@ mod tests {
         let rust = rust_layout!(super::Config;
             width, height, period_x, period_y, policy, subpixel_bits, index_bits,
             radius_bits, min_radius, max_radius, uniform_radius, iteration_key, empty,
-            darts, first, words, splat, strip_y0, strip_rows, pad0);
+            darts, first, words, splat, strip_y0, strip_rows, classes);
         assert_eq!(rust, wgsl_layout(COMMON, "Config"));
     }
 

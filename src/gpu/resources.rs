@@ -28,7 +28,7 @@ fn strip_rows(device: &wgpu::Device, plan: &Plan, path: S1Path, cap: Option<u32>
     }
     let max_binding = device.limits().max_storage_buffer_binding_size;
     (max_binding / (4 * u64::from(plan.width)))
-        .min(u64::from(plan.height))
+        .min(u64::from(plan.slot_rows()))
         .min(u64::from(cap.unwrap_or(u32::MAX))) as u32
 }
 
@@ -199,7 +199,9 @@ fn check_limits(
 /// Buffers, textures and bind groups of one domain size.
 pub struct Resources {
     width: u32,
+    /// Rows of the stacked slot domain (the height without classes).
     height: u32,
+    classes: u32,
     capacity: u32,
     path: S1Path,
     /// Rows per strip of the key buffer (compute path; the height if whole).
@@ -244,8 +246,8 @@ impl Resources {
             strip_cap,
         } = shape;
         use wgpu::BufferUsages as B;
-        let (width, height) = (plan.width, plan.height);
-        let words = plan.pixels().div_ceil(32);
+        let (width, height) = (plan.width, plan.slot_rows());
+        let words = plan.slots().div_ceil(32);
         let dart_bytes = u64::from(capacity) * DART_BYTES;
         let strip_rows = strip_rows(device, plan, path, strip_cap);
         check_limits(device, width, strip_rows, dart_bytes, words, capacity)?;
@@ -264,7 +266,7 @@ impl Resources {
             B::STORAGE | B::COPY_DST,
         );
         let word_scan = ScanChain::new(device, stages.compact, "word scan", words, Some(&coverage));
-        word_scan.set_len(queue, words, plan.pixels());
+        word_scan.set_len(queue, words, plan.slots());
         // One more flag than darts: the 0 that ends them (see cull.wgsl).
         let dart_scan = ScanChain::new(device, stages.compact, "dart scan", capacity + 1, None);
         let splat = path == S1Path::Compute;
@@ -306,6 +308,7 @@ impl Resources {
         Ok(Self {
             width,
             height,
+            classes: plan.classes(),
             capacity,
             path,
             strip_rows,
@@ -329,7 +332,8 @@ impl Resources {
 
     /// Whether these resources serve `plan` of `shape`.
     pub fn fits(&self, device: &wgpu::Device, plan: &Plan, shape: Shape) -> bool {
-        (self.width, self.height, self.path) == (plan.width, plan.height, shape.path)
+        (self.width, self.height, self.path) == (plan.width, plan.slot_rows(), shape.path)
+            && self.classes == plan.classes()
             && self.radius.fits(plan)
             && shape.capacity <= self.capacity
             && self.queries.is_some() == shape.timestamps
@@ -382,9 +386,13 @@ impl Resources {
             stages
                 .cull
                 .encode_gather(&mut pass, &self.cull_group, darts);
-            stages
-                .cover
-                .encode(&mut pass, &self.cover_group, darts, plan.radius_range.1);
+            stages.cover.encode(
+                &mut pass,
+                &self.cover_group,
+                darts,
+                plan.radius_range.1,
+                self.classes,
+            );
         }
         laps.lap(&mut encoder, 1);
         // PP: count and scan the empty pixels.
@@ -480,6 +488,7 @@ impl Resources {
                         &self.throw_groups.splat,
                         darts,
                         plan.radius_range.1,
+                        self.classes,
                     );
                     if strips > 1 {
                         stages.cull.encode_cull(&mut pass, &self.cull_group, darts);
@@ -488,6 +497,38 @@ impl Resources {
             }
         }
         strips
+    }
+
+    /// Marks the slots of classes with no radius at their pixel as covered
+    /// and scans the empty list they leave; returns its length.
+    pub fn cover_holes(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        stages: Stages<'_>,
+        plan: &Plan,
+    ) -> Result<u32> {
+        let Some(map) = &plan.map else {
+            return Ok(plan.slots());
+        };
+        let mut words = vec![0u32; self.words as usize];
+        for (s, _) in map.radii_fx().iter().enumerate().filter(|(_, r)| **r == 0) {
+            words[s / 32] |= 1 << (s % 32);
+        }
+        queue.write_buffer(&self.coverage, 0, bytemuck::cast_slice(&words));
+        let mut encoder = device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_compute_pass(&Default::default());
+            self.word_scan
+                .encode_count(&mut pass, stages.compact, self.words);
+            self.word_scan
+                .encode_scan(&mut pass, stages.compact, self.words);
+        }
+        encoder.copy_buffer_to_buffer(self.word_scan.total(), 0, &self.staging, 0, 4);
+        queue.submit([encoder.finish()]);
+        let view = util::read_back(device, &self.staging, 4)?;
+        let empty: Vec<u32> = bytemuck::pod_collect_to_vec(&view[..4]);
+        Ok(empty[0])
     }
 
     /// Copies the counts, the timestamps and the survivors to the
@@ -588,13 +629,15 @@ impl<'d> Laps<'d> {
 
 /// The radius map as a texture, in 1/64 px: 16-bit radii when they fit
 /// (below 1024 px), so that the map costs 2 bytes per pixel; 1×1 without a
-/// map.
+/// map. With classes, their maps stacked row-wise, then the cross-class
+/// radii's rows.
 pub struct RadiusTexture {
     texture: wgpu::Texture,
     /// Its view, for bind groups.
     pub view: wgpu::TextureView,
     has_map: bool,
     narrow: bool,
+    rows: u32,
 }
 
 impl RadiusTexture {
@@ -602,11 +645,8 @@ impl RadiusTexture {
     pub fn new(device: &wgpu::Device, plan: &Plan) -> Self {
         let has_map = plan.map.is_some();
         let narrow = Self::narrow(plan);
-        let size = if has_map {
-            (plan.width, plan.height)
-        } else {
-            (1, 1)
-        };
+        let rows = Self::rows(plan);
+        let size = if has_map { (plan.width, rows) } else { (1, 1) };
         let texture = device.create_texture(&wgpu::TextureDescriptor {
             label: Some("radius map"),
             size: wgpu::Extent3d {
@@ -631,6 +671,7 @@ impl RadiusTexture {
             view,
             has_map,
             narrow,
+            rows,
         }
     }
 
@@ -638,15 +679,25 @@ impl RadiusTexture {
         plan.radius_range.1 <= u32::from(u16::MAX)
     }
 
+    /// The texture's rows: the classes' maps and the cross radii, or the map.
+    fn rows(plan: &Plan) -> u32 {
+        if plan.classes() > 1 {
+            plan.slot_rows() + plan.height
+        } else {
+            plan.height
+        }
+    }
+
     /// Whether the texture serves `plan`.
     pub fn fits(&self, plan: &Plan) -> bool {
-        (self.has_map, self.narrow) == (plan.map.is_some(), Self::narrow(plan))
+        (self.has_map, self.narrow, self.rows)
+            == (plan.map.is_some(), Self::narrow(plan), Self::rows(plan))
     }
 
     /// Bytes held for `plan`'s domain.
     pub fn bytes(&self, plan: &Plan) -> u64 {
         if self.has_map {
-            (4 - 2 * u64::from(self.narrow)) * u64::from(plan.width) * u64::from(plan.height)
+            (4 - 2 * u64::from(self.narrow)) * u64::from(plan.width) * u64::from(self.rows)
         } else {
             0
         }
@@ -655,12 +706,20 @@ impl RadiusTexture {
     /// Uploads the plan's radius map, if any.
     pub fn upload(&self, queue: &wgpu::Queue, plan: &Plan) {
         let Some(map) = &plan.map else { return };
+        let with_cross: Vec<u32>;
+        let radii = match &plan.cross {
+            Some(cross) if plan.classes() > 1 => {
+                with_cross = map.radii_fx().iter().chain(cross.iter()).copied().collect();
+                &with_cross[..]
+            }
+            _ => map.radii_fx(),
+        };
         let narrow: Vec<u16>;
         let (data, texel): (&[u8], u32) = if self.narrow {
-            narrow = map.radii_fx().iter().map(|&r| r as u16).collect();
+            narrow = radii.iter().map(|&r| r as u16).collect();
             (bytemuck::cast_slice(&narrow), 2)
         } else {
-            (bytemuck::cast_slice(map.radii_fx()), 4)
+            (bytemuck::cast_slice(radii), 4)
         };
         queue.write_texture(
             wgpu::TexelCopyTextureInfo {
@@ -673,11 +732,11 @@ impl RadiusTexture {
             wgpu::TexelCopyBufferLayout {
                 offset: 0,
                 bytes_per_row: Some(texel * plan.width),
-                rows_per_image: Some(plan.height),
+                rows_per_image: Some(self.rows),
             },
             wgpu::Extent3d {
                 width: plan.width,
-                height: plan.height,
+                height: self.rows,
                 depth_or_array_layers: 1,
             },
         );

@@ -29,7 +29,7 @@ pub struct ThrowStage {
     pub layout: wgpu::BindGroupLayout,
     /// The raster layout: config, darts.
     pub raster_layout: wgpu::BindGroupLayout,
-    /// The splat layout: config, darts, key buffer.
+    /// The splat layout: config, darts, key buffer, radius map.
     pub splat_layout: wgpu::BindGroupLayout,
     throw: wgpu::ComputePipeline,
     splat: wgpu::ComputePipeline,
@@ -103,6 +103,7 @@ impl ThrowStage {
                 util::uniform(0, c),
                 util::storage(1, c, true),
                 util::storage(2, c, false),
+                util::texture(3, wgpu::TextureSampleType::Uint),
             ],
         );
         let splat_module = util::module(device, "splat.wgsl", util::SHADERS[5].1);
@@ -149,6 +150,7 @@ impl ThrowStage {
                     b.config.as_entire_binding(),
                     b.darts.as_entire_binding(),
                     b.keys.as_entire_binding(),
+                    wgpu::BindingResource::TextureView(b.radius),
                 ],
             ),
         }
@@ -167,17 +169,18 @@ impl ThrowStage {
     }
 
     /// Rasterizes `darts` darts into the key buffer with a compute pass (the
-    /// buffer must be cleared to 0 first).
+    /// buffer must be cleared to 0 first), on each of `classes` key layers.
     pub fn encode_splat(
         &self,
         pass: &mut wgpu::ComputePass<'_>,
         group: &wgpu::BindGroup,
         darts: u32,
         max_radius: u32,
+        classes: u32,
     ) {
         pass.set_pipeline(&self.splat);
         pass.set_bind_group(0, group, &[]);
-        util::dispatch_rows(pass, darts, util::disk_rows(max_radius));
+        util::dispatch_rows(pass, darts, util::disk_rows(max_radius), classes);
     }
 
     /// Rasterizes `darts` darts into `depth`, cleared to the losing end.

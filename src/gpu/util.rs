@@ -172,10 +172,11 @@ pub fn disk_rows(r_fx: u32) -> u32 {
     2 * r_fx.div_ceil(crate::sampler::fixed::RADIUS_ONE) + 2
 }
 
-/// Dispatches one thread per dart (x, 256 per workgroup) and row (y).
-pub fn dispatch_rows(pass: &mut wgpu::ComputePass<'_>, darts: u32, rows: u32) {
+/// Dispatches one thread per dart (x, 256 per workgroup), row (y) and
+/// class layer (z).
+pub fn dispatch_rows(pass: &mut wgpu::ComputePass<'_>, darts: u32, rows: u32, layers: u32) {
     if darts > 0 {
-        pass.dispatch_workgroups(darts.div_ceil(256), rows.min(MAX_GROUPS), 1);
+        pass.dispatch_workgroups(darts.div_ceil(256), rows.min(MAX_GROUPS), layers.max(1));
     }
 }
 
