@@ -34,6 +34,7 @@ fn channels(img: &image::RgbImage) -> Rgb {
 
 struct Row {
     method: &'static str,
+    overlap: Option<f64>,
     de: f64,
     p95: f64,
     de_linear: f64,
@@ -52,12 +53,39 @@ fn measure(
     let g = compare(&luminance(photo), &luminance(drawing), sigma)?;
     Ok(Row {
         method,
+        overlap: None,
         de: c.delta_e00_mean,
         p95: c.delta_e00_p95,
         de_linear: c.delta_e00_mean_linear,
         psnr: g.psnr,
         seconds,
     })
+}
+
+/// The share of the inked paper where two or more pens' dots overlap (each
+/// pixel's inks taken as independent within it).
+fn overlap(layers: &[image::GrayImage]) -> f64 {
+    let (mut inked, mut over) = (0.0, 0.0);
+    for i in 0..layers[0].as_raw().len() {
+        let a: Vec<f64> = layers
+            .iter()
+            .map(|l| 1.0 - f64::from(l.as_raw()[i]) / 255.0)
+            .collect();
+        let none: f64 = a.iter().map(|v| 1.0 - v).product();
+        let one: f64 = (0..a.len())
+            .map(|k| {
+                a[k] * a
+                    .iter()
+                    .enumerate()
+                    .filter(|(j, _)| *j != k)
+                    .map(|(_, v)| 1.0 - v)
+                    .product::<f64>()
+            })
+            .sum();
+        inked += 1.0 - none;
+        over += 1.0 - none - one;
+    }
+    if inked > 0.0 { over / inked } else { 0.0 }
 }
 
 fn sample(p: &pixelpie::sampler::Params) -> pixelpie::Result<pixelpie::sampler::SampleSet> {
@@ -75,9 +103,9 @@ fn main() -> Result<()> {
     let points: usize = take("--points").map_or(Ok(20_000), |s| s.parse())?;
     let sigma_factor: f64 = take("--sigma-factor").map_or(Ok(1.0), |s| s.parse())?;
     println!(
-        "| photo | method | ΔE00 mean | ΔE00 p95 | ΔE00 mean (linear) | luminance PSNR dB | seconds |"
+        "| photo | method | ΔE00 mean | ΔE00 p95 | ΔE00 mean (linear) | luminance PSNR dB | pens overlap | seconds |"
     );
-    println!("|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|");
     for path in &args {
         let path = std::path::Path::new(path);
         let name = path.file_name().unwrap_or_default().to_string_lossy();
@@ -100,13 +128,23 @@ fn main() -> Result<()> {
         let seconds = t.elapsed().as_secs_f64();
         let domain = drawing.domain;
         let img = job.picture(&drawing, (w, h))?;
-        rows.push(measure(
-            &photo,
-            &channels(&img),
-            sigma,
-            "PixelPie --pens",
-            seconds,
-        )?);
+        let mut row = measure(&photo, &channels(&img), sigma, "PixelPie --pens", seconds)?;
+        let dots = job.dots(&drawing);
+        let view = (f64::from(domain.0), f64::from(domain.1));
+        let layers = (0..pens.len() as u32)
+            .map(|k| {
+                let l: Vec<_> = drawing
+                    .points
+                    .iter()
+                    .zip(&dots)
+                    .filter(|(p, _)| p.class == k)
+                    .map(|(_, d)| *d)
+                    .collect();
+                pixelpie::stipple::raster::render_view(&l, view, domain)
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        row.overlap = Some(overlap(&layers));
+        rows.push(row);
 
         // The continuous-tone limit: the separation's own colours.
         let model = RenderModel::new(&pens, false);
@@ -133,7 +171,7 @@ fn main() -> Result<()> {
                 .zip(&photo[2].values)
                 .map(|((&r, &g), &b)| [r, g, b])
                 .collect();
-            let mut planes = vec![Vec::with_capacity(enc.len()); 4];
+            let mut planes: Vec<Vec<f32>> = (0..4).map(|_| Vec::with_capacity(enc.len())).collect();
             for c in &enc {
                 let k = 1.0 - c[0].max(c[1]).max(c[2]);
                 for i in 0..3 {
@@ -147,12 +185,17 @@ fn main() -> Result<()> {
                 planes[3].push(k);
             }
             let total: f64 = planes.iter().flatten().map(|&v| f64::from(v)).sum();
-            let mut layers = Vec::new();
+            let (mut layers, mut fine) = (Vec::new(), Vec::new());
             for (plane, pen) in planes.iter().zip(pens.pens()) {
                 let share = plane.iter().map(|&v| f64::from(v)).sum::<f64>() / total;
                 let n = (points as f64 * share).round() as usize;
                 if n == 0 {
                     layers.push(image::GrayImage::from_pixel(w, h, image::Luma([255])));
+                    fine.push(image::GrayImage::from_pixel(
+                        domain.0,
+                        domain.1,
+                        image::Luma([255]),
+                    ));
                     continue;
                 }
                 // The grey job reproduces the display grey 1 − ink.
@@ -164,21 +207,29 @@ fn main() -> Result<()> {
                 let mut grey = Job::default();
                 grey.points = Some(n);
                 (grey.width, grey.height) = (Some(domain.0), Some(domain.1));
-                let d = grey.run_map(&map, sample, |_| true)?;
+                // A channel with too little ink for its share of the dots
+                // at radii the domain holds draws nothing.
+                let Ok(d) = grey.run_map(&map, sample, |_| true) else {
+                    layers.push(image::GrayImage::from_pixel(w, h, image::Luma([255])));
+                    fine.push(image::GrayImage::from_pixel(
+                        domain.0,
+                        domain.1,
+                        image::Luma([255]),
+                    ));
+                    continue;
+                };
                 let dots = grey.dots(&d);
                 let view = (f64::from(d.domain.0), f64::from(d.domain.1));
                 layers.push(pixelpie::stipple::raster::render_view(&dots, view, (w, h))?);
+                fine.push(pixelpie::stipple::raster::render_view(&dots, view, domain)?);
                 let _ = pen;
             }
             let img = pixelpie::stipple::raster::composite(&layers, &model)?;
             let seconds = t.elapsed().as_secs_f64();
-            rows.push(measure(
-                &photo,
-                &channels(&img),
-                sigma,
-                "CMYK channels apart (DrawingBotV3)",
-                seconds,
-            )?);
+            let method = "CMYK channels apart (DrawingBotV3)";
+            let mut row = measure(&photo, &channels(&img), sigma, method, seconds)?;
+            row.overlap = Some(overlap(&fine));
+            rows.push(row);
         }
 
         // Black dots only.
@@ -198,8 +249,11 @@ fn main() -> Result<()> {
         )?);
 
         for r in rows {
+            let overlap = r
+                .overlap
+                .map_or("".into(), |o| format!("{:.1}%", 100.0 * o));
             println!(
-                "| {name} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} |",
+                "| {name} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {overlap} | {:.2} |",
                 r.method, r.de, r.p95, r.de_linear, r.psnr, r.seconds
             );
         }

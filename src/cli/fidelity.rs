@@ -168,7 +168,7 @@ fn load_colour_drawing(path: &Path) -> Result<Option<(image::RgbImage, usize)>> 
                     .map(String::as_str),
             )?;
             // At four times the view's size per unit, at most 4096 px wide.
-            let k = (4096.0 / d.view_width).min(4.0).max(1e-3);
+            let k = (4096.0 / d.view_width).clamp(1e-3, 4.0);
             let size = (
                 (d.view_width * k).round().max(1.0) as u32,
                 (d.view_height * k).round().max(1.0) as u32,

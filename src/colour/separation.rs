@@ -22,7 +22,7 @@
 //! CIEDE2000 measure; λ = [`INK_COST`] breaks ties towards less ink (black
 //! rather than three colours over each other). The minimum is found by a
 //! pattern search (the best coordinate step, steps halving from ¼ to
-//! 1/512) from no ink, and again from half of every ink where that ends
+//! 1/512; CIE76 down to 1/32, then CIEDE2000) from no ink, and again from half of every ink where that ends
 //! more than ΔE00 0.5 off. An image is separated through a 17³ table over sRGB-encoded RGB,
 //! solved at the nodes its pixels need and interpolated tetrahedrally (a
 //! grey reads grey nodes only).
@@ -33,6 +33,8 @@ use super::{Lab, PenSet, decode, delta_e00, encode};
 
 /// The cost of a whole pen's ink, in ΔE00²: the tie-break towards less ink.
 pub const INK_COST: f64 = 0.25;
+/// The search's steps below this use CIEDE2000, the coarser ones CIE76.
+const FINE_STEP: f64 = 1.0 / 32.0;
 /// Nodes per axis of the separation table.
 pub const TABLE_NODES: usize = 17;
 
@@ -170,9 +172,16 @@ impl Separation {
     #[must_use]
     pub fn inks(&self, target: Lab) -> Vec<f64> {
         let n = self.model.pens;
-        let cost = |a: &[f64]| {
-            let e = delta_e00(self.model.lab(self.model.mix(a)), target);
-            e * e + INK_COST * a.iter().sum::<f64>()
+        // CIE76 (Lab distance, cheap) while the steps are coarse, CIEDE2000
+        // for the fine ones.
+        let cost = |a: &[f64], fine: bool| {
+            let lab = self.model.lab(self.model.mix(a));
+            let e2 = if fine {
+                delta_e00(lab, target).powi(2)
+            } else {
+                (lab.l - target.l).powi(2) + (lab.a - target.a).powi(2) + (lab.b - target.b).powi(2)
+            };
+            e2 + INK_COST * a.iter().sum::<f64>()
         };
         // The second start only where the first ends off the colour (out
         // of gamut, or a local minimum).
@@ -185,9 +194,14 @@ impl Separation {
             {
                 break;
             }
-            let mut e = cost(&a);
             let mut step = 0.25;
+            let mut fine = false;
+            let mut e = cost(&a, fine);
             while step > 1.0 / 512.0 {
+                if !fine && step < FINE_STEP {
+                    fine = true;
+                    e = cost(&a, fine);
+                }
                 // The best of the 2n coordinate steps, if any improves.
                 let mut pick: Option<(f64, usize, f64)> = None;
                 for k in 0..n {
@@ -198,7 +212,7 @@ impl Separation {
                         }
                         let old = a[k];
                         a[k] = t;
-                        let e2 = cost(&a);
+                        let e2 = cost(&a, fine);
                         a[k] = old;
                         if e2 < pick.map_or(e, |p| p.0) {
                             pick = Some((e2, k, t));
@@ -284,8 +298,8 @@ impl Separation {
                         node[axes[step - 1]] += 1;
                     }
                     let i = node[0] * N * N + node[1] * N + node[2];
-                    for k in 0..n {
-                        out[k] += w * table(i, k);
+                    for (k, o) in out.iter_mut().enumerate().take(n) {
+                        *o += w * table(i, k);
                     }
                 }
                 out

@@ -4,6 +4,8 @@
 
 use std::sync::Arc;
 
+use rayon::prelude::*;
+
 use super::{Error, ImportanceMap, Mapping, RadiusRange};
 use crate::count;
 use crate::sampler::{ClassRadii, Params, RadiusMap, SampleSet};
@@ -117,7 +119,7 @@ impl Classes<'_> {
         );
         let radii: Vec<Vec<f32>> = self
             .maps
-            .iter()
+            .par_iter()
             .map(|m| {
                 m.map
                     .radii(m.mapping, range)

@@ -27,6 +27,8 @@
 
 use std::sync::Arc;
 
+use rayon::prelude::*;
+
 use super::fixed::{self, MIN_RADIUS_FX, RADIUS_ONE, radius_to_fx};
 use super::{Error, RadiusMap, Result};
 
@@ -102,6 +104,7 @@ impl ClassRadii {
             }
         }
         let cross: Vec<u32> = (0..pixels)
+            .into_par_iter()
             .map(|p| {
                 let density: f64 = (0..maps.len())
                     .map(|c| radii[c * pixels + p])

@@ -330,15 +330,19 @@ fn dot_factor(ink: f64, r: f64, r_eff: f64) -> f32 {
 /// model's Jacobian (damped least norm), and each dot is resized by the ink
 /// curve to put down its pen's new ink. [`CORRECTIONS`] rounds.
 struct Correction {
-    /// The grid's size.
+    /// The render grid's size (the drawing, at most [`CORRECTION_SIDE`]).
     size: (u32, u32),
-    /// Grid pixels per domain pixel.
+    /// Render-grid pixels per domain pixel.
     scale: f32,
-    /// The inks of the separation at every grid pixel, one plane per pen.
+    /// Render-grid pixels per side of a work-grid cell.
+    block: u32,
+    /// The work grid's size: the render grid in blocks.
+    work: (u32, u32),
+    /// The inks of the separation at every work-grid cell, one plane per pen.
     inks: Vec<Vec<f32>>,
-    /// The target: the separation's colours, blurred, one plane per channel.
+    /// The target, blurred, one plane per channel (work grid).
     target: [crate::analyze::fidelity::Grey; 3],
-    /// The blur's σ in grid pixels.
+    /// The blur's σ in work-grid cells.
     sigma: f64,
     /// The render model.
     model: RenderModel,
@@ -355,8 +359,10 @@ const DAMPING: f64 = 0.7;
 const ERROR_BLUR: f64 = 1.0;
 /// Rounds of [`Correction`].
 const CORRECTIONS: usize = 3;
-/// The correction grid's longer side, at most.
+/// The render grid's longer side, at most.
 const CORRECTION_SIDE: u32 = 1024;
+/// The work grid's cells are blocks of render pixels at most σ / this wide.
+const CELLS_PER_SIGMA: f64 = 2.0;
 
 impl Correction {
     fn new(
@@ -372,10 +378,15 @@ impl Correction {
             ((domain.0 as f32 * scale).round() as u32).max(1),
             ((domain.1 as f32 * scale).round() as u32).max(1),
         );
-        let grid = picture.resized(size.0, size.1)?;
+        // σ in render pixels; the work grid resolves it with a few cells.
+        let fine_sigma = (f64::from(domain.0) * f64::from(domain.1) / dots.max(1) as f64).sqrt()
+            * f64::from(scale);
+        let block = ((fine_sigma / CELLS_PER_SIGMA).floor() as u32).clamp(1, 8);
+        let work = (size.0.div_ceil(block), size.1.div_ceil(block));
+        let grid = picture.resized(work.0, work.1)?;
         let inks = separation.image(grid.rgb());
         let model = separation.model().clone();
-        let n = (size.0 * size.1) as usize;
+        let n = (work.0 * work.1) as usize;
         // The photo's own colour where the pens make it (the separation's
         // table is exact only at its nodes), the separation's nearest colour
         // where they do not, blended between ΔE00 2 and 4.
@@ -393,13 +404,12 @@ impl Correction {
                 std::array::from_fn(|k| (1.0 - w) * photo[k] + w * made[k])
             })
             .collect();
-        let sigma = (f64::from(domain.0) * f64::from(domain.1) / dots.max(1) as f64).sqrt()
-            * f64::from(scale);
+        let sigma = fine_sigma / f64::from(block);
         let target = [0, 1, 2].map(|k| {
             blur(
                 &Grey {
-                    width: size.0,
-                    height: size.1,
+                    width: work.0,
+                    height: work.1,
                     values: colours.iter().map(|c| c[k] as f32).collect(),
                 },
                 sigma,
@@ -408,6 +418,8 @@ impl Correction {
         Ok(Self {
             size,
             scale,
+            block,
+            work,
             inks,
             target,
             sigma,
@@ -416,7 +428,8 @@ impl Correction {
     }
 
     /// Corrects `calibrated` (the dots' radii) of `points`, whose pens were
-    /// to put down `inks`, in [`CORRECTIONS`] rounds.
+    /// to put down `inks` at the spacing of maximal sets of radii `spacing`,
+    /// in [`CORRECTIONS`] rounds.
     fn apply(
         &self,
         points: &[Point],
@@ -427,9 +440,12 @@ impl Correction {
     ) -> crate::Result<()> {
         use crate::analyze::fidelity::{Grey, blur};
         let (w, h) = self.size;
+        let (ww, wh) = self.work;
+        let block = self.block;
         let mut assumed = inks.to_vec();
         for _ in 0..CORRECTIONS {
             let layers = (0..pens as u32)
+                .into_par_iter()
                 .map(|k| {
                     let dots: Vec<Dot> = points
                         .iter()
@@ -444,22 +460,37 @@ impl Correction {
                     super::raster::render(&dots, self.size, 1.0)
                 })
                 .collect::<Result<Vec<_>, _>>()?;
-            // What the drawing shows, in the model's space.
-            let shown: Vec<[f64; 3]> = (0..(w * h) as usize)
+            // What the drawing shows, in the model's space, averaged over
+            // each work-grid cell (the render pixels' colours, so that the
+            // overlaps within a cell count).
+            let shown: Vec<[f64; 3]> = (0..(ww * wh) as usize)
                 .into_par_iter()
-                .map(|i| {
-                    let mut a = [0f64; MAX_PENS];
-                    for (k, l) in layers.iter().enumerate() {
-                        a[k] = 1.0 - f64::from(l.as_raw()[i]) / 255.0;
+                .map(|c| {
+                    let (cx, cy) = (c as u32 % ww, c as u32 / ww);
+                    let mut sum = [0f64; 3];
+                    let mut n = 0.0;
+                    for y in cy * block..((cy + 1) * block).min(h) {
+                        for x in cx * block..((cx + 1) * block).min(w) {
+                            let i = (y * w + x) as usize;
+                            let mut a = [0f64; MAX_PENS];
+                            for (k, l) in layers.iter().enumerate() {
+                                a[k] = 1.0 - f64::from(l.as_raw()[i]) / 255.0;
+                            }
+                            let m = self.model.mix(&a[..pens]);
+                            for (s, v) in sum.iter_mut().zip(m) {
+                                *s += v;
+                            }
+                            n += 1.0;
+                        }
                     }
-                    self.model.mix(&a[..pens])
+                    sum.map(|s| s / n)
                 })
                 .collect();
             let drawn = [0, 1, 2].map(|k| {
                 blur(
                     &Grey {
-                        width: w,
-                        height: h,
+                        width: ww,
+                        height: wh,
                         values: shown.iter().map(|c| c[k] as f32).collect(),
                     },
                     self.sigma,
@@ -476,15 +507,15 @@ impl Correction {
                     .collect();
                 blur(
                     &Grey {
-                        width: w,
-                        height: h,
+                        width: ww,
+                        height: wh,
                         values,
                     },
                     ERROR_BLUR * self.sigma,
                 )
             });
-            // The ink change per pen at every grid pixel.
-            let delta: Vec<[f32; MAX_PENS]> = (0..(w * h) as usize)
+            // The ink change per pen at every work-grid cell.
+            let delta: Vec<[f32; MAX_PENS]> = (0..(ww * wh) as usize)
                 .into_par_iter()
                 .map(|i| {
                     let mut a = [0f64; MAX_PENS];
@@ -501,9 +532,9 @@ impl Correction {
                 })
                 .collect();
             for (j, p) in points.iter().enumerate() {
-                let gx = ((p.x * self.scale) as u32).min(w - 1);
-                let gy = ((p.y * self.scale) as u32).min(h - 1);
-                let g = (gy * w + gx) as usize;
+                let gx = ((p.x * self.scale) as u32 / block).min(ww - 1);
+                let gy = ((p.y * self.scale) as u32 / block).min(wh - 1);
+                let g = (gy * ww + gx) as usize;
                 let k = p.class as usize;
                 let before = assumed[j];
                 if before < 1e-3 {
