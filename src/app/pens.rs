@@ -65,10 +65,11 @@ impl PixelPieApp {
                 }
                 swatch(ui, pen.colour, &pen.name);
                 let mut rgb = pen.colour;
-                for (i, c) in ["R ", "G ", "B "].into_iter().enumerate() {
+                ui.spacing_mut().item_spacing.x = 3.0;
+                for (i, what) in ["red", "green", "blue"].into_iter().enumerate() {
                     if ui
-                        .add(egui::DragValue::new(&mut rgb[i]).prefix(c))
-                        .on_hover_text("The pen's ink: red, green and blue (0 to 255)")
+                        .add(egui::DragValue::new(&mut rgb[i]))
+                        .on_hover_text(format!("The pen's ink: its {what} (0 to 255)"))
                         .changed()
                     {
                         pen.colour = rgb;
@@ -84,7 +85,8 @@ impl PixelPieApp {
                         egui::DragValue::new(&mut width)
                             .range(0.0..=5.0)
                             .speed(0.01)
-                            .suffix(" mm"),
+                            .max_decimals(2)
+                            .suffix("mm"),
                     )
                     .on_hover_text(
                         "The pen's width in the SVG's pen paths (0: the export's Pen mm)",
