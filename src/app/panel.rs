@@ -343,7 +343,8 @@ impl PixelPieApp {
         .on_disabled_hover_text("Sized dots only");
         ui.add(egui::Slider::new(&mut job.relax, 0..=30).text("Relax (Lloyd steps)"))
             .on_hover_text("Weighted Voronoi relaxation after sampling: more even spacing.");
-        ink_ui(ui, &mut job.ink.0);
+        // One ink's colour; with pens each pen has its own.
+        ui.add_enabled_ui(job.pens.is_none(), |ui| ink_ui(ui, &mut job.ink.0));
     }
 
     /// What is behind the dots, the coverage disks and the view's buttons.
