@@ -324,3 +324,80 @@ fn bad_pens_end_in_one_error_line_and_no_output() {
     ]);
     assert!(!o.status.success() && !out.exists());
 }
+
+#[test]
+fn plot_stats_count_each_pens_dots_lifts_and_time() {
+    let dir = tempfile::tempdir().unwrap();
+    let svg = dir.path().join("p.svg");
+    let rocket = asset("rocket.jpg");
+    let o = pixelpie(&[
+        "stipple",
+        &rocket,
+        "-o",
+        svg.to_str().unwrap(),
+        "--pens",
+        "cmyk",
+        "--points",
+        "2000",
+        "--width-mm",
+        "150",
+        "--pen-mm",
+        "0.4",
+        "--order",
+        "tsp",
+        "--plot-stats",
+        "-q",
+        "--backend",
+        "cpu",
+        "--plot-speed",
+        "50",
+        "--travel-speed",
+        "200",
+        "--pen-delay",
+        "0.5",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = String::from_utf8_lossy(&o.stdout).into_owned();
+    let rows: Vec<Vec<&str>> = text
+        .lines()
+        .skip(1)
+        .map(|l| l.split('\t').collect())
+        .collect();
+    assert_eq!(rows.len(), 5, "{text}");
+    let d = pixelpie::stipple::read::read_svg(&std::fs::read_to_string(&svg).unwrap()).unwrap();
+    let mut total = 0.0;
+    for (k, (row, name)) in rows
+        .iter()
+        .zip(["cyan", "magenta", "yellow", "black"])
+        .enumerate()
+    {
+        assert_eq!(row[0], name);
+        let dots: usize = row[1].parse().unwrap();
+        assert_eq!(
+            dots,
+            d.layer_of.iter().filter(|&&l| l == k).count(),
+            "{name}"
+        );
+        assert_eq!(row[2], row[1], "{name}: one lift per dot");
+        let (down, up, minutes): (f64, f64, f64) = (
+            row[3].parse().unwrap(),
+            row[4].parse().unwrap(),
+            row[5].parse().unwrap(),
+        );
+        // The time is the distances at the given speeds plus the lifts.
+        let want = (down / 50.0 + up / 200.0 + dots as f64 * 0.5) / 60.0;
+        assert!((minutes - want).abs() < 0.06, "{name}: {minutes} vs {want}");
+        total += minutes;
+    }
+    let last: f64 = rows[4].last().unwrap().parse().unwrap();
+    assert!((last - total).abs() < 0.2, "total {last} vs {total}");
+    // Without a pen there is nothing to plot.
+    let o = pixelpie(&[
+        "stipple",
+        &rocket,
+        "-o",
+        svg.to_str().unwrap(),
+        "--plot-stats",
+    ]);
+    assert!(!o.status.success());
+}

@@ -10,6 +10,7 @@ use anyhow::Result;
 use clap::Args;
 
 use pixelpie::io;
+use pixelpie::stipple::plot::PlotSpeeds;
 use pixelpie::stipple::{Format, Job};
 
 use super::sample::{RunArgs, progress_bar, run_with_progress};
@@ -28,6 +29,19 @@ pub struct StippleArgs {
     /// Also write the dots' centres and radii (.csv or .json), in drawing order.
     #[arg(long)]
     save_points: Option<PathBuf>,
+    /// Print, per pen, the dots, pen lifts, pen-down and pen-up distance and
+    /// an estimated plotting time (needs --width-mm and --pen-mm).
+    #[arg(long, requires_all = ["width_mm", "pen_mm"])]
+    plot_stats: bool,
+    /// Pen-down speed for --plot-stats, mm/s [default: an AxiDraw's 95].
+    #[arg(long, default_value_t = PlotSpeeds::default().draw_mm_s, requires = "plot_stats")]
+    plot_speed: f64,
+    /// Pen-up speed for --plot-stats, mm/s.
+    #[arg(long, default_value_t = PlotSpeeds::default().travel_mm_s, requires = "plot_stats")]
+    travel_speed: f64,
+    /// Seconds to lift and lower the pen, for --plot-stats.
+    #[arg(long, default_value_t = PlotSpeeds::default().lift_s, requires = "plot_stats")]
+    pen_delay: f64,
     #[command(flatten)]
     run: RunArgs,
 }
@@ -39,6 +53,14 @@ pub fn run(a: &StippleArgs) -> Result<()> {
         io::PointFormat::from_path(p)?;
     }
     o.validate(format)?;
+    let speeds = PlotSpeeds {
+        draw_mm_s: a.plot_speed,
+        travel_mm_s: a.travel_speed,
+        lift_s: a.pen_delay,
+    };
+    if a.plot_stats {
+        speeds.check()?;
+    }
     a.run.apply_gpu_path();
     let t0 = Instant::now();
     let bar = progress_bar(a.run.quiet);
@@ -94,6 +116,23 @@ pub fn run(a: &StippleArgs) -> Result<()> {
     o.write(&drawing, &a.output)?;
     if let Some(path) = &a.save_points {
         o.write(&drawing, path)?;
+    }
+    if a.plot_stats {
+        let plots = o.plot_stats(&drawing, speeds)?;
+        println!("pen\tdots\tlifts\tpen-down mm\tpen-up mm\tminutes");
+        for p in &plots {
+            println!(
+                "{}\t{}\t{}\t{:.1}\t{:.1}\t{:.1}",
+                p.pen,
+                p.dots,
+                p.lifts,
+                p.pen_down_mm,
+                p.pen_up_mm,
+                p.seconds / 60.0
+            );
+        }
+        let total: f64 = plots.iter().map(|p| p.seconds).sum();
+        println!("total\t\t\t\t\t{:.1}", total / 60.0);
     }
     if a.run.verbose {
         let (lo, hi) = drawing

@@ -7,6 +7,7 @@
 
 mod colour;
 mod job;
+pub mod plot;
 pub mod raster;
 pub mod read;
 pub mod relax;

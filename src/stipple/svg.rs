@@ -368,7 +368,7 @@ fn write_pen_dots(w: &mut dyn Write, dots: &[Dot], scale: f64, pen: f64) -> Resu
 /// least [`TOUCH_MM`], so that a disk barely wider than the pen is still a
 /// visible loop; when R ≤ pen/2 the circle alone covers the disk and the
 /// spiral is left out.
-fn pen_path(cx: f64, cy: f64, r: f64, pen: f64) -> Vec<(f64, f64)> {
+pub(crate) fn pen_path(cx: f64, cy: f64, r: f64, pen: f64) -> Vec<(f64, f64)> {
     // Decided on the numbers as written (three decimals): a reader of the
     // file finds a touch exactly where 2 × data-dot's r ≤ stroke-width.
     if 2.0 * (r * 1000.0).round() <= (pen * 1000.0).round() {
