@@ -129,19 +129,11 @@ fn main() -> Result<()> {
         let domain = drawing.domain;
         let img = job.picture(&drawing, (w, h))?;
         let mut row = measure(&photo, &channels(&img), sigma, "PixelPie --pens", seconds)?;
-        let dots = job.dots(&drawing);
         let view = (f64::from(domain.0), f64::from(domain.1));
-        let layers = (0..pens.len() as u32)
-            .map(|k| {
-                let l: Vec<_> = drawing
-                    .points
-                    .iter()
-                    .zip(&dots)
-                    .filter(|(p, _)| p.class == k)
-                    .map(|(_, d)| *d)
-                    .collect();
-                pixelpie::stipple::raster::render_view(&l, view, domain)
-            })
+        let layers = job
+            .pen_dots(&drawing)
+            .iter()
+            .map(|l| pixelpie::stipple::raster::render_view(l, view, domain))
             .collect::<Result<Vec<_>, _>>()?;
         row.overlap = Some(overlap(&layers));
         rows.push(row);

@@ -167,19 +167,7 @@ impl ImportanceMap {
 /// The linear RGB of a raster image file (not yet divided by the white
 /// point), with its alpha left to the caller.
 fn raster_rgb(path: &Path, range: Range) -> Result<Vec<[f32; 3]>> {
-    let decode = |e: &dyn std::fmt::Display| Error::Decode {
-        path: path.to_owned(),
-        message: crate::text::single_line(&e.to_string()),
-    };
-    let img = image::ImageReader::open(path)
-        .map_err(|error| Error::Io {
-            path: path.to_owned(),
-            error,
-        })?
-        .with_guessed_format()
-        .map_err(|e| decode(&e))?
-        .decode()
-        .map_err(|e| decode(&e))?;
+    let img = super::load::decode_file(path)?;
     if range == Range::Float {
         return Ok(img.to_rgb32f().pixels().map(|p| p.0).collect());
     }

@@ -59,7 +59,7 @@ impl Prepared {
         points: Option<usize>,
         mut run: impl FnMut(&Params) -> Result<SampleSet, E>,
     ) -> Result<Fitted, E> {
-        let mut cut_run = |scale: f64| -> Result<SampleSet, E> {
+        let mut cut_run = move |scale: f64| -> Result<SampleSet, E> {
             let set = run(&self.params(base, scale)?)?;
             let kept = self.map.cut(&set.points, self.cutoff);
             Ok(set.with_points(kept))
@@ -72,7 +72,6 @@ impl Prepared {
                 short_of: None,
             });
         };
-        let floor = 1.0 / f64::from(self.range.min);
         let radii = self.map.radii(self.mapping, self.range);
         let expected = self.map.expected_points(&radii, self.cutoff);
         if expected <= 0.0 {
@@ -81,20 +80,33 @@ impl Prepared {
             )
             .into());
         }
-        let initial = (expected / n as f64).sqrt().max(floor);
-        let (scale, set, runs) = count::fit_scale(n, initial, |s| -> Result<_, E> {
-            let set = cut_run(s.max(floor))?;
-            Ok((set.points.len(), set))
-        })?;
-        let got = set.points.len() as f64;
-        let short = (got - n as f64).abs() > count::COUNT_TOLERANCE * n as f64;
-        Ok(Fitted {
-            set,
-            range: self.range.scaled(scale.max(floor)),
-            runs,
-            short_of: short.then_some(n),
-        })
+        fit_count(n, expected, self.range, cut_run)
     }
+}
+
+/// Fits the radius scale of `range` to `n` points (±3%) from the `expected`
+/// count at scale 1, sampling with `run(scale)`; the scale never takes the
+/// smallest radius below 1 px.
+fn fit_count<E: From<crate::sampler::Error> + From<Error>>(
+    n: usize,
+    expected: f64,
+    range: RadiusRange,
+    mut run: impl FnMut(f64) -> Result<SampleSet, E>,
+) -> Result<Fitted, E> {
+    let floor = 1.0 / f64::from(range.min);
+    let initial = (expected / n as f64).sqrt().max(floor);
+    let (scale, set, runs) = count::fit_scale(n, initial, |s| -> Result<_, E> {
+        let set = run(s.max(floor))?;
+        Ok((set.points.len(), set))
+    })?;
+    let got = set.points.len() as f64;
+    let short = (got - n as f64).abs() > count::COUNT_TOLERANCE * n as f64;
+    Ok(Fitted {
+        set,
+        range: range.scaled(scale.max(floor)),
+        runs,
+        short_of: short.then_some(n),
+    })
 }
 
 /// The sampling of several importance maps at once, one class each
@@ -156,23 +168,10 @@ impl Classes<'_> {
                 short_of: None,
             });
         };
-        let floor = 1.0 / f64::from(range.min);
         let expected = self.params(base, 1.0)?.plan()?.expected_points();
         if expected <= 0.0 {
             return Err(Error::InvalidParameter("the picture needs no ink".into()).into());
         }
-        let initial = (expected / n as f64).sqrt().max(floor);
-        let (scale, set, runs) = count::fit_scale(n, initial, |s| -> Result<_, E> {
-            let set = run(&self.params(base, s.max(floor))?)?;
-            Ok((set.points.len(), set))
-        })?;
-        let got = set.points.len() as f64;
-        let short = (got - n as f64).abs() > count::COUNT_TOLERANCE * n as f64;
-        Ok(Fitted {
-            set,
-            range: range.scaled(scale.max(floor)),
-            runs,
-            short_of: short.then_some(n),
-        })
+        fit_count(n, expected, range, |s| run(&self.params(base, s)?))
     }
 }

@@ -119,11 +119,17 @@ pub fn load_bytes(bytes: &[u8], name: &Path) -> Result<Luminance> {
 }
 
 fn load_image(path: &Path) -> Result<Luminance> {
+    luminance(decode_file(path)?, path)
+}
+
+/// Decodes a raster image file (PNG, JPEG, TIFF, BMP, WebP), its errors
+/// naming the file.
+pub(super) fn decode_file(path: &Path) -> Result<image::DynamicImage> {
     let decode = |e: &dyn std::fmt::Display| Error::Decode {
         path: path.to_owned(),
         message: crate::text::single_line(&e.to_string()),
     };
-    let img = image::ImageReader::open(path)
+    image::ImageReader::open(path)
         .map_err(|error| Error::Io {
             path: path.to_owned(),
             error,
@@ -131,8 +137,7 @@ fn load_image(path: &Path) -> Result<Luminance> {
         .with_guessed_format()
         .map_err(|e| decode(&e))?
         .decode()
-        .map_err(|e| decode(&e))?;
-    luminance(img, path)
+        .map_err(|e| decode(&e))
 }
 
 /// A decoded raster image's linear luminance (and alpha).

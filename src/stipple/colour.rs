@@ -149,18 +149,8 @@ impl Job {
         let Some(pens) = &drawing.pens else {
             return Err(super::Error::InvalidParameter("not a colour drawing".into()).into());
         };
-        let dots = self.dots(drawing);
-        let layers: Vec<Vec<Dot>> = (0..pens.len() as u32)
-            .map(|k| {
-                drawing
-                    .points
-                    .iter()
-                    .zip(&dots)
-                    .filter(|(p, _)| p.class == k)
-                    .map(|(_, d)| *d)
-                    .collect()
-            })
-            .collect();
+        let layers = self.pen_dots(drawing);
+        let dots = layers.iter().map(Vec::len).sum::<usize>();
         match format {
             Format::Svg => {
                 let domain = drawing.domain;
@@ -192,7 +182,7 @@ impl Job {
                 let linear = self.importance.tones == Tones::Linear;
                 let img = super::raster::composite(&papers, &RenderModel::new(pens, linear))?;
                 crate::io::write_atomic(path, |w| {
-                    Ok(super::raster::write_png_rgb(w, &img, dots.len())?)
+                    Ok(super::raster::write_png_rgb(w, &img, dots)?)
                 })?;
             }
             Format::Csv | Format::Json => {
@@ -622,7 +612,6 @@ impl Job {
     /// model (sRGB values, or linear light with `--tones linear`). A grey
     /// drawing is one pen in the job's ink.
     pub fn picture(&self, drawing: &Stipple, size: (u32, u32)) -> crate::Result<image::RgbImage> {
-        let dots = self.dots(drawing);
         let pens = match &drawing.pens {
             Some(p) => p.clone(),
             None => crate::colour::PenSet::from_colours([
@@ -630,22 +619,32 @@ impl Job {
             ])?,
         };
         let view = (f64::from(drawing.domain.0), f64::from(drawing.domain.1));
-        let layers = (0..pens.len() as u32)
-            .map(|k| {
-                let layer: Vec<Dot> = drawing
-                    .points
-                    .iter()
-                    .zip(&dots)
-                    .filter(|(p, _)| p.class == k)
-                    .map(|(_, d)| *d)
-                    .collect();
-                super::raster::render_view(&layer, view, size)
-            })
+        let layers = self
+            .pen_dots(drawing)
+            .iter()
+            .map(|layer| super::raster::render_view(layer, view, size))
             .collect::<Result<Vec<_>, _>>()?;
         let linear = self.importance.tones == Tones::Linear;
         Ok(super::raster::composite(
             &layers,
             &RenderModel::new(&pens, linear),
         )?)
+    }
+}
+
+impl Job {
+    /// The dots of `drawing` as this job draws them ([`Job::dots`]), pen by
+    /// pen in the pens' order (one layer for a grey drawing), each layer in
+    /// drawing order.
+    #[must_use]
+    pub fn pen_dots(&self, drawing: &Stipple) -> Vec<Vec<Dot>> {
+        let pens = drawing.pens.as_ref().map_or(1, crate::colour::PenSet::len);
+        let mut layers = vec![Vec::new(); pens];
+        for (p, d) in drawing.points.iter().zip(self.dots(drawing)) {
+            if let Some(layer) = layers.get_mut(p.class as usize) {
+                layer.push(d);
+            }
+        }
+        layers
     }
 }

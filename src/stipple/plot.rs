@@ -10,7 +10,7 @@
 //! so short moves make it an underestimate.
 
 use super::job::{Job, Stipple};
-use super::{Dot, Error, svg};
+use super::{Error, svg};
 
 /// A plotter's speeds, by default an AxiDraw's (speed_pendown 25% and
 /// speed_penup 75% of its 380 mm/s, and about 0.35 s to raise and lower the
@@ -117,7 +117,7 @@ impl Job {
             .into());
         };
         let scale = width_mm / f64::from(drawing.domain.0.max(1));
-        let dots = self.dots(drawing);
+        let layers = self.pen_dots(drawing);
         let pens: Vec<(String, Option<f64>)> = match &drawing.pens {
             Some(set) => set
                 .pens()
@@ -128,16 +128,9 @@ impl Job {
         };
         Ok(pens
             .iter()
-            .enumerate()
-            .map(|(k, (name, width))| {
+            .zip(&layers)
+            .map(|((name, width), layer)| {
                 let pen = width.unwrap_or(pen_mm);
-                let layer: Vec<&Dot> = drawing
-                    .points
-                    .iter()
-                    .zip(&dots)
-                    .filter(|(p, _)| p.class == k as u32)
-                    .map(|(_, d)| d)
-                    .collect();
                 let paths: Vec<Vec<(f64, f64)>> = layer
                     .iter()
                     .map(|d| {
