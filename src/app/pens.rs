@@ -125,6 +125,7 @@ impl PixelPieApp {
                 name: name_of(c),
                 colour: c,
                 width_mm: None,
+                dot_gain: None,
             });
             changed = true;
         }

@@ -30,8 +30,8 @@ pub struct StippleArgs {
     #[arg(long)]
     save_points: Option<PathBuf>,
     /// Print, per pen, the dots, pen lifts, pen-down and pen-up distance and
-    /// an estimated plotting time (needs --width-mm and --pen-mm).
-    #[arg(long, requires_all = ["width_mm", "pen_mm"])]
+    /// an estimated plotting time (needs --pen-mm, and --width-mm or --paper).
+    #[arg(long, requires = "pen_mm")]
     plot_stats: bool,
     /// Pen-down speed for --plot-stats, mm/s [default: an AxiDraw's 95].
     #[arg(long, default_value_t = PlotSpeeds::default().draw_mm_s, requires = "plot_stats")]

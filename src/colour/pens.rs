@@ -1,7 +1,8 @@
 //! The pens a drawing uses: a preset (`black`, `cmyk`), a list of sRGB
 //! colours (`"#000000,#d62728"`), or a TOML file of `[[pen]]` entries with
-//! `name`, `colour` (`"#rrggbb"`) and an optional `width_mm` (other keys,
-//! such as a plotter's `dot_gain`, are read past).
+//! `name`, `colour` (`"#rrggbb"`), and optionally `width_mm` and
+//! `dot_gain` (the plotted dot's diameter over the drawn one, as
+//! `pixelpie calibrate fit` measures it); other keys are read past.
 
 use std::path::Path;
 
@@ -9,6 +10,10 @@ use serde::{Deserialize, Serialize};
 
 /// The most pens a drawing may use (the render model mixes 2^pens inks).
 pub const MAX_PENS: usize = 8;
+/// The smallest dot gain a pen may have.
+pub const MIN_GAIN: f64 = 0.25;
+/// The largest dot gain a pen may have.
+pub const MAX_GAIN: f64 = 4.0;
 
 /// What is wrong with a pen set.
 #[derive(Debug, thiserror::Error)]
@@ -27,6 +32,10 @@ pub struct Pen {
     /// The pen's width in mm, when the file gives one.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub width_mm: Option<f64>,
+    /// The plotted dot's diameter over the drawn one (ink spreading on the
+    /// paper), when calibrated: the dots are drawn this much smaller.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dot_gain: Option<f64>,
 }
 
 /// The pens of a drawing, in layer order (at least one, colours distinct).
@@ -61,6 +70,14 @@ impl PenSet {
             {
                 return Err(PenError(format!(
                     "pen '{}' has width {w} mm; it must be positive",
+                    p.name
+                )));
+            }
+            if let Some(g) = p.dot_gain
+                && !(g.is_finite() && (MIN_GAIN..=MAX_GAIN).contains(&g))
+            {
+                return Err(PenError(format!(
+                    "pen '{}' has dot_gain {g}; it must be in [{MIN_GAIN}, {MAX_GAIN}]",
                     p.name
                 )));
             }
@@ -230,6 +247,7 @@ fn pen(name: &str, colour: [u8; 3]) -> Pen {
         name: name.to_owned(),
         colour,
         width_mm: None,
+        dot_gain: None,
     }
 }
 

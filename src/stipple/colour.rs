@@ -45,7 +45,7 @@ impl Job {
         let separation = Separation::new(model, K_MAX);
         let mapping = self.dot_mode().mapping(self.dot_ratio);
         let range = self.importance.radius_range(count_target)?;
-        let range = self.dot_range(range, width)?;
+        let range = self.dot_range(range, (width, height))?;
         let prepared: Vec<Prepared> = picture
             .separate(&separation)
             .into_iter()
@@ -154,13 +154,7 @@ impl Job {
         match format {
             Format::Svg => {
                 let domain = drawing.domain;
-                let mut opts = match self.width_mm {
-                    Some(mm) => svg::SvgOptions::with_width_mm(domain, mm)?,
-                    None => svg::SvgOptions::new(domain),
-                };
-                if let Some(pen) = self.pen_mm {
-                    opts = opts.with_pen_mm(pen)?;
-                }
+                let opts = self.svg_options(domain)?;
                 let svg_layers: Vec<svg::Layer<'_>> = pens
                     .pens()
                     .iter()

@@ -15,6 +15,8 @@ use std::str::FromStr;
 
 use serde::{Deserialize, Serialize};
 
+use super::paper::{DEFAULT_MARGIN_MM, Paper, Placement};
+use super::svg::DotPath;
 use super::{Dot, DotSize, Error, relax, svg, tsp};
 use crate::colour::PenSet;
 use crate::importance::{
@@ -241,8 +243,22 @@ pub struct Job {
     #[cfg_attr(feature = "cli", arg(long, default_value_t = 1.0))]
     pub scale: f32,
     /// SVG page width in millimetres (height follows the aspect) [default: px].
-    #[cfg_attr(feature = "cli", arg(long))]
+    #[cfg_attr(feature = "cli", arg(long, conflicts_with = "paper"))]
     pub width_mm: Option<f64>,
+    /// Paper for the SVG: a4, a3, a5, letter, legal, tabloid or WxHmm. The
+    /// drawing fits inside the margins, centred, keeping its aspect; the
+    /// SVG is the whole sheet, in mm.
+    #[cfg_attr(feature = "cli", arg(long))]
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub paper: Option<Paper>,
+    /// Margin around the drawing on the paper, mm [default: 10 with --paper].
+    #[cfg_attr(feature = "cli", arg(long, requires = "paper"))]
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub margin: Option<f64>,
+    /// Turn the paper to landscape (wider than tall); portrait by default.
+    #[cfg_attr(feature = "cli", arg(long, requires = "paper"))]
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub landscape: bool,
     /// Pen width in mm (needs --width-mm): each dot is drawn as a pen draws
     /// it, in mm, on one Inkscape layer: a dot no wider than the pen is one
     /// pen touch (a two-point path), a bigger one a spiral filled at pen
@@ -250,6 +266,11 @@ pub struct Job {
     /// dots are one pen wide, so that the tones are calibrated for the pen.
     #[cfg_attr(feature = "cli", arg(long))]
     pub pen_mm: Option<f64>,
+    /// How the pen draws a dot wider than itself (with --pen-mm): spiral
+    /// (filled), circle (its outline) or touch (every dot one pen touch).
+    #[cfg_attr(feature = "cli", arg(long, value_enum, default_value_t = DotPath::Spiral))]
+    #[serde(skip_serializing_if = "DotPath::is_default")]
+    pub dot_path: DotPath,
     /// The ink's colour in the SVG and the PNG: black or #rrggbb.
     #[cfg_attr(feature = "cli", arg(long, default_value_t = Ink::BLACK))]
     pub ink: Ink,
@@ -285,7 +306,11 @@ impl Default for Job {
             order: Order::None,
             scale: 1.0,
             width_mm: None,
+            paper: None,
+            margin: None,
+            landscape: false,
             pen_mm: None,
+            dot_path: DotPath::Spiral,
             ink: Ink::BLACK,
             pens: None,
             policy: DEFAULT_POLICY,
@@ -347,9 +372,12 @@ impl Job {
         if format == Format::Svg && self.scale != 1.0 {
             return bad("--scale applies to PNG output; use --width-mm to size an SVG".into());
         }
-        if format == Format::Png && (self.width_mm.is_some() || self.pen_mm.is_some()) {
+        if format == Format::Png
+            && (self.width_mm.is_some() || self.pen_mm.is_some() || self.paper.is_some())
+        {
             return bad(
-                "--width-mm and --pen-mm apply to SVG output; use --scale to size a PNG".into(),
+                "--width-mm, --paper and --pen-mm apply to SVG output; use --scale to size a PNG"
+                    .into(),
             );
         }
         self.check()
@@ -363,11 +391,27 @@ impl Job {
             if !(pen.is_finite() && pen > 0.0) {
                 return bad(format!("--pen-mm {pen} must be a positive number"));
             }
-            if self.width_mm.is_none() {
+            if self.width_mm.is_none() && self.paper.is_none() {
                 return bad(
-                    "--pen-mm needs --width-mm: the page size turns pixels into millimetres".into(),
+                    "--pen-mm needs --width-mm or --paper: the page size turns pixels into millimetres"
+                        .into(),
                 );
             }
+        }
+        if self.width_mm.is_some() && self.paper.is_some() {
+            return bad(
+                "--width-mm and --paper exclude each other: the paper sizes the drawing".into(),
+            );
+        }
+        if self.paper.is_none() && (self.margin.is_some() || self.landscape) {
+            return bad("--margin and --landscape need --paper".into());
+        }
+        if self.dot_path != DotPath::Spiral && self.pen_mm.is_none() {
+            return bad("--dot-path needs --pen-mm: it is how the pen draws each dot".into());
+        }
+        if let Some(paper) = &self.paper {
+            // The margins must leave room whatever the drawing's aspect.
+            paper.place((1, 1), self.landscape, self.margin())?;
         }
         if !(self.dot_ratio.is_finite() && self.dot_ratio > 0.0 && self.dot_ratio <= 1.0) {
             return bad(format!("--dot-ratio {} must be in (0, 1]", self.dot_ratio));
@@ -435,7 +479,9 @@ impl Job {
                 let radius = match size {
                     DotSize::Proportional(f) => f * p.radius,
                     DotSize::Fixed(r) => r,
-                    DotSize::Calibrated(f) => f * c,
+                    // The calibrated dot is the one on paper: drawn smaller
+                    // by the pen's gain.
+                    DotSize::Calibrated(f) => f * c / self.dot_gain(p.class) as f32,
                 };
                 Dot { x, y, radius }
             })
@@ -523,7 +569,7 @@ impl Job {
             count_target,
         )?;
         let (width, height) = (prepared.map.width(), prepared.map.height());
-        prepared.range = self.dot_range(prepared.range, width)?;
+        prepared.range = self.dot_range(prepared.range, (width, height))?;
         let t_load = t0.elapsed().as_secs_f64();
         let base = self
             .sampler
@@ -606,10 +652,15 @@ impl Job {
 
     /// `range`, or the range whose darkest dots have the asked dot radius
     /// (or the pen's, on a domain `width` px wide).
-    pub(crate) fn dot_range(&self, range: RadiusRange, width: u32) -> crate::Result<RadiusRange> {
-        let pen_dot = match (self.pen_mm, self.width_mm) {
+    pub(crate) fn dot_range(
+        &self,
+        range: RadiusRange,
+        domain: (u32, u32),
+    ) -> crate::Result<RadiusRange> {
+        let pen_dot = match (self.pen_mm, self.mm_per_px(domain)?) {
             (Some(pen), Some(mm)) if self.pen_sized() && self.dot_radius.is_none() => {
-                Some((pen / 2.0 * f64::from(width) / mm) as f32)
+                // The dot as plotted: the pen's width times its gain.
+                Some((pen * self.dot_gain(0) / 2.0 / mm) as f32)
             }
             _ => None,
         };
@@ -622,6 +673,55 @@ impl Job {
             .max_radius
             .unwrap_or(min * DEFAULT_RADIUS_RATIO);
         Ok(RadiusRange::new(min, max.max(min))?)
+    }
+
+    /// The margin on the paper, mm: `--margin` or [`DEFAULT_MARGIN_MM`].
+    #[must_use]
+    pub fn margin(&self) -> f64 {
+        self.margin.unwrap_or(DEFAULT_MARGIN_MM)
+    }
+
+    /// Where a drawing of `domain` px lies on the job's paper, if any.
+    pub fn placement(&self, domain: (u32, u32)) -> crate::Result<Option<Placement>> {
+        match &self.paper {
+            Some(paper) => Ok(Some(paper.place(domain, self.landscape, self.margin())?)),
+            None => Ok(None),
+        }
+    }
+
+    /// Millimetres per domain pixel, when the drawing has a size in mm
+    /// (`--width-mm` or `--paper`).
+    pub fn mm_per_px(&self, domain: (u32, u32)) -> crate::Result<Option<f64>> {
+        if let Some(p) = self.placement(domain)? {
+            return Ok(Some(p.mm_per_px(domain.0)));
+        }
+        Ok(self.width_mm.map(|mm| mm / f64::from(domain.0.max(1))))
+    }
+
+    /// The dot gain of pen `class` (its plotted dot's diameter over the
+    /// drawn one, from `pixelpie calibrate fit`), 1 when not calibrated. A
+    /// one-ink drawing takes its single pen's.
+    #[must_use]
+    pub fn dot_gain(&self, class: u32) -> f64 {
+        self.pens
+            .as_ref()
+            .and_then(|set| set.pens().get(class as usize))
+            .and_then(|p| p.dot_gain)
+            .unwrap_or(1.0)
+    }
+
+    /// The SVG writer's options for a drawing of `domain` px: the page (px,
+    /// a width in mm, or a sheet of paper), the pen, its paths and the ink.
+    pub fn svg_options(&self, domain: (u32, u32)) -> crate::Result<svg::SvgOptions> {
+        let mut opts = match (self.placement(domain)?, self.width_mm) {
+            (Some(p), _) => svg::SvgOptions::on_paper(domain, &p),
+            (None, Some(mm)) => svg::SvgOptions::with_width_mm(domain, mm)?,
+            (None, None) => svg::SvgOptions::new(domain),
+        };
+        if let Some(pen) = self.pen_mm {
+            opts = opts.with_pen_mm(pen)?;
+        }
+        Ok(opts.with_dot_path(self.dot_path).with_ink(self.ink.0))
     }
 
     /// Whether the job draws in colour: pens other than one black pen.
@@ -662,14 +762,7 @@ impl Job {
         match format {
             Format::Svg => {
                 let dots = self.dots(drawing);
-                let mut opts = match self.width_mm {
-                    Some(mm) => svg::SvgOptions::with_width_mm(domain, mm)?,
-                    None => svg::SvgOptions::new(domain),
-                };
-                if let Some(pen) = self.pen_mm {
-                    opts = opts.with_pen_mm(pen)?;
-                }
-                let opts = opts.with_ink(self.ink.0);
+                let opts = self.svg_options(domain)?;
                 crate::io::write_atomic(path, |w| Ok(svg::write(w, &dots, &opts)?))?;
             }
             Format::Png => {

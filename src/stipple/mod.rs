@@ -7,6 +7,7 @@
 
 mod colour;
 mod job;
+pub mod paper;
 pub mod plot;
 pub mod raster;
 pub mod read;
@@ -19,6 +20,7 @@ pub use job::{
     DEFAULT_DOT_RATIO, DEFAULT_POINTS, DotMode, Format, Ink, Job, MIN_DOMAIN_SIDE, Order, Stipple,
     default_domain,
 };
+pub use paper::{Paper, Placement};
 pub use sample_job::{Radii, SampleJob, Sampled};
 
 use crate::importance::{Prepared, RadiusRange};

@@ -110,13 +110,17 @@ impl Job {
     /// (needs `width_mm` and `pen_mm`).
     pub fn plot_stats(&self, drawing: &Stipple, speeds: PlotSpeeds) -> crate::Result<Vec<PenPlot>> {
         speeds.check()?;
-        let (Some(width_mm), Some(pen_mm)) = (self.width_mm, self.pen_mm) else {
+        let (Some(scale), Some(pen_mm)) = (self.mm_per_px(drawing.domain)?, self.pen_mm) else {
             return Err(Error::InvalidParameter(
-                "plot statistics need --width-mm and --pen-mm: a plotter draws pen paths".into(),
+                "plot statistics need --pen-mm and --width-mm or --paper: a plotter draws pen paths"
+                    .into(),
             )
             .into());
         };
-        let scale = width_mm / f64::from(drawing.domain.0.max(1));
+        // On paper, home is the sheet's corner.
+        let origin = self
+            .placement(drawing.domain)?
+            .map_or((0.0, 0.0), |p| p.origin_mm);
         let layers = self.pen_dots(drawing);
         let pens: Vec<(String, Option<f64>)> = match &drawing.pens {
             Some(set) => set
@@ -135,10 +139,11 @@ impl Job {
                     .iter()
                     .map(|d| {
                         svg::pen_path(
-                            f64::from(d.x) * scale,
-                            f64::from(d.y) * scale,
+                            origin.0 + f64::from(d.x) * scale,
+                            origin.1 + f64::from(d.y) * scale,
                             f64::from(d.radius) * scale,
                             pen,
+                            self.dot_path,
                         )
                     })
                     .collect();

@@ -32,6 +32,31 @@ pub const CHORD_MM: f64 = 0.01;
 /// The thinnest pen in mm: the files' resolution (three decimals).
 pub const MIN_PEN_MM: f64 = 0.001;
 
+/// How a pen draws a dot wider than itself (`--dot-path`). A dot no wider
+/// than the pen is always one touch.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
+#[serde(rename_all = "lowercase")]
+pub enum DotPath {
+    /// An Archimedean spiral from the centre out, and one closing circle:
+    /// the ink is the dot's disk.
+    #[default]
+    Spiral,
+    /// The closing circle alone: a ring, fast to plot, lighter than the disk.
+    Circle,
+    /// One touch of the pen for every dot, whatever its size: the dot is the
+    /// pen's own.
+    Touch,
+}
+
+impl DotPath {
+    /// Whether this is the default (left out of the job's JSON).
+    #[must_use]
+    pub fn is_default(&self) -> bool {
+        *self == Self::default()
+    }
+}
+
 /// Options of the SVG writer.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SvgOptions {
@@ -46,6 +71,13 @@ pub struct SvgOptions {
     pub pen_mm: Option<f64>,
     /// The ink's colour (sRGB); black by default.
     pub ink: [u8; 3],
+    /// The sheet the drawing lies on ([`super::paper`]): the page is then
+    /// the sheet, in mm, and the drawing lies `size_mm` large at `origin_mm`.
+    pub sheet_mm: Option<(f64, f64)>,
+    /// The drawing's top-left corner on the sheet, in mm.
+    pub origin_mm: (f64, f64),
+    /// How a pen draws the dots wider than itself.
+    pub dot_path: DotPath,
 }
 
 impl SvgOptions {
@@ -63,6 +95,74 @@ impl SvgOptions {
             size_mm: None,
             pen_mm: None,
             ink: [0, 0, 0],
+            sheet_mm: None,
+            origin_mm: (0.0, 0.0),
+            dot_path: DotPath::Spiral,
+        }
+    }
+
+    /// The drawing placed on a sheet of paper: the page is the sheet, in
+    /// mm, with the drawing at `placement`.
+    ///
+    /// ```
+    /// use pixelpie::stipple::{Paper, svg::SvgOptions};
+    /// let a4: Paper = "a4".parse().unwrap();
+    /// let o = SvgOptions::on_paper((100, 100), &a4.place((100, 100), false, 10.0).unwrap());
+    /// assert_eq!((o.sheet_mm, o.size_mm), (Some((210.0, 297.0)), Some((190.0, 190.0))));
+    /// ```
+    #[must_use]
+    pub fn on_paper(domain: (u32, u32), placement: &super::paper::Placement) -> Self {
+        Self {
+            size_mm: Some(placement.size_mm),
+            sheet_mm: Some(placement.sheet_mm),
+            origin_mm: placement.origin_mm,
+            ..Self::new(domain)
+        }
+    }
+
+    /// These options with pen paths of kind `dot_path`.
+    #[must_use]
+    pub fn with_dot_path(self, dot_path: DotPath) -> Self {
+        Self { dot_path, ..self }
+    }
+
+    /// The page: its width and height attributes, its viewBox, and the
+    /// dots' transform from domain px (scale, offset). On a sheet, or with a
+    /// pen, the viewBox is in mm; else in domain px.
+    fn frame(&self, pen: bool) -> (String, String, String, f64, (f64, f64)) {
+        let (dw, dh) = self.domain;
+        let mm_per_px = self
+            .size_mm
+            .map_or(1.0, |(mm, _)| mm / f64::from(dw.max(1)));
+        match (self.sheet_mm, self.size_mm) {
+            (Some((a, b)), _) => (
+                format!("{}mm", num(a)),
+                format!("{}mm", num(b)),
+                format!("{} {}", num(a), num(b)),
+                mm_per_px,
+                self.origin_mm,
+            ),
+            (None, Some((a, b))) if pen => (
+                format!("{}mm", num(a)),
+                format!("{}mm", num(b)),
+                format!("{} {}", num(a), num(b)),
+                mm_per_px,
+                (0.0, 0.0),
+            ),
+            (None, Some((a, b))) => (
+                format!("{}mm", num(a)),
+                format!("{}mm", num(b)),
+                format!("{dw} {dh}"),
+                1.0,
+                (0.0, 0.0),
+            ),
+            (None, None) => (
+                format!("{dw}px"),
+                format!("{dh}px"),
+                format!("{dw} {dh}"),
+                1.0,
+                (0.0, 0.0),
+            ),
         }
     }
 
@@ -102,10 +202,8 @@ impl SvgOptions {
         }
         let h = width_mm * f64::from(domain.1) / f64::from(domain.0.max(1));
         Ok(Self {
-            domain,
             size_mm: Some((width_mm, h)),
-            pen_mm: None,
-            ink: [0, 0, 0],
+            ..Self::new(domain)
         })
     }
 
@@ -141,7 +239,9 @@ impl SvgOptions {
         }
         match self.size_mm {
             Some(size) => Ok(Some((pen, size))),
-            None => Err(Error::InvalidParameter("--pen-mm needs --width-mm".into())),
+            None => Err(Error::InvalidParameter(
+                "--pen-mm needs --width-mm or --paper".into(),
+            )),
         }
     }
 }
@@ -171,36 +271,32 @@ impl SvgOptions {
 /// # Ok::<(), pixelpie::stipple::Error>(())
 /// ```
 pub fn write(w: &mut dyn Write, dots: &[Dot], opts: &SvgOptions) -> Result<()> {
-    if let Some((pen, size)) = opts.pen()? {
-        return write_pen(w, dots, opts.domain, size, pen, &opts.ink_name());
+    if let Some((pen, _)) = opts.pen()? {
+        return write_pen(w, dots, opts, pen);
     }
-    let (dw, dh) = opts.domain;
-    let (width, height) = match opts.size_mm {
-        Some((a, b)) => (format!("{}mm", num(a)), format!("{}mm", num(b))),
-        None => (format!("{dw}px"), format!("{dh}px")),
-    };
+    let (width, height, view, scale, offset) = opts.frame(false);
     writeln!(w, r#"<?xml version="1.0" encoding="UTF-8"?>"#)?;
     writeln!(
         w,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" version="1.1" width="{width}" height="{height}" viewBox="0 0 {dw} {dh}">"#
+        r#"<svg xmlns="http://www.w3.org/2000/svg" version="1.1" width="{width}" height="{height}" viewBox="0 0 {view}">"#
     )?;
     writeln!(w, "<!-- {} dots, made by pixelpie -->", dots.len())?;
     writeln!(w, r#"<g fill="{}" stroke="none">"#, opts.ink_name())?;
-    write_circles(w, dots)?;
+    write_circles(w, dots, scale, offset)?;
     writeln!(w, "</g>")?;
     writeln!(w, "</svg>")?;
     Ok(())
 }
 
-/// One `<circle>` per dot.
-fn write_circles(w: &mut dyn Write, dots: &[Dot]) -> Result<()> {
+/// One `<circle>` per dot, scaled by `scale` and moved by `offset`.
+fn write_circles(w: &mut dyn Write, dots: &[Dot], scale: f64, offset: (f64, f64)) -> Result<()> {
     for d in dots {
         writeln!(
             w,
             r#"<circle cx="{}" cy="{}" r="{}"/>"#,
-            num(f64::from(d.x)),
-            num(f64::from(d.y)),
-            num(f64::from(d.radius))
+            num(offset.0 + f64::from(d.x) * scale),
+            num(offset.1 + f64::from(d.y) * scale),
+            num(f64::from(d.radius) * scale)
         )?;
     }
     Ok(())
@@ -227,23 +323,7 @@ pub fn write_layers(w: &mut dyn Write, layers: &[Layer<'_>], opts: &SvgOptions) 
     let pen = opts.pen()?;
     let all: Vec<Dot> = layers.iter().flat_map(|l| l.dots.iter().copied()).collect();
     check_finite(&all)?;
-    let (dw, dh) = opts.domain;
-    let scale = opts
-        .size_mm
-        .map_or(1.0, |(mm, _)| mm / f64::from(dw.max(1)));
-    let (width, height, view) = match (pen, opts.size_mm) {
-        (Some(_), Some((a, b))) => (
-            format!("{}mm", num(a)),
-            format!("{}mm", num(b)),
-            format!("{} {}", num(a), num(b)),
-        ),
-        (_, Some((a, b))) => (
-            format!("{}mm", num(a)),
-            format!("{}mm", num(b)),
-            format!("{dw} {dh}"),
-        ),
-        (_, None) => (format!("{dw}px"), format!("{dh}px"), format!("{dw} {dh}")),
-    };
+    let (width, height, view, scale, offset) = opts.frame(pen.is_some());
     writeln!(w, r#"<?xml version="1.0" encoding="UTF-8"?>"#)?;
     writeln!(
         w,
@@ -265,7 +345,7 @@ pub fn write_layers(w: &mut dyn Write, layers: &[Layer<'_>], opts: &SvgOptions) 
                     w,
                     r#"<g inkscape:groupmode="layer" id="layer{id}" inkscape:label="{label}" fill="{ink}" stroke="none">"#
                 )?;
-                write_circles(w, l.dots)?;
+                write_circles(w, l.dots, scale, offset)?;
             }
             Some((pen, _)) => {
                 let pen = l.pen_mm.unwrap_or(pen);
@@ -274,7 +354,7 @@ pub fn write_layers(w: &mut dyn Write, layers: &[Layer<'_>], opts: &SvgOptions) 
                     r#"<g inkscape:groupmode="layer" id="layer{id}" inkscape:label="{label}" fill="none" stroke="{ink}" stroke-width="{}" stroke-linecap="round" stroke-linejoin="round">"#,
                     num(pen)
                 )?;
-                write_pen_dots(w, l.dots, scale, pen)?;
+                write_pen_dots(w, l.dots, (scale, offset), pen, opts.dot_path)?;
             }
         }
         writeln!(w, "</g>")?;
@@ -300,21 +380,14 @@ fn check_finite(dots: &[Dot]) -> Result<()> {
 
 /// The pen-plotter document: a viewBox in mm, one Inkscape layer, one path
 /// per dot.
-fn write_pen(
-    w: &mut dyn Write,
-    dots: &[Dot],
-    domain: (u32, u32),
-    (width, height): (f64, f64),
-    pen: f64,
-    ink: &str,
-) -> Result<()> {
+fn write_pen(w: &mut dyn Write, dots: &[Dot], opts: &SvgOptions, pen: f64) -> Result<()> {
     check_finite(dots)?;
-    let scale = width / f64::from(domain.0.max(1));
-    let (width, height) = (num(width), num(height));
+    let (width, height, view, scale, offset) = opts.frame(true);
+    let ink = opts.ink_name();
     writeln!(w, r#"<?xml version="1.0" encoding="UTF-8"?>"#)?;
     writeln!(
         w,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" xmlns:inkscape="http://www.inkscape.org/namespaces/inkscape" version="1.1" width="{width}mm" height="{height}mm" viewBox="0 0 {width} {height}">"#
+        r#"<svg xmlns="http://www.w3.org/2000/svg" xmlns:inkscape="http://www.inkscape.org/namespaces/inkscape" version="1.1" width="{width}" height="{height}" viewBox="0 0 {view}">"#
     )?;
     writeln!(w, "<!-- {} dots, made by pixelpie -->", dots.len())?;
     writeln!(
@@ -323,25 +396,31 @@ fn write_pen(
         ink,
         num(pen)
     )?;
-    write_pen_dots(w, dots, scale, pen)?;
+    write_pen_dots(w, dots, (scale, offset), pen, opts.dot_path)?;
     writeln!(w, "</g>")?;
     writeln!(w, "</svg>")?;
     Ok(())
 }
 
 /// One stroked path per dot, as a pen `pen` mm wide draws it, the dots
-/// scaled by `scale` mm per domain pixel.
-fn write_pen_dots(w: &mut dyn Write, dots: &[Dot], scale: f64, pen: f64) -> Result<()> {
+/// scaled by `scale` mm per domain pixel and moved by `offset` mm.
+fn write_pen_dots(
+    w: &mut dyn Write,
+    dots: &[Dot],
+    (scale, offset): (f64, (f64, f64)),
+    pen: f64,
+    path: DotPath,
+) -> Result<()> {
     let mut line = String::new();
     for d in dots {
         let (cx, cy, r) = (
-            f64::from(d.x) * scale,
-            f64::from(d.y) * scale,
+            offset.0 + f64::from(d.x) * scale,
+            offset.1 + f64::from(d.y) * scale,
             f64::from(d.radius) * scale,
         );
         line.clear();
         line.push_str(r#"<path d=""#);
-        for (k, (x, y)) in pen_path(cx, cy, r, pen).into_iter().enumerate() {
+        for (k, (x, y)) in pen_path(cx, cy, r, pen, path).into_iter().enumerate() {
             let cmd = match k {
                 0 => "M ",
                 1 => " L ",
@@ -368,14 +447,17 @@ fn write_pen_dots(w: &mut dyn Write, dots: &[Dot], scale: f64, pen: f64) -> Resu
 /// least [`TOUCH_MM`], so that a disk barely wider than the pen is still a
 /// visible loop; when R ≤ pen/2 the circle alone covers the disk and the
 /// spiral is left out.
-pub(crate) fn pen_path(cx: f64, cy: f64, r: f64, pen: f64) -> Vec<(f64, f64)> {
+///
+/// [`DotPath::Circle`] leaves the spiral out always (a ring), and
+/// [`DotPath::Touch`] makes every dot a touch.
+pub(crate) fn pen_path(cx: f64, cy: f64, r: f64, pen: f64, path: DotPath) -> Vec<(f64, f64)> {
     // Decided on the numbers as written (three decimals): a reader of the
     // file finds a touch exactly where 2 × data-dot's r ≤ stroke-width.
-    if 2.0 * (r * 1000.0).round() <= (pen * 1000.0).round() {
+    if path == DotPath::Touch || 2.0 * (r * 1000.0).round() <= (pen * 1000.0).round() {
         return vec![(cx, cy), (cx + TOUCH_MM, cy)];
     }
     let big = (r - pen / 2.0).max(TOUCH_MM);
-    let turns = if big <= pen / 2.0 {
+    let turns = if big <= pen / 2.0 || path == DotPath::Circle {
         0.0
     } else {
         (big / (PITCH * pen)).ceil()
