@@ -2,6 +2,7 @@
 
 mod analyze;
 mod bench;
+mod calibrate;
 mod fidelity;
 mod sample;
 mod stipple;
@@ -27,6 +28,9 @@ enum Command {
     Analyze(analyze::AnalyzeArgs),
     /// Measures how closely a drawing reproduces its photo: blurred PSNR and SSIM.
     Fidelity(fidelity::FidelityArgs),
+    /// Pen calibration: a chart to plot, and a fit of each pen's dot gain and
+    /// ink from its scan.
+    Calibrate(calibrate::CalibrateArgs),
     /// Prints the paper's Table 1 for the GPU and CPU backends.
     Bench(bench::BenchArgs),
     /// Opens the interactive stippling app (the default without a command).
@@ -45,6 +49,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Analyze(a) => analyze::run(&a),
         Command::Bench(a) => bench::run(&a),
         Command::Fidelity(a) => fidelity::run(&a),
+        Command::Calibrate(a) => calibrate::run(&a),
     }
 }
 

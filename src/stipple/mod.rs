@@ -5,6 +5,7 @@
 //! All coordinates are in the sampling domain's pixels, origin top left, as
 //! in [`crate::sampler`].
 
+pub mod calibrate;
 mod colour;
 mod job;
 pub mod paper;
