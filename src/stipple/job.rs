@@ -658,7 +658,8 @@ impl Job {
         domain: (u32, u32),
     ) -> crate::Result<RadiusRange> {
         let pen_dot = match (self.pen_mm, self.mm_per_px(domain)?) {
-            (Some(pen), Some(mm)) if self.pen_sized() && self.dot_radius.is_none() => {
+            (Some(_), Some(mm)) if self.pen_sized() && self.dot_radius.is_none() => {
+                let pen = self.pen_width().unwrap_or_default();
                 // The dot as plotted: the pen's width times its gain.
                 Some((pen * self.dot_gain(0) / 2.0 / mm) as f32)
             }
@@ -718,16 +719,41 @@ impl Job {
             (None, Some(mm)) => svg::SvgOptions::with_width_mm(domain, mm)?,
             (None, None) => svg::SvgOptions::new(domain),
         };
-        if let Some(pen) = self.pen_mm {
+        if let Some(pen) = self.pen_width() {
             opts = opts.with_pen_mm(pen)?;
         }
-        Ok(opts.with_dot_path(self.dot_path).with_ink(self.ink.0))
+        Ok(opts.with_dot_path(self.dot_path).with_ink(self.ink_rgb()))
     }
 
-    /// Whether the job draws in colour: pens other than one black pen.
+    /// Whether the job draws in colour: two pens or more. One pen draws the
+    /// grey drawing in its ink ([`Self::one_pen`]).
     #[must_use]
     pub fn colour(&self) -> bool {
-        self.pens.as_ref().is_some_and(|p| !p.is_black())
+        self.pens.as_ref().is_some_and(|p| p.len() > 1)
+    }
+
+    /// The single pen of a one-pen job (`--pens` with one colour or a pen
+    /// file of one pen, e.g. from `pixelpie calibrate fit`).
+    #[must_use]
+    pub fn one_pen(&self) -> Option<&crate::colour::Pen> {
+        self.pens
+            .as_ref()
+            .filter(|p| p.len() == 1)
+            .and_then(|p| p.pens().first())
+    }
+
+    /// The grey drawing's ink: its one pen's colour, or `--ink`.
+    #[must_use]
+    pub fn ink_rgb(&self) -> [u8; 3] {
+        self.one_pen().map_or(self.ink.0, |p| p.colour)
+    }
+
+    /// The grey drawing's pen width with `--pen-mm`: its one pen's own
+    /// width if the pen file gives one.
+    #[must_use]
+    pub fn pen_width(&self) -> Option<f64> {
+        self.pen_mm
+            .map(|w| self.one_pen().and_then(|p| p.width_mm).unwrap_or(w))
     }
 
     /// [`Self::run`] on the chosen backend (the CLI's fallback policy,
@@ -768,16 +794,12 @@ impl Job {
             Format::Png => {
                 let dots = self.dots(drawing);
                 let img = super::raster::render(&dots, domain, self.scale)?;
+                let ink = self.ink_rgb();
                 crate::io::write_atomic(path, |w| {
-                    if self.ink == Ink::BLACK {
+                    if ink == Ink::BLACK.0 {
                         Ok(super::raster::write_png(w, &img, dots.len())?)
                     } else {
-                        Ok(super::raster::write_png_ink(
-                            w,
-                            &img,
-                            self.ink.0,
-                            dots.len(),
-                        )?)
+                        Ok(super::raster::write_png_ink(w, &img, ink, dots.len())?)
                     }
                 })?;
             }

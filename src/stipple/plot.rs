@@ -110,7 +110,8 @@ impl Job {
     /// (needs `width_mm` and `pen_mm`).
     pub fn plot_stats(&self, drawing: &Stipple, speeds: PlotSpeeds) -> crate::Result<Vec<PenPlot>> {
         speeds.check()?;
-        let (Some(scale), Some(pen_mm)) = (self.mm_per_px(drawing.domain)?, self.pen_mm) else {
+        let (Some(scale), Some(pen_mm)) = (self.mm_per_px(drawing.domain)?, self.pen_width())
+        else {
             return Err(Error::InvalidParameter(
                 "plot statistics need --pen-mm and --width-mm or --paper: a plotter draws pen paths"
                     .into(),
@@ -128,7 +129,11 @@ impl Job {
                 .iter()
                 .map(|p| (p.name.clone(), p.width_mm))
                 .collect(),
-            None => vec![("ink".to_owned(), None)],
+            None => vec![(
+                self.one_pen()
+                    .map_or_else(|| "ink".to_owned(), |p| p.name.clone()),
+                self.pen_width(),
+            )],
         };
         Ok(pens
             .iter()

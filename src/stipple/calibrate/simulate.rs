@@ -83,10 +83,16 @@ impl ScanOptions {
         if self.inks.len() > pens || self.gains.len() > pens {
             return bad(format!("the chart has {pens} pens"));
         }
-        let finite = [self.blur_px, self.noise, self.rotate_deg, self.perspective]
-            .iter()
-            .all(|v| v.is_finite() && *v >= 0.0);
-        if !finite || self.blur_px > 20.0 || self.perspective > 0.2 || self.rotate_deg > 30.0 {
+        let finite = [
+            self.blur_px,
+            self.noise,
+            self.rotate_deg.abs(),
+            self.perspective,
+        ]
+        .iter()
+        .all(|v| v.is_finite() && *v >= 0.0);
+        if !finite || self.blur_px > 20.0 || self.perspective > 0.2 || self.rotate_deg.abs() > 30.0
+        {
             return bad(
                 "blur, noise, rotation and perspective must be small numbers, at least 0".into(),
             );
@@ -310,4 +316,63 @@ fn bilinear(sheet: &Sheet, x: f64, y: f64) -> Option<[f32; 3]> {
     Some(std::array::from_fn(|k| {
         (a[k] * (1.0 - fx) + b[k] * fx) * (1.0 - fy) + (c[k] * (1.0 - fx) + d[k] * fx) * fy
     }))
+}
+
+/// `dots` as a pen with dot gain `gain` plots them: each `gain` × wider.
+#[must_use]
+pub fn plotted(dots: &[crate::stipple::Dot], gain: f64) -> Vec<crate::stipple::Dot> {
+    dots.iter()
+        .map(|d| crate::stipple::Dot {
+            radius: d.radius * gain as f32,
+            ..*d
+        })
+        .collect()
+}
+
+/// How a plotted grey ramp compares with the ramp.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RampError {
+    /// The largest error of a band's grey over the 5–95% bands.
+    pub worst: f64,
+    /// The mean absolute error over those bands.
+    pub mean: f64,
+    /// Each band's (target grey, plotted grey).
+    pub bands: Vec<(f64, f64)>,
+}
+
+/// Stipples a ramp of display grey, black (left) to white (right), 1536 ×
+/// 384 px, with `job` (sampled on the CPU), plots it with a pen of dot gain
+/// `gain` ([`plotted`]), and compares each band of 1/32 of the width with
+/// the ramp: the band's grey is 1 − its mean ink (a blur across the band).
+pub fn ramp_error(job: &crate::stipple::Job, gain: f64) -> crate::Result<RampError> {
+    let (w, h) = (1536u32, 384u32);
+    // The map holds linear light; the ramp is even in display grey.
+    let values = (0..w * h)
+        .map(|i| decode((f64::from(i % w) + 0.5) / f64::from(w)) as f32)
+        .collect();
+    let map = crate::importance::ImportanceMap::from_values(w, h, values)?;
+    let mut job = job.clone();
+    job.width = Some(w);
+    job.height = Some(h);
+    let drawing = job.run_map(&map, |p| Ok(p.generate()?), |_| true)?;
+    let dots = plotted(&job.dots(&drawing), gain);
+    let img = crate::stipple::raster::render(&dots, (w, h), 1.0)?;
+    let bands: Vec<(f64, f64)> = (0..32)
+        .map(|b| {
+            let (x0, x1) = (b * w / 32, (b + 1) * w / 32);
+            let target = f64::from(x0 + x1) / 2.0 / f64::from(w);
+            let grey = 1.0 - crate::stipple::raster::mean_ink(&img, x0, 16, x1, h - 16);
+            (target, grey)
+        })
+        .collect();
+    let errs: Vec<f64> = bands
+        .iter()
+        .filter(|(t, _)| (0.05..=0.95).contains(t))
+        .map(|(t, g)| (g - t).abs())
+        .collect();
+    Ok(RampError {
+        worst: errs.iter().copied().fold(0.0, f64::max),
+        mean: errs.iter().sum::<f64>() / errs.len().max(1) as f64,
+        bands,
+    })
 }

@@ -1,0 +1,207 @@
+//! The pen-calibration loop end to end on synthetic scans with known dot
+//! gains and inks (`pixelpie::stipple::calibrate`): the fit recovers each
+//! gain within 5% and each ink within ΔE00 3; a scan without marks, or of
+//! another chart, is refused with one line; and a grey ramp plotted with a
+//! 1.5× gain comes out true only with the calibrated pen file.
+
+use std::path::Path;
+use std::process::Command;
+
+use pixelpie::colour::{Lab, PenSet, delta_e00};
+use pixelpie::stipple::calibrate::{self, Chart, ChartSpec, ScanOptions, simulate};
+use pixelpie::stipple::{Job, Paper};
+
+fn chart(pens: &PenSet, seed: u64) -> Chart {
+    let a4: Paper = "a4".parse().unwrap();
+    let place = a4.place((1, 1), false, 10.0).unwrap();
+    Chart::new(ChartSpec::new(pens, 0.3, &place, seed).unwrap()).unwrap()
+}
+
+#[test]
+fn the_fit_recovers_each_pens_gain_and_ink_from_synthetic_scans() {
+    let c = chart(&PenSet::cmyk(), 0);
+    let inks = [[16, 160, 208], [208, 32, 144], [240, 208, 32], [32, 40, 48]];
+    for (gains, blur, noise, rotate, perspective, seed) in [
+        ([1.0, 1.3, 1.8, 1.5], 1.0, 0.02, 2.0, 0.03, 1),
+        ([1.8, 1.0, 1.3, 1.3], 1.6, 0.04, -3.5, 0.05, 7),
+    ] {
+        let o = ScanOptions {
+            gains: gains.to_vec(),
+            inks: inks.to_vec(),
+            blur_px: blur,
+            noise,
+            rotate_deg: rotate,
+            perspective,
+            seed,
+            ..ScanOptions::default()
+        };
+        let scan = simulate::scan(&c, &o).unwrap();
+        let fit = calibrate::fit::fit(&c, &scan).unwrap();
+        assert_eq!(fit.code, c.code);
+        for ((p, g), ink) in fit.pens.iter().zip(gains).zip(inks) {
+            let rel = (p.dot_gain - g).abs() / g;
+            let de = delta_e00(Lab::from_srgb8(p.colour), Lab::from_srgb8(ink));
+            eprintln!(
+                "{}: gain {g} -> {:.3} ({:.1}%), ink ΔE00 {de:.2}, rms {:.3}",
+                p.name,
+                p.dot_gain,
+                100.0 * rel,
+                p.rms
+            );
+            assert!(rel < 0.05, "{}: gain {} for {g}", p.name, p.dot_gain);
+            assert!(
+                de < 3.0,
+                "{}: ink {:?} for {ink:?}: ΔE00 {de}",
+                p.name,
+                p.colour
+            );
+        }
+        // The pen file reads back as the fitted pens.
+        let text = calibrate::pen_toml(&fit, "scan.png").unwrap();
+        let set = PenSet::from_toml(&text).unwrap();
+        assert_eq!(set.len(), 4);
+        for (pen, p) in set.pens().iter().zip(&fit.pens) {
+            assert_eq!(pen.colour, p.colour);
+            assert_eq!(pen.width_mm, Some(0.3));
+            assert!((pen.dot_gain.unwrap() - p.dot_gain).abs() < 5e-4);
+        }
+    }
+}
+
+fn pixelpie(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_pixelpie"))
+        .args(args)
+        .output()
+        .expect("run pixelpie")
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+#[test]
+fn the_cli_loop_writes_a_pen_file_that_stipple_reads_and_refuses_wrong_scans() {
+    let dir = tempfile::tempdir().unwrap();
+    let (chart, scan, pens) = (
+        dir.path().join("chart.svg"),
+        dir.path().join("scan.png"),
+        dir.path().join("pens.toml"),
+    );
+    let out = pixelpie(&["calibrate", "chart", "-o", s(&chart), "--pens", "black"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let out = pixelpie(&[
+        "calibrate",
+        "simulate",
+        s(&chart),
+        "-o",
+        s(&scan),
+        "--gain",
+        "1.6",
+        "--ink",
+        "#202020",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let out = pixelpie(&["calibrate", "fit", s(&chart), s(&scan), "-o", s(&pens)]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let set = PenSet::from_file(&pens).unwrap();
+    let gain = set.pens()[0].dot_gain.unwrap();
+    assert!((gain - 1.6).abs() / 1.6 < 0.05, "{gain}");
+
+    // stipple --pens pens.toml draws the same points with dots smaller by
+    // the gain.
+    let photo = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/rocket.jpg");
+    let radii = |extra: &[&str], name: &str| -> Vec<f64> {
+        let svg = dir.path().join(name);
+        let mut args = vec!["stipple", s(&photo), "-o", s(&svg), "--points", "1500"];
+        args.extend_from_slice(extra);
+        let out = pixelpie(&args);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let text = std::fs::read_to_string(&svg).unwrap();
+        let drawing = pixelpie::stipple::read::read_svg(&text).unwrap();
+        drawing.dots.iter().map(|d| f64::from(d.radius)).collect()
+    };
+    let plain = radii(&[], "plain.svg");
+    let calibrated = radii(&["--pens", s(&pens)], "calibrated.svg");
+    assert_eq!(plain.len(), calibrated.len());
+    let ratio = plain.iter().sum::<f64>() / calibrated.iter().sum::<f64>();
+    assert!((ratio - gain).abs() < 0.01, "ratio {ratio}, gain {gain}");
+
+    // Wrong scans: one error line, non-zero, no pen file.
+    let blank = dir.path().join("blank.png");
+    image::RgbImage::from_pixel(600, 800, image::Rgb([240, 240, 235]))
+        .save(&blank)
+        .unwrap();
+    let other = dir.path().join("other.svg");
+    assert!(
+        pixelpie(&["calibrate", "chart", "-o", s(&other), "--seed", "9"])
+            .status
+            .success()
+    );
+    let bad = dir.path().join("bad.png");
+    std::fs::write(&bad, b"not a png").unwrap();
+    for (chart_file, scan_file, needle) in [
+        (&chart, &blank, "round marks"),
+        (&other, &scan, "not of this chart"),
+        (&chart, &bad, "cannot decode scan"),
+        (&photo, &scan, "cannot read chart"),
+    ] {
+        let out_file = dir.path().join("refused.toml");
+        let out = pixelpie(&[
+            "calibrate",
+            "fit",
+            s(chart_file),
+            s(scan_file),
+            "-o",
+            s(&out_file),
+        ]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{needle}: accepted");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(err.contains(needle), "{needle}: {err}");
+        assert!(!out_file.exists());
+    }
+}
+
+#[test]
+fn a_ramp_plotted_with_gain_is_true_only_when_calibrated() {
+    let gain = 1.5;
+    let pens = PenSet::from_toml(
+        "[[pen]]\nname = \"black\"\ncolour = \"#000000\"\nwidth_mm = 0.3\ndot_gain = 1.5\n",
+    )
+    .unwrap();
+    let mut plain = Job::default();
+    plain.points = Some(20_000);
+    let mut calibrated = plain.clone();
+    calibrated.pens = Some(pens);
+    let before = simulate::ramp_error(&plain, gain).unwrap();
+    let after = simulate::ramp_error(&calibrated, gain).unwrap();
+    eprintln!(
+        "plotted at gain {gain}: uncalibrated worst {:.3} mean {:.3}; calibrated worst {:.3} mean {:.3}",
+        before.worst, before.mean, after.worst, after.mean
+    );
+    assert!(after.worst <= 0.05, "calibrated: {:.2?}", after.bands);
+    assert!(
+        before.worst > 0.05 && before.worst > 2.0 * after.worst,
+        "{:.3}",
+        before.worst
+    );
+    // The same job on paper that does not spread is the screen's drawing.
+    let screen = simulate::ramp_error(&plain, 1.0).unwrap();
+    assert!(screen.worst <= 0.05, "{:.3}", screen.worst);
+}
