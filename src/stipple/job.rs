@@ -510,9 +510,13 @@ impl Job {
             && self.points.is_none()
             && self.importance.min_radius.is_none()
             && self.dot_radius.is_none();
+        key.dot_path = DotPath::Spiral;
         if !pen_sized {
             key.pen_mm = None;
             key.width_mm = None;
+            key.paper = None;
+            key.margin = None;
+            key.landscape = false;
         }
         key
     }
