@@ -891,6 +891,9 @@ fn the_pens_section_draws_and_exports_in_colour() {
     settle(&mut h);
     assert!(h.state().outcome.as_ref().unwrap().drawing.pens.is_none());
     // CMYK: four pens, each drawing, and the swatches named.
+    // Below the fold of the panel: scroll to it first.
+    h.get_by_label("CMYK").scroll_to_me();
+    h.run_steps(10);
     h.get_by_label("CMYK").click();
     settle(&mut h);
     let drawing = &h.state().outcome.as_ref().unwrap().drawing;
@@ -961,7 +964,304 @@ fn the_pens_section_draws_and_exports_in_colour() {
     ]);
     assert_eq!(text, std::fs::read_to_string(&cli_svg).unwrap());
     // One ink again: the grey drawing.
+    h.get_by_label("One ink").scroll_to_me();
+    h.run_steps(10);
     h.get_by_label("One ink").click();
     settle(&mut h);
     assert!(h.state().outcome.as_ref().unwrap().drawing.pens.is_none());
+}
+
+/// Runs the `pixelpie` binary and returns what it printed; its output must
+/// be a success.
+fn cli_stdout(args: &[&str]) -> String {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_pixelpie"))
+        .args(args)
+        .output()
+        .expect("run pixelpie");
+    assert!(
+        out.status.success(),
+        "pixelpie {args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).unwrap()
+}
+
+/// The Paper section's combo box (the Behind row has a Paper button too).
+fn paper_combo<'a>(h: &'a Harness<'_, PixelPieApp>) -> egui_kittest::Node<'a> {
+    h.get_by(|n| {
+        n.role() == egui::accesskit::Role::ComboBox && n.label().as_deref() == Some("Paper")
+    })
+}
+
+/// Opens the Paper section's combo box (scrolled into view first).
+fn open_paper_combo(h: &mut Harness<'_, PixelPieApp>) {
+    paper_combo(h).scroll_to_me();
+    h.run_steps(10);
+    paper_combo(h).click();
+    // The popup takes a few frames to open.
+    for _ in 0..20 {
+        h.step();
+        if h.query_by_role(egui::accesskit::Role::ListBox).is_some() {
+            break;
+        }
+    }
+    h.run_steps(2);
+}
+
+/// Steps the UI until the plot time's estimate is in, and returns its line.
+fn plot_line(h: &mut Harness<'_, PixelPieApp>) -> String {
+    let start = Instant::now();
+    loop {
+        h.step();
+        if !h.state().plot_pending() && h.state().plot_line().is_some() {
+            break;
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "no plot time: {:?}",
+            h.state().plot_line()
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    h.run_steps(2);
+    let line = h.state().plot_line().unwrap();
+    // On screen, in the export section.
+    h.get_by_label(&line);
+    line
+}
+
+/// The minutes and lifts of a plot-time line ("plot ≈ 1 h 23 min · 1 pen
+/// · 3 012 lifts").
+fn plot_minutes_and_lifts(line: &str) -> (f64, usize) {
+    let parts: Vec<&str> = line.split(" · ").collect();
+    assert_eq!(parts.len(), 3, "{line}");
+    let time = parts[0].strip_prefix("plot ≈ ").expect(line);
+    let words: Vec<&str> = time.split(' ').collect();
+    let minutes = match words.as_slice() {
+        [h, "h", m, "min"] => h.parse::<f64>().unwrap() * 60.0 + m.parse::<f64>().unwrap(),
+        [m, "min"] => m.parse().unwrap(),
+        [s, "s"] => s.parse::<f64>().unwrap() / 60.0,
+        _ => panic!("{line}"),
+    };
+    let lifts = parts[2]
+        .strip_suffix(" lifts")
+        .expect(line)
+        .replace(' ', "")
+        .parse()
+        .unwrap();
+    (minutes, lifts)
+}
+
+/// The total minutes and the lifts of `--plot-stats`'s table.
+fn cli_plot_minutes_and_lifts(table: &str) -> (f64, usize) {
+    let mut lifts = 0;
+    let mut total = None;
+    for row in table.lines().skip(1) {
+        let cells: Vec<&str> = row.split('\t').collect();
+        if cells[0] == "total" {
+            total = Some(cells.last().unwrap().parse().unwrap());
+        } else {
+            lifts += cells[2].parse::<usize>().unwrap();
+        }
+    }
+    (total.expect(table), lifts)
+}
+
+#[test]
+fn paper_and_pen_export_the_cli_s_sheet_and_show_its_plot_time() {
+    let (dir, png, mut h) = ready(200, 150);
+    h.get_by_label("Points").set_value_accesskit(3000.0);
+    settle(&mut h);
+    assert!(h.state().plot_line().is_none(), "a plot time without a pen");
+    // A width in mm first: the paper replaces it.
+    h.get_by_label("Width mm").click();
+    h.run_steps(2);
+    assert_eq!(h.state().settings.job.width_mm, Some(200.0));
+    // A4, landscape, 15 mm margins, through the Paper section.
+    open_paper_combo(&mut h);
+    h.get_by_label("A4").click();
+    h.run_steps(2);
+    h.get_by_label("Landscape").click();
+    h.run_steps(2);
+    h.get_by_label("Margin").set_value_accesskit(15.0);
+    h.run_steps(2);
+    // The pen, with the paper as its page.
+    h.get_by_label("Pen mm").click();
+    settle(&mut h);
+    let job = h.state().settings.job();
+    assert_eq!(job.paper, Some("a4".parse().unwrap()));
+    assert!(job.landscape);
+    assert_eq!(job.margin, Some(15.0));
+    assert_eq!(
+        job.width_mm, None,
+        "the paper and a width exclude each other"
+    );
+    assert_eq!(job.pen_mm, Some(0.3));
+    let placement = h.state().placement().unwrap();
+    assert_eq!(placement.sheet_mm, (297.0, 210.0));
+    // The CLI's sheet, byte for byte, and its plot statistics.
+    let app_svg = dir.path().join("app.svg");
+    export(&mut h, &app_svg);
+    let (png, cli_svg) = (png.display().to_string(), dir.path().join("cli.svg"));
+    let cli_svg = cli_svg.display().to_string();
+    let args = [
+        "stipple",
+        &png,
+        "-o",
+        &cli_svg,
+        "--quiet",
+        "--points",
+        "3000",
+        "--paper",
+        "a4",
+        "--landscape",
+        "--margin",
+        "15",
+        "--pen-mm",
+        "0.3",
+        "--plot-stats",
+    ];
+    let table = cli_stdout(&args);
+    let svg = std::fs::read_to_string(&app_svg).unwrap();
+    assert!(
+        svg.contains(r#"width="297mm" height="210mm""#),
+        "{}",
+        &svg[..300]
+    );
+    assert_eq!(svg, std::fs::read_to_string(&cli_svg).unwrap());
+    // The plot time: the CLI's total, to the minute.
+    let line = plot_line(&mut h);
+    let (minutes, lifts) = plot_minutes_and_lifts(&line);
+    let (cli_minutes, cli_lifts) = cli_plot_minutes_and_lifts(&table);
+    eprintln!("app: {line}; cli: {cli_minutes} min, {cli_lifts} lifts");
+    assert!(
+        (minutes - cli_minutes).abs() <= 0.55,
+        "app {line}, CLI {cli_minutes} min"
+    );
+    assert_eq!(lifts, cli_lifts);
+    assert!(line.contains(" · 1 pen · "), "{line}");
+    let font = egui::FontId::proportional(14.0);
+    assert!(h.ctx.fonts_mut(|f| f.has_glyphs(&font, &line)), "{line}");
+    // Circles instead of spirals: the CLI's file again, and a shorter plot.
+    h.get_by_label("Circle").click();
+    h.run_steps(2);
+    assert!(!h.state().busy(), "the dot path re-sampled");
+    assert_eq!(
+        h.state().settings.job.dot_path,
+        pixelpie::stipple::svg::DotPath::Circle
+    );
+    export(&mut h, &app_svg);
+    let table = cli_stdout(&[&args[..], &["--dot-path", "circle"]].concat());
+    assert_eq!(
+        std::fs::read_to_string(&app_svg).unwrap(),
+        std::fs::read_to_string(&cli_svg).unwrap()
+    );
+    let circles = plot_line(&mut h);
+    let (circle_minutes, _) = plot_minutes_and_lifts(&circles);
+    let (cli_circle_minutes, _) = cli_plot_minutes_and_lifts(&table);
+    assert!(
+        (circle_minutes - cli_circle_minutes).abs() <= 0.55,
+        "{circles}"
+    );
+    assert!(cli_circle_minutes < cli_minutes);
+    // No paper: the margin and the orientation go, and the pen with them
+    // (it has no page in mm); no plot time.
+    open_paper_combo(&mut h);
+    h.get_by_label("None").click();
+    settle(&mut h);
+    let job = h.state().settings.job();
+    assert_eq!((job.paper, job.margin, job.landscape), (None, None, false));
+    assert_eq!(job.pen_mm, None);
+    assert!(h.state().plot_line().is_none());
+}
+
+#[test]
+fn the_view_shows_the_sheet_and_its_margins_around_the_drawing() {
+    // A 4:3 picture, black at the left: on landscape A4 with 15 mm margins
+    // it is 240 × 180 mm, 28.5 mm from the sheet's left edge.
+    let (_dir, _, mut h) = ready(200, 150);
+    {
+        let job = &mut h.state_mut().settings.job;
+        job.paper = Some("a4".parse().unwrap());
+        job.landscape = true;
+        job.margin = Some(15.0);
+    }
+    h.run_steps(3);
+    assert!(!h.state().busy(), "the paper re-sampled");
+    let backdrop = image::Rgba([90, 90, 90, 255]);
+    let white = image::Rgba([255, 255, 255, 255]);
+    let measure = |h: &mut Harness<'_, PixelPieApp>, name: &str| {
+        let img = h.render().expect("render");
+        let _ = img.save(format!("{}/{name}.png", env!("CARGO_TARGET_TMPDIR")));
+        // The sheet on the middle row: its right edge is the last white
+        // pixel, its left edge where the backdrop starts again.
+        let y = img.height() / 2;
+        let right = (0..img.width())
+            .rev()
+            .find(|&x| *img.get_pixel(x, y) == white)
+            .unwrap();
+        let left = (0..right)
+            .rev()
+            .find(|&x| (x.saturating_sub(4)..=x).all(|x| *img.get_pixel(x, y) == backdrop))
+            .unwrap()
+            + 1;
+        // Its top and bottom, down a column in the blank left strip.
+        let x = left + 3;
+        let top = (0..y)
+            .rev()
+            .find(|&y| *img.get_pixel(x, y) != white)
+            .unwrap()
+            + 1;
+        let bottom = (y..img.height())
+            .find(|&y| *img.get_pixel(x, y) != white)
+            .unwrap();
+        (img, left, right + 1, top, bottom)
+    };
+    let (img, left, right, top, bottom) = measure(&mut h, "app-sheet");
+    let (w, hgt) = ((right - left) as f64, (bottom - top) as f64);
+    let aspect = w / hgt;
+    eprintln!("sheet {w} × {hgt} px at x {left}, y {top}: aspect {aspect:.4}");
+    assert!(
+        (aspect - 297.0 / 210.0).abs() < 0.02,
+        "sheet {w} × {hgt} px: aspect {aspect}"
+    );
+    let px = |mm: f64| (mm * w / 297.0).round() as u32;
+    let mid = (top + bottom) / 2;
+    // Outside the sheet: the backdrop; inside, left of the drawing: paper.
+    for (x, y) in [(left - 3, mid), (left + px(100.0), top - 3)] {
+        assert_eq!(*img.get_pixel(x, y), backdrop, "({x}, {y})");
+    }
+    for mm in [5.0, 10.0, 20.0, 26.0] {
+        for y in [top + px(20.0), mid, bottom - px(20.0)] {
+            let x = left + px(mm);
+            assert_eq!(*img.get_pixel(x, y), white, "{mm} mm from the left");
+        }
+    }
+    // The margins: a line 15 mm in.
+    let line = (left + px(15.0) - 2..=left + px(15.0) + 2)
+        .any(|x| img.get_pixel(x, mid).0[2] > img.get_pixel(x, mid).0[0] + 30);
+    assert!(line, "no margin line 15 mm in");
+    // The drawing from 28.5 mm: its black left edge is full of dots.
+    let dark = |x0: u32, x1: u32| {
+        (x0..x1)
+            .flat_map(|x| (top + px(20.0)..bottom - px(20.0)).map(move |y| (x, y)))
+            .filter(|&(x, y)| img.get_pixel(x, y).0[0] < 60)
+            .count()
+    };
+    assert_eq!(
+        dark(left + px(1.0), left + px(27.5)),
+        0,
+        "dots off the drawing"
+    );
+    assert!(
+        dark(left + px(29.0), left + px(40.0)) > 200,
+        "no dots at the left"
+    );
+    // The sheet follows the zoom, as the drawing does.
+    h.state_mut().zoom_by(0.8);
+    h.run_steps(2);
+    let (_, l2, r2, t2, b2) = measure(&mut h, "app-sheet-zoomed");
+    let w2 = (r2 - l2) as f64;
+    assert!((w2 / w - 0.8).abs() < 0.01, "zoomed sheet {w2} px, was {w}");
+    assert!(((b2 - t2) as f64 / (bottom - top) as f64 - 0.8).abs() < 0.01);
 }

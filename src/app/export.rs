@@ -5,6 +5,7 @@ use egui::Color32;
 
 use super::PixelPieApp;
 use super::panel::fixed_row;
+use crate::stipple::svg::DotPath;
 use crate::stipple::{DotSize, Order};
 
 impl PixelPieApp {
@@ -25,9 +26,11 @@ impl PixelPieApp {
         });
     }
 
-    /// The Export section: plotter options, the path, the format buttons
-    /// and the outcome. The job's `write` writes every format, as the CLI's.
+    /// The Export section: plotter options (order, width, pen, dot path and
+    /// the plot time), the path, the format buttons and the outcome. The
+    /// job's `write` writes every format, as the CLI's.
     pub(super) fn export_ui(&mut self, ui: &mut egui::Ui) {
+        let placement = self.placement();
         let job = &mut self.settings.job;
         ui.horizontal(|ui| {
             ui.label("Order");
@@ -37,30 +40,91 @@ impl PixelPieApp {
                 .on_hover_text("A short pen path (nearest neighbour and 2-opt), as --order tsp");
         });
         ui.horizontal(|ui| {
-            let mut mm = job.width_mm.is_some();
-            ui.checkbox(&mut mm, "Width mm")
-                .on_hover_text("Size the SVG in millimetres (--width-mm); off: pixels");
-            let mut width = job.width_mm.unwrap_or(200.0);
+            // The paper and a width exclude each other: with paper, the
+            // width is the drawing's on the sheet, greyed out.
+            let paper = job.paper.is_some();
+            let why = placement.map_or_else(String::new, |p| {
+                format!(
+                    "The paper sizes the drawing: {:.0} × {:.0} mm on the sheet (Paper \
+                     section; set Paper to None to give a width)",
+                    p.size_mm.0, p.size_mm.1
+                )
+            });
+            let mut mm = job.width_mm.is_some() || paper;
+            ui.add_enabled(!paper, egui::Checkbox::new(&mut mm, "Width mm"))
+                .on_hover_text("Size the SVG in millimetres (--width-mm); off: pixels")
+                .on_disabled_hover_text(&why);
+            let mut width = match (paper, placement) {
+                (true, Some(p)) => p.size_mm.0,
+                _ => job.width_mm.unwrap_or(200.0),
+            };
             ui.add_enabled(
-                mm,
+                mm && !paper,
                 egui::DragValue::new(&mut width)
                     .range(1.0..=5000.0)
-                    .speed(1.0),
-            );
-            job.width_mm = mm.then_some(width);
+                    .speed(1.0)
+                    .max_decimals(1),
+            )
+            .on_disabled_hover_text(if paper {
+                why.as_str()
+            } else {
+                "Tick Width mm to give one"
+            });
+            if !paper {
+                job.width_mm = mm.then_some(width);
+            }
+            let sized = mm || paper;
             let mut pen = job.pen_mm.is_some();
-            ui.add_enabled(mm, egui::Checkbox::new(&mut pen, "Pen mm"))
+            ui.add_enabled(sized, egui::Checkbox::new(&mut pen, "Pen mm"))
                 .on_hover_text("Draw each dot as a pen of this width draws it (--pen-mm)")
-                .on_disabled_hover_text("Needs a width in mm");
+                .on_disabled_hover_text("Needs a width in mm or a paper");
             let mut pen_mm = job.pen_mm.unwrap_or(0.3);
             ui.add_enabled(
-                mm && pen,
+                sized && pen,
                 egui::DragValue::new(&mut pen_mm)
                     .range(0.05..=5.0)
                     .speed(0.01),
-            );
-            job.pen_mm = (mm && pen).then_some(pen_mm);
+            )
+            .on_hover_text("The pen's width in mm");
+            job.pen_mm = (sized && pen).then_some(pen_mm);
         });
+        ui.horizontal(|ui| {
+            let pen = job.pen_mm.is_some();
+            ui.label("Dot path").on_hover_text(
+                "How the pen draws a dot wider than itself (--dot-path); a dot no wider than \
+                 the pen is one touch",
+            );
+            for (path, name, help) in [
+                (
+                    DotPath::Spiral,
+                    "Spiral",
+                    "A spiral from the centre out and a closing circle: the ink is the dot's disk",
+                ),
+                (
+                    DotPath::Circle,
+                    "Circle",
+                    "The closing circle alone: a ring, fast to plot, lighter than the disk",
+                ),
+                (
+                    DotPath::Touch,
+                    "Touch",
+                    "One touch of the pen for every dot, whatever its size",
+                ),
+            ] {
+                if ui
+                    .add_enabled(pen, egui::Button::selectable(job.dot_path == path, name))
+                    .on_hover_text(help)
+                    .on_disabled_hover_text("Needs a pen width (Pen mm)")
+                    .clicked()
+                {
+                    job.dot_path = path;
+                }
+            }
+            if !pen {
+                job.dot_path = DotPath::Spiral;
+            }
+        });
+        self.plot_time_ui(ui);
         ui.horizontal(|ui| {
             ui.label("Export to");
             if ui

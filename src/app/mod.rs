@@ -8,7 +8,9 @@ pub mod dialogs;
 mod dots;
 mod export;
 mod panel;
+mod paper;
 mod pens;
+mod plot;
 mod settings;
 pub mod shortcuts;
 mod status;
@@ -99,6 +101,8 @@ pub struct PixelPieApp {
     cancelled: bool,
     /// A picture being decoded on its own thread.
     loading: Option<Loading>,
+    /// The plot-time estimate (with a pen width).
+    plot: plot::PlotTime,
 }
 
 /// A picture decoding off the UI thread.
@@ -163,6 +167,7 @@ impl PixelPieApp {
             job_started: None,
             cancelled: false,
             loading: None,
+            plot: plot::PlotTime::default(),
         };
         // Ctrl+plus and Ctrl+minus zoom the picture, not the whole UI.
         cc.egui_ctx.options_mut(|o| o.zoom_with_keyboard = false);
@@ -516,6 +521,7 @@ impl eframe::App for PixelPieApp {
         let ctx = ui.ctx().clone();
         self.poll_loading(&ctx);
         self.poll_worker();
+        self.update_plot_time(&ctx);
         let dropped: Vec<PathBuf> = ctx.input(|i| {
             i.raw
                 .dropped_files

@@ -1,6 +1,6 @@
 //! The side panel's controls, one function per section (header, open,
-//! spacing, levels, darts, dots, pens (`pens.rs`), view), and the helpers
-//! they share.
+//! spacing, levels, darts, dots, pens (`pens.rs`), paper (`paper.rs`),
+//! view), and the helpers they share.
 
 use egui::{Color32, Sense};
 
@@ -24,6 +24,9 @@ impl PixelPieApp {
         ui.separator();
         self.dots_ui(ui);
         self.pens_ui(ui);
+        ui.separator();
+        self.paper_ui(ui);
+        ui.separator();
         self.view_ui(ui);
     }
 

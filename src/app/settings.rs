@@ -7,6 +7,7 @@ use std::path::PathBuf;
 use serde::{Deserialize, Serialize};
 
 use crate::backend::BackendChoice;
+use crate::stipple::svg::DotPath;
 use crate::stipple::{DEFAULT_POINTS, Job};
 
 /// What is drawn behind the dots.
@@ -96,8 +97,17 @@ impl Settings {
     /// The part of the settings that the points depend on.
     #[must_use]
     pub fn sampling_key(&self) -> SamplingKey {
+        let mut job = self.job().sampling_key();
+        // The sheet only places the dots, unless the pen sizes them (the
+        // job's key keeps the pen then), and the pen's path only draws them.
+        if job.pen_mm.is_none() {
+            job.paper = None;
+            job.margin = None;
+            job.landscape = false;
+        }
+        job.dot_path = DotPath::Spiral;
         SamplingKey {
-            job: self.job().sampling_key(),
+            job,
             backend: self.backend,
         }
     }

@@ -1,5 +1,6 @@
 //! The zoomable canvas: the paper or the picture under the dots, fitted,
-//! zoomed about the pointer and panned by dragging.
+//! zoomed about the pointer and panned by dragging; with a sheet of paper
+//! (the Paper section), the sheet and its margins around the drawing.
 
 use egui::{Color32, Rect, Sense, Vec2};
 
@@ -7,6 +8,11 @@ use super::PixelPieApp;
 use super::dots::{DotLayer, ViewUniform};
 use super::settings::Background;
 use crate::stipple::DotSize;
+
+/// The canvas around the picture (and its sheet).
+const BACKDROP: Color32 = Color32::from_gray(90);
+/// The line of the margins on the sheet.
+const MARGIN_LINE: Color32 = Color32::from_rgb(150, 180, 225);
 
 /// Zoom and pan of the canvas.
 pub struct ViewState {
@@ -23,6 +29,9 @@ pub struct ViewState {
     /// The view is fitted (no zoom or pan since): a resized canvas fits it
     /// again.
     pub fitted: bool,
+    /// What a fit shows, in picture pixels, as last drawn: the drawing (or
+    /// its tiles) or its sheet of paper (a change refits a fitted view).
+    pub frame: Rect,
 }
 
 impl Default for ViewState {
@@ -34,6 +43,7 @@ impl Default for ViewState {
             canvas: Vec2::ZERO,
             tiles: 1,
             fitted: false,
+            frame: Rect::NOTHING,
         }
     }
 }
@@ -68,7 +78,7 @@ impl PixelPieApp {
     pub(super) fn canvas(&mut self, ui: &mut egui::Ui) {
         let (rect, response) = ui.allocate_exact_size(ui.available_size(), Sense::click_and_drag());
         let painter = ui.painter_at(rect);
-        painter.rect_filled(rect, 0.0, Color32::from_gray(90));
+        painter.rect_filled(rect, 0.0, BACKDROP);
         let Some(src) = &self.source else {
             painter.text(
                 rect.center(),
@@ -80,20 +90,42 @@ impl PixelPieApp {
             return;
         };
         let size = Vec2::new(src.map.width() as f32, src.map.height() as f32);
-        self.navigate(ui, rect, &response, size);
+        let sheet = self.sheet(size);
+        self.navigate(ui, rect, &response, size, sheet.map(|(s, _)| s));
         // A periodic drawing can show 2×2 copies: the seams should vanish.
         let tiles = self.tiles();
         let offsets: Vec<Vec2> = (0..tiles * tiles)
             .map(|t| Vec2::new((t % tiles) as f32 * size.x, (t / tiles) as f32 * size.y))
             .collect();
+        if let Some(sheet) = sheet {
+            self.paint_sheet(&painter, rect, sheet);
+        }
         self.paint_backgrounds(&painter, rect, &offsets, size);
+        if let Some((_, printable)) = sheet {
+            // The margins: a thin line around the printable area, over the
+            // picture behind the dots but under the dots.
+            painter.rect_stroke(
+                self.on_screen(rect, printable),
+                0.0,
+                egui::Stroke::new(1.0, MARGIN_LINE),
+                egui::StrokeKind::Middle,
+            );
+        }
         let layers = self.dot_layers(ui, rect, &offsets);
         self.paint_dots(&painter, rect, layers);
     }
 
-    /// Fits the view when asked (or when a fitted view's canvas or tiling
-    /// changes), zooms about the pointer and pans by dragging.
-    fn navigate(&mut self, ui: &egui::Ui, rect: Rect, response: &egui::Response, size: Vec2) {
+    /// Fits the view when asked (or when a fitted view's canvas, tiling or
+    /// sheet changes), zooms about the pointer and pans by dragging. A fit
+    /// shows the whole sheet when there is one, else the drawing (tiled).
+    fn navigate(
+        &mut self,
+        ui: &egui::Ui,
+        rect: Rect,
+        response: &egui::Response,
+        size: Vec2,
+        sheet: Option<Rect>,
+    ) {
         if self.view.fitted && self.view.canvas != rect.size() {
             self.view.fit_next = true;
         }
@@ -103,10 +135,17 @@ impl PixelPieApp {
             self.view.tiles = tiles;
             self.view.fit_next = true;
         }
+        let frame =
+            sheet.unwrap_or_else(|| Rect::from_min_size(egui::Pos2::ZERO, size * tiles as f32));
+        if self.view.frame != frame {
+            self.view.frame = frame;
+            self.view.fit_next |= self.view.fitted;
+        }
         if self.view.fit_next {
-            let all = size * tiles as f32;
+            let all = frame.size();
             self.view.zoom = (rect.width() / all.x).min(rect.height() / all.y) * 0.98;
-            self.view.pan = (rect.size() - all * self.view.zoom) / 2.0;
+            self.view.pan =
+                (rect.size() - all * self.view.zoom) / 2.0 - frame.min.to_vec2() * self.view.zoom;
             self.view.fit_next = false;
             self.view.fitted = true;
         }
@@ -125,6 +164,26 @@ impl PixelPieApp {
             self.view.pan += response.drag_delta();
             self.view.fitted = false;
         }
+    }
+
+    /// A rectangle in picture pixels on the screen, as the view shows it.
+    fn on_screen(&self, rect: Rect, r: Rect) -> Rect {
+        Rect::from_min_max(
+            rect.min + self.view.pan + r.min.to_vec2() * self.view.zoom,
+            rect.min + self.view.pan + r.max.to_vec2() * self.view.zoom,
+        )
+    }
+
+    /// The sheet of paper (in picture pixels) under the drawing, with a
+    /// faint shadow.
+    fn paint_sheet(&self, painter: &egui::Painter, rect: Rect, (sheet, _): (Rect, Rect)) {
+        let on_screen = self.on_screen(rect, sheet);
+        painter.rect_filled(
+            on_screen.translate(Vec2::splat(3.0)),
+            0.0,
+            Color32::from_black_alpha(60),
+        );
+        painter.rect_filled(on_screen, 0.0, Color32::WHITE);
     }
 
     /// The paper under each copy, and the map or the photo when asked.

@@ -30,8 +30,9 @@ pub struct Job {
 
 /// A finished job.
 pub struct Outcome {
-    /// The drawing (in domain pixels), as `pixelpie stipple` makes it.
-    pub drawing: Stipple,
+    /// The drawing (in domain pixels), as `pixelpie stipple` makes it
+    /// (shared with the plot-time estimate's thread).
+    pub drawing: Arc<Stipple>,
     /// The settings it was made with (Cancel goes back to them).
     pub settings: Settings,
     /// Domain pixels per image pixel: the sampling domain is the image
@@ -216,7 +217,7 @@ fn compute(
     }
     Ok(Outcome {
         scale: (f64::from(drawing.domain.0) / f64::from(job.map.width())) as f32,
-        drawing,
+        drawing: Arc::new(drawing),
         settings: s.clone(),
         note,
         seconds: 0.0,
