@@ -112,7 +112,7 @@ impl ChartSpec {
     /// A chart of `pens` on a sheet placed by `placement` (its sheet and
     /// margin); pens without a width take `pen_mm`.
     pub fn new(pens: &PenSet, pen_mm: f64, placement: &Placement, seed: u64) -> Result<Self> {
-        if !(pen_mm.is_finite() && pen_mm >= 0.05 && pen_mm <= 5.0) {
+        if !(pen_mm.is_finite() && (0.05..=5.0).contains(&pen_mm)) {
             return Err(Error::InvalidParameter(format!(
                 "pen width {pen_mm} mm must be in [0.05, 5]"
             )));

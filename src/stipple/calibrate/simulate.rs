@@ -290,9 +290,9 @@ pub fn scan(chart: &Chart, o: &ScanOptions) -> Result<RgbImage> {
     for (u, v, px) in out.enumerate_pixels_mut() {
         let (x, y) = back.apply((f64::from(u) + 0.5, f64::from(v) + 0.5));
         let lin = bilinear(&sheet, x - 0.5, y - 0.5).unwrap_or(bg);
-        for ch in 0..3 {
-            let e = f64::from(linear_to_srgb(lin[ch].clamp(0.0, 1.0))) + o.noise * rng.normal();
-            px.0[ch] = (e.clamp(0.0, 1.0) * 255.0).round() as u8;
+        for (out, l) in px.0.iter_mut().zip(lin) {
+            let e = f64::from(linear_to_srgb(l.clamp(0.0, 1.0))) + o.noise * rng.normal();
+            *out = (e.clamp(0.0, 1.0) * 255.0).round() as u8;
         }
     }
     Ok(out)
