@@ -255,11 +255,21 @@ fn stipple_defaults() -> PyResult<String> {
 }
 
 /// Every option of the job with its default, `null` where the job picks
-/// (the pens included, which a grey job leaves out of its JSON).
+/// (the pens and the paper included, which the job's JSON leaves out while
+/// they hold their defaults).
 fn job_options() -> serde_json::Result<serde_json::Value> {
-    let mut v = serde_json::to_value(Job::default())?;
+    let job = Job::default();
+    let mut v = serde_json::to_value(&job)?;
     if let serde_json::Value::Object(m) = &mut v {
-        m.entry("pens").or_insert(serde_json::Value::Null);
+        for (name, default) in [
+            ("pens", serde_json::Value::Null),
+            ("paper", serde_json::Value::Null),
+            ("margin", serde_json::Value::Null),
+            ("landscape", serde_json::to_value(job.landscape)?),
+            ("dot_path", serde_json::to_value(job.dot_path)?),
+        ] {
+            m.entry(name).or_insert(default);
+        }
     }
     Ok(v)
 }

@@ -151,6 +151,10 @@ EVERY_OPTION = [
     ("white_cutoff", 0.85, "a.svg"),
     ("hdr_white", 0.7, "a.svg"),
     ("pens", "cmyk", "a.svg"),
+    ("paper", "a5", "a.svg"),
+    ("margin", 25.0, "a.svg"),
+    ("landscape", True, "a.svg"),
+    ("dot_path", "circle", "a.svg"),
 ]
 
 
@@ -166,9 +170,15 @@ def test_every_stipple_option_gives_the_clis_file(tmp_path, name, value, out):
     if value is not True:
         args.append(str(value))
     # Options that need a partner, or that set the count themselves.
-    if name == "pen_mm":
+    if name in ("pen_mm", "dot_path"):
         kwargs["width_mm"] = 120.0
         args += ["--width-mm", "120"]
+    if name == "dot_path":
+        kwargs["pen_mm"] = 0.3
+        args += ["--pen-mm", "0.3"]
+    if name in ("margin", "landscape"):
+        kwargs["paper"] = "a4"
+        args += ["--paper", "a4"]
     if name not in ("points", "dot_radius", "min_radius", "pen_mm"):
         kwargs["points"] = 800
         args += ["--points", "800"]

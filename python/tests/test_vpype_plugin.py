@@ -1,0 +1,405 @@
+"""Tests of the vpype plugin (`vpype pixelpie`) and of G-code and HPGL
+through vpype.
+
+* The plugin loads through the ``vpype.plugins`` entry point.
+* Each pen is a layer with the pen's name, colour and width, and as many
+  paths as the command line draws dots for that pen with the same options.
+* A grey drawing gives vpype the same paths as the command line's SVG read
+  by vpype; the page is the sheet.
+* HPGL (vpype's ``write --device hp7475a``) selects one pen per layer
+  (SP1..SP4) and puts it down once per path; G-code (vpype-gcode's
+  ``gwrite`` with our profile) pauses for one pen change per layer and
+  lowers the pen once per path.
+* Bad input is a usage error, with no traceback.
+
+They run in a venv holding vpype, vpype-gcode and the wheel with its
+``vpype`` extra (``bash .ci/vpype-plugin.sh``). Without vpype they are
+skipped, unless ``PIXELPIE_EXPECT_VPYPE=1``, where they fail. The CLI is
+``$PIXELPIE_BIN``, or ``target/release/pixelpie`` of this checkout.
+"""
+
+from __future__ import annotations
+
+import importlib.metadata
+import importlib.util
+import os
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+EXPECT = os.environ.get("PIXELPIE_EXPECT_VPYPE") == "1"
+if importlib.util.find_spec("vpype") is None or importlib.util.find_spec("vpype_cli") is None:
+    if EXPECT:
+        raise ImportError(
+            "PIXELPIE_EXPECT_VPYPE=1 but vpype is not installed in this Python "
+            f"({sys.executable}): bash .ci/vpype-plugin.sh installs it"
+        )
+    pytest.skip("vpype is not installed (pip install 'pixelpie[vpype]')", allow_module_level=True)
+
+import vpype as vp  # noqa: E402
+import vpype_cli  # noqa: E402
+
+import pixelpie  # noqa: E402
+from pixelpie import vpype_plugin  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[2]
+ASSETS = ROOT / "assets"
+CLI = Path(os.environ.get("PIXELPIE_BIN", ROOT / "target" / "release" / "pixelpie"))
+PROFILE = Path(vpype_plugin.GCODE_PROFILE)
+PX_PER_MM = 96 / 25.4
+CMYK = [("cyan", "#00ffff"), ("magenta", "#ff00ff"), ("yellow", "#ffff00"), ("black", "#000000")]
+
+# The options of the colour drawing, for the plugin and for the CLI (the
+# plugin's defaults written out: --paper a4 --pen-mm 0.3).
+COLOUR = ["--points", "2000", "--pens", "cmyk", "--seed", "3"]
+COLOUR_CLI = COLOUR + ["--paper", "a4", "--pen-mm", "0.3"]
+
+
+def vpype_exe() -> str:
+    """vpype of this Python's venv, else on PATH."""
+    exe = Path(sys.executable).with_name("vpype")
+    if exe.is_file():
+        return str(exe)
+    found = shutil.which("vpype")
+    assert found, f"no vpype executable next to {sys.executable} or on PATH"
+    return found
+
+
+def run_vpype(*args: str, check: bool = True) -> subprocess.CompletedProcess:
+    out = subprocess.run([vpype_exe(), *args], capture_output=True, text=True)
+    if check:
+        assert out.returncode == 0, f"vpype {' '.join(args)} failed:\n{out.stdout}\n{out.stderr}"
+    return out
+
+
+def cli(*args: str) -> None:
+    assert CLI.is_file(), f"the pixelpie binary is missing at {CLI} (cargo build --release)"
+    subprocess.run([str(CLI), *args, "--quiet"], capture_output=True, text=True, check=True)
+
+
+def cli_pen_counts(tmp_path: Path, image: Path, args: list) -> list:
+    """Dots per pen that `pixelpie stipple` draws, from its CSV's pen column."""
+    out = tmp_path / "cli.csv"
+    cli("stipple", str(image), "-o", str(out), *args)
+    pens = np.loadtxt(out, delimiter=",", skiprows=1, ndmin=2)[:, 3].astype(int)
+    return np.bincount(pens, minlength=4).tolist()
+
+
+def plugin(*args: str) -> vp.Document:
+    """The document after `vpype pixelpie ARGS` (in this process)."""
+    return vpype_cli.execute("pixelpie " + " ".join(f"'{a}'" for a in args))
+
+
+def paths(layer: vp.LineCollection) -> list:
+    return [np.asarray(line) for line in layer]
+
+
+def same_path(p: np.ndarray, q: np.ndarray) -> bool:
+    """The same points, to float rounding (vpype's reader scales mm to px in
+    another order of operations: 1e-13 px apart at most)."""
+    return p.shape == q.shape and bool(np.allclose(p, q, rtol=0, atol=1e-9))
+
+
+def same_document(a: vp.Document, b: vp.Document) -> None:
+    assert sorted(a.layers) == sorted(b.layers)
+    assert a.page_size == b.page_size and a.metadata == b.metadata
+    for lid in a.layers:
+        assert a.layers[lid].metadata == b.layers[lid].metadata, lid
+        pa, pb = paths(a.layers[lid]), paths(b.layers[lid])
+        assert len(pa) == len(pb), lid
+        assert all(same_path(p, q) for p, q in zip(pa, pb)), lid
+
+
+@pytest.fixture(scope="module")
+def colour(tmp_path_factory):
+    """The cmyk drawing of rocket.jpg: the plugin's document, and the CLI's dots per pen."""
+    image = ASSETS / "rocket.jpg"
+    doc = plugin(str(image), *COLOUR)
+    counts = cli_pen_counts(tmp_path_factory.mktemp("cli"), image, COLOUR_CLI)
+    return image, doc, counts
+
+
+# --- the plugin ---------------------------------------------------------------
+
+
+def test_the_plugin_loads_through_its_entry_point():
+    eps = importlib.metadata.entry_points(group="vpype.plugins")
+    ours = [ep for ep in eps if ep.name == "pixelpie"]
+    assert [ep.value for ep in ours] == ["pixelpie.vpype_plugin:pixelpie"]
+    helped = run_vpype("pixelpie", "--help").stdout
+    assert "Stipple a photo with PixelPie" in helped
+    for option in ["--points", "--pens", "--paper", "--landscape", "--margin", "--pen-mm", "--seed", "--order"]:
+        assert option in helped, option
+    listed = run_vpype("--help").stdout
+    assert re.search(r"^\s+pixelpie\s", listed, re.M), listed
+
+
+def test_cmyk_gives_one_layer_per_pen_with_its_colour_and_width(colour):
+    _, doc, counts = colour
+    assert sorted(doc.layers) == [1, 2, 3, 4]
+    for lid, (name, rgb) in enumerate(CMYK, start=1):
+        layer = doc.layers[lid]
+        assert layer.property(vp.METADATA_FIELD_NAME) == name
+        assert layer.property(vp.METADATA_FIELD_COLOR) == vp.Color(rgb)
+        assert layer.property(vp.METADATA_FIELD_PEN_WIDTH) == pytest.approx(0.3 * PX_PER_MM)
+    # The sheet, in vpype's unit (CSS px): A4 portrait.
+    assert doc.page_size == pytest.approx((210 * PX_PER_MM, 297 * PX_PER_MM))
+    # The source is the photo, not the temporary SVG.
+    assert doc.property(vp.METADATA_FIELD_SOURCE) == (ASSETS / "rocket.jpg").absolute()
+
+
+def test_each_layer_has_the_clis_dots_for_its_pen(colour):
+    _, doc, counts = colour
+    got = [len(doc.layers[lid]) for lid in (1, 2, 3, 4)]
+    assert got == counts
+    assert sum(got) > 1800 and min(got) > 0, got
+
+
+def test_the_python_package_draws_the_same_dots(colour):
+    image, doc, counts = colour
+    dots = pixelpie.stipple(image, points=2000, pens="cmyk", seed=3, paper="a4", pen_mm=0.3)
+    assert np.bincount(dots[:, 3].astype(int), minlength=4).tolist() == counts
+
+
+def test_grey_paths_are_the_clis_svg_read_by_vpype(tmp_path):
+    image = ASSETS / "default.png"
+    opts = ["--points", "2000", "--seed", "5", "--order", "tsp", "--dot-path", "touch"]
+    svg = tmp_path / "cli.svg"
+    cli("stipple", str(image), "-o", str(svg), *opts, "--paper", "a4", "--pen-mm", "0.3")
+    want = vpype_cli.execute(f"read --no-crop '{svg}'")
+    got = plugin(str(image), *opts)
+    assert sorted(got.layers) == sorted(want.layers) == [1]
+    assert got.page_size == want.page_size
+    a, b = paths(got.layers[1]), paths(want.layers[1])
+    assert len(a) == len(b) == svg.read_text().count("<path")
+    assert all(same_path(p, q) for p, q in zip(a, b))
+    assert got.layers[1].property(vp.METADATA_FIELD_COLOR) == vp.Color("black")
+    # One-touch dots: two points 0.01 mm apart (vpype drops zero-length paths).
+    lengths = [abs(p[-1] - p[0]) / PX_PER_MM for p in a if len(p) == 2]
+    assert lengths and max(lengths) == pytest.approx(0.01, abs=2e-3)
+
+
+def test_spiral_dots_keep_their_paths(tmp_path):
+    # Sized spirals (the default dot path) read back path for path.
+    image = ASSETS / "default.png"
+    opts = ["--points", "800", "--width-mm", "120", "--pen-mm", "0.2", "--dot", "sized"]
+    svg = tmp_path / "cli.svg"
+    cli("stipple", str(image), "-o", str(svg), *opts)
+    got = plugin(str(image), *opts)
+    assert len(got.layers[1]) == svg.read_text().count("<path")
+    assert max(len(p) for p in got.layers[1]) > 10  # spirals, not only touches
+    assert got.page_size[0] == pytest.approx(120 * PX_PER_MM)
+
+
+def test_defaults_are_a4_a_03_mm_pen_and_10000_dots(tmp_path):
+    image = ASSETS / "default.png"
+    svg = tmp_path / "cli.svg"
+    cli("stipple", str(image), "-o", str(svg), "--paper", "a4", "--pen-mm", "0.3", "--points", "10000")
+    doc = plugin(str(image))
+    assert len(doc.layers[1]) == svg.read_text().count("<path")
+    assert doc.page_size == pytest.approx((210 * PX_PER_MM, 297 * PX_PER_MM), rel=1e-6)
+    assert vpype_plugin.job_options() == {"paper": "a4", "pen_mm": 0.3, "points": 10000}
+    assert vpype_plugin.job_options(width_mm=150, extra={"dot_radius": 2}) == {
+        "width_mm": 150, "pen_mm": 0.3, "dot_radius": 2}
+
+
+def test_options_go_before_or_after_the_image():
+    takes = {"--points": True, "-n": True, "--landscape": False}
+    move = vpype_plugin._options_first
+    assert move(["a.jpg", "-n", "5", "--landscape", "write", "o.svg"], takes) == [
+        "-n", "5", "--landscape", "a.jpg", "write", "o.svg"]
+    assert move(["a.jpg", "--points=5", "stat"], takes) == ["--points=5", "a.jpg", "stat"]
+    assert move(["--points", "5", "a.jpg", "stat"], takes) == ["--points", "5", "a.jpg", "stat"]
+    assert move(["a.jpg"], takes) == ["a.jpg"]
+    # The next command's options are left to it.
+    assert move(["a.jpg", "write", "--landscape", "o.svg"], takes) == ["a.jpg", "write", "--landscape", "o.svg"]
+    image = str(ASSETS / "default.png")
+    before = run_vpype("pixelpie", "--points", "300", image, "stat").stdout
+    after = run_vpype("pixelpie", image, "--points", "300", "stat").stdout
+    count = re.findall(r"Path count: (\d+)", before)
+    assert count and count == re.findall(r"Path count: (\d+)", after)
+
+
+@pytest.mark.parametrize("dot_path", ["spiral", "circle", "touch"])
+def test_the_fast_reader_is_vpypes_read(tmp_path, dot_path):
+    # The plugin reads pixelpie's own paths itself (vpype's reader takes
+    # ~4 ms a dot): the document must be the one vpype's reader makes.
+    svg = tmp_path / "cli.svg"
+    cli("stipple", str(ASSETS / "rocket.jpg"), "-o", str(svg), "--points", "400", "--pens", "cmyk",
+        "--paper", "a4", "--pen-mm", "0.3", "--dot", "sized", "--dot-path", dot_path)
+    text = svg.read_text()
+    fast = vpype_plugin.read_drawing(text)
+    whole = vpype_plugin._read_svg(text, 0.1 * PX_PER_MM)
+    same_document(fast, whole)
+    assert sorted(fast.layers) == [1, 2, 3, 4]
+
+
+def test_other_svgs_are_read_by_vpype_whole():
+    svg = (
+        '<svg xmlns="http://www.w3.org/2000/svg" xmlns:inkscape="http://www.inkscape.org/namespaces/inkscape" '
+        'width="100mm" height="50mm" viewBox="0 0 100 50">'
+        '<g inkscape:label="2 red" stroke="#ff0000" transform="translate(10 0)"><path d="M 0 0 L 10 10"/></g>'
+        '<g inkscape:label="blue" stroke="#0000ff"><circle cx="20" cy="20" r="5"/></g></svg>'
+    )
+    assert vpype_plugin._pen_paths(svg) is None
+    doc = vpype_plugin.read_drawing(svg)
+    assert sorted(doc.layers) == [1, 2]
+    assert doc.layers[1].property(vp.METADATA_FIELD_NAME) == "2 red"
+    assert np.asarray(doc.layers[1][0])[0] == pytest.approx(10 * 96 / 25.4, rel=1e-5)
+    assert len(doc.layers[2][0]) > 10  # the circle, in segments
+
+
+def test_paper_landscape_and_margin(tmp_path):
+    image = ASSETS / "default.png"
+    doc = plugin(str(image), "--points", "500", "--paper", "a5", "--landscape", "--margin", "20")
+    assert doc.page_size == pytest.approx((210 * PX_PER_MM, 148 * PX_PER_MM))
+    x0, y0, x1, y1 = (v / PX_PER_MM for v in doc.bounds())
+    # The square photo fills the 108 mm between the margins, centred; the
+    # dots at its edges reach past by up to their radius (500 dots: 2.5 mm).
+    assert 20 - 2.5 <= y0 < 20 + 2.5 and 128 - 2.5 < y1 <= 128 + 2.5, (y0, y1)
+    assert (x0 + x1) / 2 == pytest.approx(105, abs=1.5)
+    assert (y0 + y1) / 2 == pytest.approx(74, abs=1.5)
+
+
+def test_layer_option_moves_the_pens():
+    image = str(ASSETS / "rocket.jpg")
+    doc = vpype_cli.execute(f"rect 0 0 10 10 pixelpie '{image}' --points 400 --pens cmyk -l new")
+    assert sorted(doc.layers) == [1, 2, 3, 4, 5]
+    assert doc.layers[2].property(vp.METADATA_FIELD_NAME) == "cyan"
+    doc = plugin(image, "--points", "400", "--pens", "#000000,#d62728", "-l", "3")
+    assert sorted(doc.layers) == [3, 4]
+    assert doc.layers[4].property(vp.METADATA_FIELD_COLOR) == vp.Color("#d62728")
+
+
+def test_pen_file_names_with_digits_keep_their_layers(tmp_path):
+    # vpype takes the digits of a layer's name as its number; our layers
+    # follow the pens' order whatever their names.
+    pens = tmp_path / "pens.toml"
+    pens.write_text(
+        '[[pen]]\nname = "Pilot 05 black"\ncolour = "#000000"\nwidth_mm = 0.5\n'
+        '[[pen]]\nname = "Stabilo 88 red"\ncolour = "#d62728"\nwidth_mm = 0.4\n'
+    )
+    doc = plugin(str(ASSETS / "rocket.jpg"), "--points", "600", "--pens", str(pens))
+    assert sorted(doc.layers) == [1, 2]
+    assert [doc.layers[i].property(vp.METADATA_FIELD_NAME) for i in (1, 2)] == ["Pilot 05 black", "Stabilo 88 red"]
+    widths = [doc.layers[i].property(vp.METADATA_FIELD_PEN_WIDTH) / PX_PER_MM for i in (1, 2)]
+    assert widths == pytest.approx([0.5, 0.4])
+
+
+def test_extra_options_reach_the_job(tmp_path):
+    image = ASSETS / "default.png"
+    svg = tmp_path / "cli.svg"
+    cli("stipple", str(image), "-o", str(svg), "--points", "500", "--invert", "--gamma", "1.5",
+        "--paper", "a4", "--pen-mm", "0.3")
+    doc = plugin(str(image), "--points", "500", "-o", "invert=true", "--option", "gamma=1.5")
+    assert len(doc.layers[1]) == svg.read_text().count("<path")
+
+
+@pytest.mark.parametrize(
+    "args,message",
+    [
+        (["missing.jpg"], "does not exist"),
+        (["{image}", "--paper", "a9"], "a9"),
+        (["{image}", "--pen-mm", "-1"], "pen-mm"),
+        (["{image}", "--paper", "a4", "--width-mm", "100"], "exclude"),
+        (["{image}", "--option", "nonsense"], "NAME=VALUE"),
+        (["{image}", "--option", "bogus=1"], "bogus"),
+        (["{image}", "--order", "fast"], "fast"),
+        (["{image}", "--points", "many"], "many"),
+    ],
+)
+def test_bad_input_is_a_usage_error_without_traceback(tmp_path, args, message):
+    image = str(ASSETS / "default.png")
+    out = run_vpype("pixelpie", *[a.format(image=image) for a in args], check=False)
+    assert out.returncode != 0
+    assert "Traceback" not in out.stderr, out.stderr
+    assert "Error" in out.stderr and message in out.stderr, out.stderr
+
+
+def test_the_module_imports_without_vpype():
+    # The plain package has no vpype: the module still imports, and its
+    # command is a stand-in that says how to install the extra.
+    code = (
+        "import sys; sys.modules['vpype'] = None; sys.modules['vpype_cli'] = None\n"
+        "import pixelpie.vpype_plugin as m\n"
+        "try:\n    m.pixelpie()\nexcept ImportError as e:\n    print(e)\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert "pixelpie[vpype]" in out.stdout
+
+
+# --- through vpype: SVG, HPGL and G-code ---------------------------------------
+
+
+def test_pipeline_to_svg(tmp_path, colour):
+    image, _, counts = colour
+    out = tmp_path / "out.svg"
+    run_vpype("pixelpie", str(image), *COLOUR, "linesort", "write", str(out))
+    # vpype writes a layer per pen, in its colour, a <polyline> per path.
+    text = out.read_text()
+    layers = re.findall(r'<g [^>]*inkscape:label="(\w+)"[^>]*>(.*?)</g>', text, re.S)
+    assert [name for name, _ in layers] == [name for name, _ in CMYK]
+    assert [body.count("<polyline") for _, body in layers] == counts
+    for (name, rgb), (_, body) in zip(CMYK, layers):
+        assert re.search(rf'<g [^>]*stroke="{rgb}"[^>]*inkscape:label="{name}"', text) or re.search(
+            rf'<g [^>]*inkscape:label="{name}"[^>]*stroke="{rgb}"', text
+        ), name
+    assert 'width="21.0' in text and 'height="29.7' in text
+
+
+def test_hpgl_through_vpype(tmp_path, colour):
+    image, _, counts = colour
+    out = tmp_path / "out.hpgl"
+    # The HP 7475A takes A4 sideways and reaches 274 x 192 mm of it: the
+    # landscape photo on a landscape sheet with 20 mm margins keeps every dot
+    # inside (none is cropped into pieces).
+    margins = ["--landscape", "--margin", "20"]
+    run_vpype(
+        "pixelpie", str(image), *COLOUR, *margins,
+        "write", "--device", "hp7475a", "--page-size", "a4", "--landscape", str(out),
+    )
+    hpgl = out.read_text()
+    assert hpgl.startswith("IN;DF;") and hpgl.rstrip().endswith("SP0;IN;")
+    pens = re.findall(r"SP(\d+);", hpgl)
+    assert pens == ["1", "2", "3", "4", "0"]
+    # One pen-down per path, pen by pen.
+    blocks = re.split(r"SP[1-4];", hpgl)[1:]
+    assert [b.count("PD") for b in blocks] == counts
+    # The same dots on a landscape sheet with 20 mm margins.
+    assert counts == cli_pen_counts(tmp_path, image, COLOUR_CLI + margins)
+
+
+def test_gcode_through_vpype_gcode(tmp_path, colour):
+    if importlib.util.find_spec("vpype_gcode") is None:
+        if EXPECT:
+            pytest.fail("PIXELPIE_EXPECT_VPYPE=1 but vpype-gcode is not installed")
+        pytest.skip("vpype-gcode is not installed")
+    image, _, counts = colour
+    out = tmp_path / "out.gcode"
+    assert PROFILE.is_file(), PROFILE
+    run_vpype("-c", str(PROFILE), "pixelpie", str(image), *COLOUR, "linesort",
+              "gwrite", "--profile", "pixelpie", str(out))
+    gcode = out.read_text()
+    changes = re.findall(r"^M0 \(pen change: pen (\d), (\w+) (#[0-9a-f]{6})\)$", gcode, re.M)
+    assert changes == [(str(i), n, c) for i, (n, c) in enumerate(CMYK, start=1)]
+    blocks = re.split(r"^M0 .*$", gcode, flags=re.M)[1:]
+    downs = [len(re.findall(r"^G1 Z0 F1000$", b, re.M)) for b in blocks]
+    ups = [len(re.findall(r"^G0 Z3$", b, re.M)) for b in blocks]
+    assert downs == counts
+    assert ups[:3] == [c + 1 for c in counts[:3]]  # each path, then the next pen change
+    assert gcode.startswith("; ") and "G21" in gcode and gcode.rstrip().endswith("M2")
+    # Bottom-left origin: every move lies on the A4 sheet.
+    xy = np.array(re.findall(r"^G[01] X(-?[\d.]+) Y(-?[\d.]+)", gcode, re.M), dtype=float)
+    assert xy[:, 0].min() >= 0 and xy[:, 0].max() <= 210
+    assert xy[:, 1].min() >= 0 and xy[:, 1].max() <= 297
+    # The defaults give way to gwrite -d.
+    out2 = tmp_path / "out2.gcode"
+    run_vpype("-c", str(PROFILE), "pixelpie", str(image), "--points", "300",
+              "gwrite", "--profile", "pixelpie", "-d", "z_down", "-0.5", "-d", "feed", "4000", str(out2))
+    text = out2.read_text()
+    assert "G1 Z-0.5 F1000" in text and "F4000" in text and "G1 Z0 F" not in text
