@@ -673,6 +673,15 @@ impl Job {
             return Ok(range);
         };
         let min = Mapping::range_for_dot(rho, 1.0)?.min;
+        if pen_dot.is_some() && self.dot_radius.is_none() && min < 1.0 {
+            return Err(Error::InvalidParameter(format!(
+                "the pen's dots are {:.2} px wide on this {} px wide domain, too small to \
+                 sample: give --points, or a wider domain with --width",
+                2.0 * rho,
+                domain.0
+            ))
+            .into());
+        }
         let max = self
             .importance
             .max_radius
