@@ -34,6 +34,21 @@ pub struct BenchArgs {
     /// Seed.
     #[arg(long, default_value_t = 1)]
     seed: u64,
+    /// Instead of Table 1: the drawing's cost (`stipple` to SVG and PNG)
+    /// beside uniform sampling of as many points, whole processes.
+    #[arg(long)]
+    stipple: bool,
+    /// The picture for --stipple.
+    #[arg(long, default_value = "assets/default.png", requires = "stipple")]
+    image: std::path::PathBuf,
+    /// Dot counts for --stipple.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "100000,1000000",
+        requires = "stipple"
+    )]
+    points: Vec<usize>,
 }
 
 fn best(reps: u32, mut run: impl FnMut() -> sampler::Result<SampleSet>) -> Result<SampleSet> {
@@ -77,6 +92,9 @@ fn row(label: &str, side: u32, batch: u32, s: &SampleSet) {
 }
 
 pub fn run(a: &BenchArgs) -> Result<()> {
+    if a.stipple {
+        return super::bench_stipple::run(&a.image, &a.points, a.reps);
+    }
     let gpu = if a.no_gpu {
         None
     } else {

@@ -2,6 +2,7 @@
 
 mod analyze;
 mod bench;
+mod bench_stipple;
 mod calibrate;
 mod fidelity;
 mod sample;
@@ -42,6 +43,12 @@ enum Command {
 
 /// Runs the parsed command line.
 pub fn run(cli: Cli) -> Result<()> {
+    let result = run_command(cli);
+    bench_stipple::print_peak();
+    result
+}
+
+fn run_command(cli: Cli) -> Result<()> {
     match cli.command.unwrap_or(Command::Gui { image: None }) {
         Command::Gui { image } => gui(image),
         Command::Sample(a) => sample::run(&a),

@@ -115,16 +115,26 @@ impl Mapping {
     /// ```
     #[must_use]
     pub fn dot_radius(self, v: f32, range: RadiusRange) -> f32 {
+        self.dot_radii(range)(v)
+    }
+
+    /// [`Self::dot_radius`] for one radius range, as a function of the
+    /// importance: the black dots' radius (an inversion of the ink curve)
+    /// is found once, for the many dots of a drawing.
+    #[must_use]
+    pub fn dot_radii(self, range: RadiusRange) -> impl Fn(f32) -> f32 + Sync {
         let min = f64::from(range.min);
         let black = ink::dot_ratio(K_MAX, min) * min;
-        let f = match self {
-            Self::ToneSized(ratio) => {
-                let v = if v.is_nan() { 0.0 } else { v.clamp(0.0, 1.0) };
-                ink::sized_dot(1.0 - f64::from(v), f64::from(ratio))
-            }
-            Self::Linear | Self::Tone => 1.0,
-        };
-        (black * f) as f32
+        move |v: f32| {
+            let f = match self {
+                Self::ToneSized(ratio) => {
+                    let v = if v.is_nan() { 0.0 } else { v.clamp(0.0, 1.0) };
+                    ink::sized_dot(1.0 - f64::from(v), f64::from(ratio))
+                }
+                Self::Linear | Self::Tone => 1.0,
+            };
+            (black * f) as f32
+        }
     }
 
     /// The radius range whose black dots have radius `rho` px, with

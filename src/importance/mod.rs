@@ -40,6 +40,8 @@ pub use load::{Luminance, Range, linear_to_srgb, load, load_bytes, srgb_to_linea
 pub use mapping::{Mapping, RadiusRange};
 pub use options::{DEFAULT_RADIUS_RATIO, ImportanceOptions, MappingKind};
 
+use rayon::prelude::*;
+
 use crate::sampler::{Point, RSA_DENSITY};
 
 /// The percentile of a float image's luminance that becomes white.
@@ -293,21 +295,12 @@ impl ImportanceMap {
                 "cannot resize the importance map to {width}x{height}"
             )));
         }
-        let buf = image::ImageBuffer::<image::Luma<f32>, Vec<f32>>::from_raw(
-            self.width,
-            self.height,
-            self.values.clone(),
-        )
-        .ok_or_else(|| {
-            Error::InvalidParameter("importance map buffer has the wrong size".into())
-        })?;
-        let out =
-            image::imageops::resize(&buf, width, height, image::imageops::FilterType::Triangle);
-        let values = out
-            .into_raw()
-            .into_iter()
-            .map(|v| v.clamp(0.0, 1.0))
-            .collect();
+        if self.values.len() != self.width as usize * self.height as usize {
+            return Err(Error::InvalidParameter(
+                "importance map buffer has the wrong size".into(),
+            ));
+        }
+        let values = resize_triangle(&self.values, (self.width, self.height), (width, height));
         Ok(Self {
             width,
             height,
@@ -333,7 +326,7 @@ impl ImportanceMap {
                 height: self.height,
                 values: self
                     .values
-                    .iter()
+                    .par_iter()
                     .map(|&v| linear_to_srgb(v).clamp(0.0, 1.0))
                     .collect(),
             },
@@ -346,7 +339,7 @@ impl ImportanceMap {
         Ok(Self {
             width: self.width,
             height: self.height,
-            values: self.values.iter().map(|&v| adjust.apply(v)).collect(),
+            values: self.values.par_iter().map(|&v| adjust.apply(v)).collect(),
         })
     }
 
@@ -363,7 +356,7 @@ impl ImportanceMap {
         if mapping == Mapping::Linear {
             return self
                 .values
-                .iter()
+                .par_iter()
                 .map(|&v| mapping.radius(v, range))
                 .collect();
         }
@@ -432,5 +425,115 @@ pub fn fit_size(source: (u32, u32), width: Option<u32>, height: Option<u32>) -> 
         (Some(a), None) => (a, ((f64::from(a) * h / w).round() as u32).max(1)),
         (None, Some(b)) => (((f64::from(b) * w / h).round() as u32).max(1), b),
         (None, None) => source,
+    }
+}
+
+/// One axis of the triangle (bilinear) filter: for each output position,
+/// the first input index and the normalized weights, as `image`'s
+/// `imageops::resize` computes them (the same f32 arithmetic).
+fn triangle_weights(from: u32, to: u32) -> Vec<(u32, Vec<f32>)> {
+    let ratio = from as f32 / to as f32;
+    let sratio = if ratio < 1.0 { 1.0 } else { ratio };
+    let support = sratio;
+    (0..to)
+        .map(|o| {
+            let input = (o as f32 + 0.5) * ratio;
+            let left = ((input - support).floor() as i64).clamp(0, i64::from(from) - 1) as u32;
+            let right = ((input + support).ceil() as i64)
+                .clamp(i64::from(left) + 1, i64::from(from)) as u32;
+            let input = input - 0.5;
+            let mut ws: Vec<f32> = (left..right)
+                .map(|i| {
+                    let x = (i as f32 - input) / sratio;
+                    if x.abs() < 1.0 { 1.0 - x.abs() } else { 0.0 }
+                })
+                .collect();
+            let sum: f32 = ws.iter().fold(0.0, |a, w| a + w);
+            for w in &mut ws {
+                *w /= sum;
+            }
+            (left, ws)
+        })
+        .collect()
+}
+
+/// `values` (`from`, row-major) resized to `to` by the triangle filter and
+/// clamped to [0, 1]: `image::imageops::resize(…, FilterType::Triangle)`
+/// value for value (a vertical pass, then a horizontal one, each output's
+/// sum in the same order), with rows in parallel.
+fn resize_triangle(values: &[f32], from: (u32, u32), to: (u32, u32)) -> Vec<f32> {
+    let w = from.0 as usize;
+    let (nw, nh) = (to.0 as usize, to.1 as usize);
+    let vertical = triangle_weights(from.1, to.1);
+    let mut tmp = vec![0.0f32; w * nh];
+    tmp.par_chunks_mut(w.max(1))
+        .zip(vertical.par_iter())
+        .for_each(|(row, (top, ws))| {
+            for (x, out) in row.iter_mut().enumerate() {
+                let mut t = 0.0f32;
+                for (i, wt) in ws.iter().enumerate() {
+                    t += values[(*top as usize + i) * w + x] * wt;
+                }
+                *out = t;
+            }
+        });
+    let horizontal = triangle_weights(from.0, to.0);
+    let mut out = vec![0.0f32; nw * nh];
+    out.par_chunks_mut(nw.max(1))
+        .zip(tmp.par_chunks(w.max(1)))
+        .for_each(|(row, src)| {
+            for (o, (left, ws)) in row.iter_mut().zip(&horizontal) {
+                let mut t = 0.0f32;
+                for (i, wt) in ws.iter().enumerate() {
+                    t += src[*left as usize + i] * wt;
+                }
+                *o = t.clamp(0.0, 1.0);
+            }
+        });
+    out
+}
+
+#[cfg(test)]
+mod resize_tests {
+    use super::*;
+
+    #[test]
+    fn the_parallel_resize_is_images_value_for_value() {
+        let mut s = 7u32;
+        let mut next = || {
+            s = s.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (s >> 8) as f32 / (1 << 24) as f32
+        };
+        for (from, to) in [
+            ((37, 23), (300, 211)),
+            ((300, 211), (37, 23)),
+            ((64, 64), (64, 129)),
+            ((129, 64), (64, 64)),
+            ((5, 3), (1024, 683)),
+            ((1, 1), (7, 9)),
+            ((50, 40), (77, 40)),
+        ] {
+            let values: Vec<f32> = (0..from.0 * from.1).map(|_| next()).collect();
+            let buf = image::ImageBuffer::<image::Luma<f32>, Vec<f32>>::from_raw(
+                from.0,
+                from.1,
+                values.clone(),
+            )
+            .unwrap();
+            let theirs: Vec<f32> =
+                image::imageops::resize(&buf, to.0, to.1, image::imageops::FilterType::Triangle)
+                    .into_raw()
+                    .into_iter()
+                    .map(|v| v.clamp(0.0, 1.0))
+                    .collect();
+            let ours = resize_triangle(&values, from, to);
+            assert!(
+                theirs
+                    .iter()
+                    .zip(&ours)
+                    .all(|(a, b)| a.to_bits() == b.to_bits()),
+                "{from:?} -> {to:?}"
+            );
+        }
     }
 }

@@ -33,6 +33,12 @@ pub const DEFAULT_POINTS: usize = 10_000;
 pub const DEFAULT_DOT_RATIO: f32 = 0.3;
 /// The default domain's longer side is at least this many pixels.
 pub const MIN_DOMAIN_SIDE: u32 = 1024;
+/// The default domain holds at most this many pixels (4096²): past about
+/// 240K dots (3:2) the dots come closer than ten pixels apart rather than
+/// the domain growing, so that a million dots cost what the points need
+/// (the smallest sample radius stays near 3 px, where the ink curve is
+/// measured).
+pub const MAX_DOMAIN_PIXELS: u64 = 4096 * 4096;
 
 /// Dot sizing (the CLI's `--dot`, the app's Dots control).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, serde::Deserialize)]
@@ -198,7 +204,7 @@ pub struct Job {
     #[cfg_attr(feature = "cli", arg(long))]
     pub points: Option<usize>,
     /// Domain width in px [default: the image scaled so that its longer side
-    /// is max(1024, 10·√points)].
+    /// is max(1024, 10·√points), at most 4096² pixels].
     #[cfg_attr(feature = "cli", arg(long))]
     pub width: Option<u32>,
     /// Domain height in px [default: from the width and the image's aspect].
@@ -351,12 +357,28 @@ pub struct Stipple {
 }
 
 /// The default domain: the image scaled so its longer side is
-/// max(1024, 10 √N) px, about ten pixels between dots or more.
+/// max(1024, 10 √N) px, about ten pixels between dots or more, but at most
+/// [`MAX_DOMAIN_PIXELS`] pixels.
+///
+/// ```
+/// use pixelpie::stipple::default_domain;
+/// assert_eq!(default_domain(600, 400, 10_000), (1024, 683));
+/// assert_eq!(default_domain(600, 400, 100_000), (3162, 2108));
+/// let (w, h) = default_domain(600, 400, 1_000_000);
+/// assert!(u64::from(w) * u64::from(h) <= 4096 * 4096 && w == 5016);
+/// ```
 #[must_use]
 pub fn default_domain(w: u32, h: u32, points: usize) -> (u32, u32) {
     let side = f64::from(MIN_DOMAIN_SIDE)
         .max(10.0 * (points as f64).sqrt())
         .ceil();
+    let (lw, lh) = (f64::from(w.max(1)), f64::from(h.max(1)));
+    let long = lw.max(lh);
+    // The largest longer side whose domain stays within the pixel budget.
+    let cap = (MAX_DOMAIN_PIXELS as f64 * long / lw.min(lh))
+        .sqrt()
+        .floor();
+    let side = side.min(cap.max(f64::from(MIN_DOMAIN_SIDE)));
     let s = side / f64::from(w.max(h));
     (
         ((f64::from(w) * s).round() as u32).max(1),
@@ -603,10 +625,7 @@ impl Job {
                 (ordered, Some(tour))
             }
         };
-        let calibrated = points
-            .iter()
-            .map(|p| prepared.dot_radius(p, range))
-            .collect();
+        let calibrated = prepared.dot_radii(&points, range);
         let mut drawing = Stipple {
             dots: Vec::new(),
             points,

@@ -18,8 +18,8 @@ pub mod svg;
 pub mod tsp;
 
 pub use job::{
-    DEFAULT_DOT_RATIO, DEFAULT_POINTS, DotMode, Format, Ink, Job, MIN_DOMAIN_SIDE, Order, Stipple,
-    default_domain,
+    DEFAULT_DOT_RATIO, DEFAULT_POINTS, DotMode, Format, Ink, Job, MAX_DOMAIN_PIXELS,
+    MIN_DOMAIN_SIDE, Order, Stipple, default_domain,
 };
 pub use paper::{Paper, Placement};
 pub use sample_job::{Radii, SampleJob, Sampled};

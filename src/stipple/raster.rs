@@ -11,6 +11,7 @@
 use std::io::Write;
 
 use image::{GrayImage, Luma, RgbImage};
+use rayon::prelude::*;
 
 use super::{Dot, Error, Result};
 
@@ -39,37 +40,74 @@ pub fn render(dots: &[Dot], domain: (u32, u32), scale: f32) -> Result<GrayImage>
         )));
     }
     let (w, h) = (w as u32, h as u32);
-    let mut paper = vec![1.0f32; w as usize * h as usize];
-    for d in dots {
-        let (cx, cy, r) = (d.x * scale, d.y * scale, d.radius * scale);
-        if !(cx.is_finite() && cy.is_finite() && r.is_finite()) || r <= 0.0 {
-            continue;
-        }
-        let area = std::f32::consts::PI * r * r;
-        let x0 = (cx - r - 1.0).floor().max(0.0) as u32;
-        let y0 = (cy - r - 1.0).floor().max(0.0) as u32;
-        let x1 = ((cx + r + 1.0).ceil().max(0.0) as u32).min(w);
-        let y1 = ((cy + r + 1.0).ceil().max(0.0) as u32).min(h);
-        for py in y0..y1 {
-            let dy = py as f32 + 0.5 - cy;
-            let row = py as usize * w as usize;
-            for px in x0..x1 {
-                let dx = px as f32 + 0.5 - cx;
-                let dist = (dx * dx + dy * dy).sqrt();
-                let a = (r + 0.5 - dist).clamp(0.0, 1.0).min(area);
-                if a > 0.0 {
-                    paper[row + px as usize] *= 1.0 - a;
+    // The dots' pixel boxes, in the dots' order, bucketed by band of rows:
+    // the bands are drawn in parallel, each pixel's dots in the same order
+    // as one pass over the dots would take them, so the result does not
+    // depend on the threads.
+    let boxes: Vec<Option<[f32; 3]>> = dots
+        .iter()
+        .map(|d| {
+            let (cx, cy, r) = (d.x * scale, d.y * scale, d.radius * scale);
+            (cx.is_finite() && cy.is_finite() && r.is_finite() && r > 0.0).then_some([cx, cy, r])
+        })
+        .collect();
+    let rows = |c: &[f32; 3]| {
+        let y0 = (c[1] - c[2] - 1.0).floor().max(0.0) as u32;
+        let y1 = ((c[1] + c[2] + 1.0).ceil().max(0.0) as u32).min(h);
+        (y0, y1)
+    };
+    let bands = h.div_ceil(BAND) as usize;
+    let mut in_band: Vec<Vec<u32>> = vec![Vec::new(); bands];
+    for (i, c) in boxes.iter().enumerate() {
+        if let Some(c) = c {
+            let (y0, y1) = rows(c);
+            if y1 > y0 {
+                for b in y0 / BAND..=(y1 - 1) / BAND {
+                    in_band[b as usize].push(i as u32);
                 }
             }
         }
     }
-    let pixels = paper
-        .iter()
-        .map(|&p| (255.0 * p.clamp(0.0, 1.0)).round() as u8)
-        .collect();
+    let mut pixels = vec![255u8; w as usize * h as usize];
+    pixels
+        .par_chunks_mut(BAND as usize * w as usize)
+        .zip(in_band.par_iter())
+        .enumerate()
+        .for_each(|(b, (out, list))| {
+            let top = b as u32 * BAND;
+            let band_h = (out.len() / w as usize) as u32;
+            let mut paper = vec![1.0f32; out.len()];
+            for &i in list {
+                let Some([cx, cy, r]) = boxes[i as usize] else {
+                    continue;
+                };
+                let area = std::f32::consts::PI * r * r;
+                let x0 = (cx - r - 1.0).floor().max(0.0) as u32;
+                let x1 = ((cx + r + 1.0).ceil().max(0.0) as u32).min(w);
+                let (y0, y1) = rows(&[cx, cy, r]);
+                for py in y0.max(top)..y1.min(top + band_h) {
+                    let dy = py as f32 + 0.5 - cy;
+                    let row = (py - top) as usize * w as usize;
+                    for px in x0..x1 {
+                        let dx = px as f32 + 0.5 - cx;
+                        let dist = (dx * dx + dy * dy).sqrt();
+                        let a = (r + 0.5 - dist).clamp(0.0, 1.0).min(area);
+                        if a > 0.0 {
+                            paper[row + px as usize] *= 1.0 - a;
+                        }
+                    }
+                }
+            }
+            for (o, &p) in out.iter_mut().zip(&paper) {
+                *o = (255.0 * p.clamp(0.0, 1.0)).round() as u8;
+            }
+        });
     GrayImage::from_raw(w, h, pixels)
         .ok_or_else(|| Error::Encode("pixel buffer of the wrong size".into()))
 }
+
+/// Rows per band that one thread draws.
+const BAND: u32 = 64;
 
 pub use crate::importance::linear_to_srgb;
 
@@ -125,6 +163,9 @@ fn encode(
     let mut enc = png::Encoder::new(w, width, height);
     enc.set_color(color);
     enc.set_depth(png::BitDepth::Eight);
+    // Fast deflate: a 16-Mpx drawing encodes in a fraction of a second; the
+    // files are a little larger than at the default level.
+    enc.set_compression(png::Compression::Fast);
     enc.add_text_chunk("Software".into(), "pixelpie".into())
         .map_err(encode)?;
     enc.add_text_chunk(DOTS_KEYWORD.into(), dots.to_string())
@@ -232,4 +273,74 @@ pub fn composite(layers: &[GrayImage], model: &crate::colour::RenderModel) -> Re
 /// Encodes a colour drawing as an 8-bit RGB PNG with our text chunks.
 pub fn write_png_rgb(w: &mut dyn Write, img: &RgbImage, dots: usize) -> Result<()> {
     encode(w, img.dimensions(), png::ColorType::Rgb, img.as_raw(), dots)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The drawing as one pass over the dots makes it: what the bands must
+    /// give, pixel for pixel.
+    fn one_pass(dots: &[Dot], (w, h): (u32, u32), scale: f32) -> Vec<u8> {
+        let mut paper = vec![1.0f32; w as usize * h as usize];
+        for d in dots {
+            let (cx, cy, r) = (d.x * scale, d.y * scale, d.radius * scale);
+            if !(cx.is_finite() && cy.is_finite() && r.is_finite()) || r <= 0.0 {
+                continue;
+            }
+            let area = std::f32::consts::PI * r * r;
+            let x0 = (cx - r - 1.0).floor().max(0.0) as u32;
+            let y0 = (cy - r - 1.0).floor().max(0.0) as u32;
+            let x1 = ((cx + r + 1.0).ceil().max(0.0) as u32).min(w);
+            let y1 = ((cy + r + 1.0).ceil().max(0.0) as u32).min(h);
+            for py in y0..y1 {
+                let dy = py as f32 + 0.5 - cy;
+                for px in x0..x1 {
+                    let dx = px as f32 + 0.5 - cx;
+                    let a = (r + 0.5 - (dx * dx + dy * dy).sqrt())
+                        .clamp(0.0, 1.0)
+                        .min(area);
+                    if a > 0.0 {
+                        paper[py as usize * w as usize + px as usize] *= 1.0 - a;
+                    }
+                }
+            }
+        }
+        paper
+            .iter()
+            .map(|&p| (255.0 * p.clamp(0.0, 1.0)).round() as u8)
+            .collect()
+    }
+
+    #[test]
+    fn the_bands_draw_what_one_pass_draws() {
+        let mut s = 99u32;
+        let mut next = || {
+            s = s.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (s >> 8) as f32 / (1 << 24) as f32
+        };
+        // Overlapping dots of all sizes, some across band edges and the
+        // image's edges, some degenerate.
+        let mut dots: Vec<Dot> = (0..3000)
+            .map(|_| Dot {
+                x: next() * 330.0 - 10.0,
+                y: next() * 270.0 - 10.0,
+                radius: next() * next() * 40.0,
+            })
+            .collect();
+        dots.push(Dot {
+            x: f32::NAN,
+            y: 3.0,
+            radius: 2.0,
+        });
+        for scale in [1.0, 0.5, 1.7] {
+            let img = render(&dots, (310, 250), scale).unwrap();
+            let (w, h) = img.dimensions();
+            assert_eq!(
+                img.into_raw(),
+                one_pass(&dots, (w, h), scale),
+                "scale {scale}"
+            );
+        }
+    }
 }

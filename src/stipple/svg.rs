@@ -12,7 +12,6 @@
 //! drawing can be read back ([`super::read`]).
 
 use std::f64::consts::{PI, TAU};
-use std::fmt::Write as _;
 use std::io::Write;
 
 use super::{Dot, Error, Result};
@@ -288,18 +287,49 @@ pub fn write(w: &mut dyn Write, dots: &[Dot], opts: &SvgOptions) -> Result<()> {
     Ok(())
 }
 
-/// One `<circle>` per dot, scaled by `scale` and moved by `offset`.
-fn write_circles(w: &mut dyn Write, dots: &[Dot], scale: f64, offset: (f64, f64)) -> Result<()> {
-    for d in dots {
-        writeln!(
-            w,
-            r#"<circle cx="{}" cy="{}" r="{}"/>"#,
-            num(offset.0 + f64::from(d.x) * scale),
-            num(offset.1 + f64::from(d.y) * scale),
-            num(f64::from(d.radius) * scale)
-        )?;
+/// Dots per chunk that one thread formats.
+const CHUNK: usize = 16_384;
+/// Chunks formatted before they are written: the text in memory is bounded.
+const CHUNKS_AT_ONCE: usize = 16;
+
+/// Writes one line per dot, `line(dot, buffer)` appending it, in order:
+/// chunks of dots are formatted in parallel and written as they come, so
+/// that a million dots stream out at the speed of the cores.
+fn write_lines(
+    w: &mut dyn Write,
+    dots: &[Dot],
+    line: impl Fn(&Dot, &mut Vec<u8>) + Sync,
+) -> Result<()> {
+    use rayon::prelude::*;
+    for group in dots.chunks(CHUNK * CHUNKS_AT_ONCE) {
+        let texts: Vec<Vec<u8>> = group
+            .par_chunks(CHUNK)
+            .map(|chunk| {
+                let mut buf = Vec::with_capacity(chunk.len() * 48);
+                for d in chunk {
+                    line(d, &mut buf);
+                }
+                buf
+            })
+            .collect();
+        for t in texts {
+            w.write_all(&t)?;
+        }
     }
     Ok(())
+}
+
+/// One `<circle>` per dot, scaled by `scale` and moved by `offset`.
+fn write_circles(w: &mut dyn Write, dots: &[Dot], scale: f64, offset: (f64, f64)) -> Result<()> {
+    write_lines(w, dots, |d, buf| {
+        buf.extend_from_slice(br#"<circle cx=""#);
+        push_num(buf, offset.0 + f64::from(d.x) * scale);
+        buf.extend_from_slice(br#"" cy=""#);
+        push_num(buf, offset.1 + f64::from(d.y) * scale);
+        buf.extend_from_slice(br#"" r=""#);
+        push_num(buf, f64::from(d.radius) * scale);
+        buf.extend_from_slice(b"\"/>\n");
+    })
 }
 
 /// One pen's dots in a colour drawing: an Inkscape layer of its own.
@@ -411,27 +441,31 @@ fn write_pen_dots(
     pen: f64,
     path: DotPath,
 ) -> Result<()> {
-    let mut line = String::new();
-    for d in dots {
+    write_lines(w, dots, |d, buf| {
         let (cx, cy, r) = (
             offset.0 + f64::from(d.x) * scale,
             offset.1 + f64::from(d.y) * scale,
             f64::from(d.radius) * scale,
         );
-        line.clear();
-        line.push_str(r#"<path d=""#);
+        buf.extend_from_slice(br#"<path d=""#);
         for (k, (x, y)) in pen_path(cx, cy, r, pen, path).into_iter().enumerate() {
-            let cmd = match k {
-                0 => "M ",
-                1 => " L ",
-                _ => " ",
-            };
-            let _ = write!(line, "{cmd}{} {}", num(x), num(y));
+            buf.extend_from_slice(match k {
+                0 => b"M ".as_slice(),
+                1 => b" L ",
+                _ => b" ",
+            });
+            push_num(buf, x);
+            buf.push(b' ');
+            push_num(buf, y);
         }
-        let _ = write!(line, r#"" data-dot="{} {} {}"/>"#, num(cx), num(cy), num(r));
-        writeln!(w, "{line}")?;
-    }
-    Ok(())
+        buf.extend_from_slice(br#"" data-dot=""#);
+        push_num(buf, cx);
+        buf.push(b' ');
+        push_num(buf, cy);
+        buf.push(b' ');
+        push_num(buf, r);
+        buf.extend_from_slice(b"\"/>\n");
+    })
 }
 
 /// The polyline a pen `pen` wide follows to ink the disk of centre
@@ -506,6 +540,52 @@ fn circle_segments(r: f64) -> u32 {
     (n as u32).max(8)
 }
 
+/// Appends [`num`]`(v)` to `buf`, without its allocations: the common case
+/// in integer arithmetic, the rest (near a rounding tie, huge, not finite)
+/// through [`num`], so that the text is the same byte for byte.
+fn push_num(buf: &mut Vec<u8>, v: f64) {
+    let t = v * 1000.0;
+    let frac = t - t.floor();
+    if !(t.abs() < 1e12) || (frac - 0.5).abs() < 1e-6 {
+        buf.extend_from_slice(num(v).as_bytes());
+        return;
+    }
+    let n = t.round() as i64;
+    if n < 0 {
+        buf.push(b'-');
+    }
+    let n = n.unsigned_abs();
+    let (int, mut dec) = (n / 1000, n % 1000);
+    let mut digits = [0u8; 20];
+    let mut i = digits.len();
+    let mut k = int;
+    loop {
+        i -= 1;
+        digits[i] = b'0' + (k % 10) as u8;
+        k /= 10;
+        if k == 0 {
+            break;
+        }
+    }
+    buf.extend_from_slice(&digits[i..]);
+    if dec != 0 {
+        buf.push(b'.');
+        let mut width = 3;
+        while dec % 10 == 0 {
+            dec /= 10;
+            width -= 1;
+        }
+        let start = buf.len();
+        for _ in 0..width {
+            buf.push(b'0');
+        }
+        for j in (0..width).rev() {
+            buf[start + j] = b'0' + (dec % 10) as u8;
+            dec /= 10;
+        }
+    }
+}
+
 /// A number with at most three decimals and no trailing zeros.
 fn num(v: f64) -> String {
     let s = format!("{v:.3}");
@@ -575,6 +655,53 @@ mod tests {
         pts.windows(2)
             .map(|s| seg_dist(p, s[0], s[1]))
             .fold(f64::INFINITY, f64::min)
+    }
+
+    #[test]
+    fn push_num_writes_what_num_writes() {
+        let mut state = 0x1234_5678_u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        let mut values = vec![
+            0.0,
+            -0.0,
+            0.0005,
+            0.0015,
+            0.0025,
+            -0.0005,
+            -0.0004,
+            -0.0006,
+            1.0005,
+            2.5e-4,
+            0.1,
+            0.25,
+            999.9995,
+            1e11,
+            -1e11,
+            1e13,
+            f64::NAN,
+            f64::INFINITY,
+            123.456,
+        ];
+        for _ in 0..200_000 {
+            let bits = next();
+            let v = match bits % 4 {
+                0 => f64::from(f32::from_bits((next() as u32) & 0x4fff_ffff)),
+                1 => (bits >> 11) as f64 / (1u64 << 40) as f64 * 1e4,
+                2 => f64::from(((bits >> 20) % 2_000_000) as f32 / 64.0) * (210.0 / 5016.0),
+                _ => ((bits >> 30) % 100_000) as f64 / 2000.0 - 25.0,
+            };
+            values.push(v);
+        }
+        for v in values {
+            let mut buf = Vec::new();
+            push_num(&mut buf, v);
+            assert_eq!(String::from_utf8(buf).unwrap(), num(v), "{v:e}");
+        }
     }
 
     #[test]
