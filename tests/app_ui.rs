@@ -1265,3 +1265,229 @@ fn the_view_shows_the_sheet_and_its_margins_around_the_drawing() {
     assert!((w2 / w - 0.8).abs() < 0.01, "zoomed sheet {w2} px, was {w}");
     assert!(((b2 - t2) as f64 / (bottom - top) as f64 - 0.8).abs() < 0.01);
 }
+
+/// Milliseconds per frame (a UI step and its render) while the view zooms
+/// in, pans and zooms out, after a first frame that draws the drawing: the
+/// mean, the slowest frame and that first frame.
+fn pan_zoom_frames(h: &mut Harness<'_, PixelPieApp>) -> (f64, f64, f64) {
+    let ms = |t: Instant| t.elapsed().as_secs_f64() * 1e3;
+    let t = Instant::now();
+    h.step();
+    h.render().expect("render");
+    let first = ms(t);
+    let mut times = Vec::new();
+    for i in 0..30 {
+        match i / 10 {
+            0 => h.state_mut().zoom_by(1.08),
+            1 => h.state_mut().pan_by(egui::vec2(12.0, -8.0)),
+            _ => h.state_mut().zoom_by(1.0 / 1.08),
+        }
+        let t = Instant::now();
+        h.step();
+        h.render().expect("render");
+        times.push(ms(t));
+    }
+    let mean = times.iter().sum::<f64>() / times.len() as f64;
+    (mean, times.iter().copied().fold(0.0, f64::max), first)
+}
+
+#[test]
+#[ignore = "a timing harness: cargo test --release --test app_ui -- --ignored --nocapture frame_times"]
+fn frame_times_of_pan_and_zoom_at_10k_and_1m_dots() {
+    let (_dir, _, mut h) = ready(600, 400);
+    h.state_mut().settings.backend = pixelpie::backend::BackendChoice::Cpu;
+    for n in [10_000, 1_000_000] {
+        h.state_mut().settings.points = n;
+        h.step();
+        let t = Instant::now();
+        settle(&mut h);
+        let job = t.elapsed().as_secs_f64();
+        press(&mut h, egui::Key::F, egui::Modifiers::NONE);
+        let (mean, max, first) = pan_zoom_frames(&mut h);
+        eprintln!(
+            "{} dots (job {job:.1} s): pan and zoom {mean:.1} ms a frame (slowest {max:.1} \
+             ms), first frame {first:.1} ms, on {}",
+            h.state().dots_drawn(),
+            h.state().adapter().unwrap_or("no adapter")
+        );
+    }
+    // The rest of the window alone: the drawing panned out of sight.
+    h.state_mut().pan_by(egui::vec2(1e5, 1e5));
+    let (mean, max, _) = pan_zoom_frames(&mut h);
+    eprintln!(
+        "the window without the drawing in sight: {mean:.1} ms a frame (slowest {max:.1} ms)"
+    );
+}
+
+/// The mean grey (0 black, 1 white) of an image's pixels in `x0..x1`,
+/// `y0..y1`, from its red channel.
+fn mean_grey(img: &image::RgbaImage, (x0, y0, x1, y1): (u32, u32, u32, u32)) -> f64 {
+    let mut sum = 0.0;
+    for y in y0..y1 {
+        for x in x0..x1 {
+            sum += f64::from(img.get_pixel(x, y).0[0]) / 255.0;
+        }
+    }
+    sum / f64::from((x1 - x0) * (y1 - y0))
+}
+
+/// Lets the view rest, so that the dots are drawn anew at its zoom.
+fn rest(h: &mut Harness<'_, PixelPieApp>) {
+    std::thread::sleep(app::SETTLE + Duration::from_millis(50));
+    h.run_steps(2);
+}
+
+/// The mean grey of the drawing in the view `view` (the part in sight,
+/// less a pixel at each edge) and of the same part of the exported PNG
+/// `png`.
+fn view_and_png_grey(
+    h: &Harness<'_, PixelPieApp>,
+    view: &image::RgbaImage,
+    png: &image::RgbaImage,
+) -> (f64, f64) {
+    let ppp = h.ctx.pixels_per_point();
+    let r = h.state().drawing_on_screen().unwrap();
+    let seen = r.intersect(h.state().canvas_on_screen());
+    let (x0, y0) = (
+        (seen.min.x * ppp).ceil() + 1.0,
+        (seen.min.y * ppp).ceil() + 1.0,
+    );
+    let (x1, y1) = (
+        (seen.max.x * ppp).floor() - 1.0,
+        (seen.max.y * ppp).floor() - 1.0,
+    );
+    let on_screen = mean_grey(view, (x0 as u32, y0 as u32, x1 as u32, y1 as u32));
+    // Screen px to PNG px.
+    let (sx, sy) = (
+        png.width() as f32 / (r.width() * ppp),
+        png.height() as f32 / (r.height() * ppp),
+    );
+    let (ox, oy) = (r.min.x * ppp, r.min.y * ppp);
+    let part = (
+        ((x0 - ox) * sx).round() as u32,
+        ((y0 - oy) * sy).round() as u32,
+        ((x1 - ox) * sx).round() as u32,
+        ((y1 - oy) * sy).round() as u32,
+    );
+    (on_screen, mean_grey(png, part))
+}
+
+#[test]
+fn the_view_has_the_exported_png_s_tones_at_10k_200k_and_1m_dots() {
+    // A wide picture keeps the 1M-dot domain small.
+    let (dir, _, mut h) = ready(200, 50);
+    h.state_mut().settings.backend = pixelpie::backend::BackendChoice::Cpu;
+    for n in [10_000, 200_000, 1_000_000] {
+        h.state_mut().settings.points = n;
+        h.step();
+        settle(&mut h);
+        press(&mut h, egui::Key::F, egui::Modifiers::NONE);
+        rest(&mut h);
+        let png = dir.path().join(format!("tones-{n}.png"));
+        export(&mut h, &png);
+        let png = image::open(&png).unwrap().to_rgba8();
+        let view = h.render().expect("render");
+        let _ = view.save(format!("{}/app-tones-{n}.png", env!("CARGO_TARGET_TMPDIR")));
+        let (on_screen, exported) = view_and_png_grey(&h, &view, &png);
+        eprintln!(
+            "{} dots at fit zoom: view {on_screen:.4}, PNG {exported:.4} ({} × {} px), \
+             difference {:+.4}",
+            h.state().dots_drawn(),
+            png.width(),
+            png.height(),
+            on_screen - exported
+        );
+        assert!(
+            (on_screen - exported).abs() <= 0.02,
+            "{n} dots: the view's mean grey {on_screen:.4}, the PNG's {exported:.4}"
+        );
+        if n != 200_000 {
+            continue;
+        }
+        // Zoomed in (dots of a pixel or two), once the view rests.
+        h.state_mut().zoom_by(4.0);
+        h.run_steps(2);
+        rest(&mut h);
+        let view = h.render().expect("render");
+        let _ = view.save(format!(
+            "{}/app-tones-zoomed.png",
+            env!("CARGO_TARGET_TMPDIR")
+        ));
+        let (on_screen, exported) = view_and_png_grey(&h, &view, &png);
+        eprintln!(
+            "{n} dots zoomed 4×: view {on_screen:.4}, PNG {exported:.4}, difference {:+.4}",
+            on_screen - exported
+        );
+        assert!(
+            (on_screen - exported).abs() <= 0.03,
+            "{n} dots zoomed in: the view's mean grey {on_screen:.4}, the PNG's {exported:.4}"
+        );
+    }
+}
+
+#[test]
+fn moving_the_view_draws_the_cached_dots_and_a_resting_view_draws_them_anew() {
+    let (_dir, _, mut h) = ready(200, 150);
+    rest(&mut h);
+    let inked = |img: &image::RgbaImage| {
+        img.enumerate_pixels()
+            .filter(|(x, _, p)| *x > 320 && p[0] < 60)
+            .count()
+    };
+    let made = h.state().dot_caches_made();
+    for i in 0..6 {
+        if i < 3 {
+            h.state_mut().zoom_by(1.15);
+        } else {
+            h.state_mut().pan_by(egui::vec2(7.3, -4.1));
+        }
+        h.step();
+        let img = h.render().expect("render");
+        assert!(inked(&img) > 200, "no dots while the view moves");
+    }
+    assert_eq!(
+        h.state().dot_caches_made(),
+        made,
+        "the dots were drawn anew while the view moved"
+    );
+    rest(&mut h);
+    assert_eq!(h.state().dot_caches_made(), made + 1, "none once it rested");
+    // A pan by whole pixels within the cache keeps it.
+    h.state_mut().pan_by(egui::vec2(5.0, 3.0));
+    h.run_steps(2);
+    rest(&mut h);
+    assert_eq!(h.state().dot_caches_made(), made + 1);
+    // A new dot size draws a small drawing anew at once.
+    h.state_mut().settings.job.dot_factor = Some(1.3);
+    h.step();
+    assert_eq!(h.state().dot_caches_made(), made + 2);
+    let img = h.render().expect("render");
+    let _ = img.save(concat!(env!("CARGO_TARGET_TMPDIR"), "/app-rested.png"));
+}
+
+#[test]
+fn the_panel_warns_when_the_dots_are_too_small_to_print_or_to_see_in_the_png() {
+    let (_dir, _, mut h) = ready(160, 120);
+    assert!(!shows(&h, "Dots too small"));
+    assert_eq!(h.state().dot_size_warning(), None);
+    // A PNG at a tenth of the drawing's size: dots under a pixel.
+    h.state_mut().settings.job.scale = 0.1;
+    h.run_steps(2);
+    assert!(shows(&h, "Dots too small"), "no warning at PNG ×0.1");
+    let w = h.state().dot_size_warning().unwrap();
+    assert!(w.contains("in the PNG") && !w.contains("SVG"), "{w}");
+    // 10000 dots on 10 mm: under a tenth of a millimetre.
+    h.state_mut().settings.job.scale = 1.0;
+    h.state_mut().settings.job.width_mm = Some(10.0);
+    h.run_steps(2);
+    let w = h.state().dot_size_warning().unwrap();
+    assert!(
+        w.contains("mm across in the SVG") && !w.contains("PNG"),
+        "{w}"
+    );
+    assert!(shows(&h, "in the SVG"));
+    // On 200 mm they print.
+    h.state_mut().settings.job.width_mm = Some(200.0);
+    h.run_steps(2);
+    assert!(!shows(&h, "Dots too small"));
+}

@@ -8,6 +8,12 @@ use super::panel::fixed_row;
 use crate::stipple::svg::DotPath;
 use crate::stipple::{DotSize, Order};
 
+/// Dots narrower than this, in mm, do not print (a pen or a printer's
+/// dot is wider).
+pub const MIN_PRINT_MM: f64 = 0.1;
+/// Dots narrower than this, in px, turn a PNG grey.
+pub const MIN_PNG_PX: f32 = 1.0;
+
 impl PixelPieApp {
     /// Under the Export row: the file written, or why not, on one line of
     /// fixed height (the whole text on hover), so that nothing above moves.
@@ -65,6 +71,7 @@ impl PixelPieApp {
                     .speed(1.0)
                     .max_decimals(1),
             )
+            .on_hover_text("The SVG's width in mm")
             .on_disabled_hover_text(if paper {
                 why.as_str()
             } else {
@@ -156,7 +163,60 @@ impl PixelPieApp {
             )
             .on_hover_text("PNG pixels per sampled pixel");
         });
+        self.dot_warning_ui(ui);
         self.export_result_ui(ui);
+    }
+
+    /// The warning that the dots are too small for the export's size, on
+    /// one line of fixed height (empty when they are not).
+    fn dot_warning_ui(&self, ui: &mut egui::Ui) {
+        let warning = self.dot_size_warning();
+        fixed_row(ui, true, |ui| {
+            let Some(text) = &warning else { return };
+            let label =
+                egui::Label::new(egui::RichText::new(text).color(Color32::from_rgb(210, 120, 20)))
+                    .truncate();
+            ui.add(label).on_hover_text(format!(
+                "{text}. Half the drawing's ink lies in dots narrower than this: a printer or \
+                 plotter cannot draw dots under {MIN_PRINT_MM} mm, and a PNG turns dots under \
+                 {MIN_PNG_PX} px into a grey haze. Use fewer dots, a larger width or paper, or \
+                 a larger PNG scale."
+            ));
+        });
+    }
+
+    /// Why the dots are too small to print (under [`MIN_PRINT_MM`] across
+    /// at the SVG's size in mm) or to see in the PNG (under [`MIN_PNG_PX`]
+    /// px at its scale), or `None`. The size is that of the dots that hold
+    /// half the drawing's ink.
+    #[must_use]
+    pub fn dot_size_warning(&self) -> Option<String> {
+        let o = self.outcome.as_ref()?;
+        let job = self.settings.job();
+        // Diameter in domain px.
+        let across = 2.0
+            * match job.dot_size() {
+                DotSize::Calibrated(f) => f * o.sizes.drawn_ink_median,
+                DotSize::Proportional(f) => f * o.sizes.radius_ink_median,
+                DotSize::Fixed(r) => r,
+            };
+        let mut why = Vec::new();
+        if let Ok(Some(mm)) = job.mm_per_px(o.drawing.domain) {
+            let d = f64::from(across) * mm;
+            if d < MIN_PRINT_MM {
+                why.push(format!(
+                    "{d:.2} mm across in the SVG (under {MIN_PRINT_MM} mm)"
+                ));
+            }
+        }
+        let px = across * job.scale;
+        if px < MIN_PNG_PX {
+            why.push(format!(
+                "{px:.2} px across in the PNG at \u{d7}{:.2} (under {MIN_PNG_PX} px)",
+                job.scale
+            ));
+        }
+        (!why.is_empty()).then(|| format!("Dots too small: {}", why.join(", ")))
     }
 
     /// Exports to the export path with extension `ext`; the outcome shows

@@ -25,6 +25,7 @@ use egui_wgpu::wgpu;
 
 pub use dots::SHADER as DOTS_SHADER;
 pub use settings::{Background, Settings};
+pub use view::SETTLE;
 use worker::{Job, Outcome, Reply, Worker};
 
 use crate::importance::{ColourMap, ImportanceMap};
@@ -409,39 +410,8 @@ impl PixelPieApp {
                         Ok(outcome) => {
                             self.status = outcome.note.clone().unwrap_or_default();
                             self.cancelled = false;
-                            self.dot_instances = Arc::new(
-                                outcome
-                                    .drawing
-                                    .points
-                                    .iter()
-                                    .zip(&outcome.drawing.calibrated)
-                                    .map(|(p, &c)| dots::DotInstance {
-                                        x: p.x / outcome.scale,
-                                        y: p.y / outcome.scale,
-                                        radius: p.radius / outcome.scale,
-                                        drawn: c / outcome.scale,
-                                    })
-                                    .collect(),
-                            );
-                            self.pen_layers = match &outcome.drawing.pens {
-                                Some(pens) => pens
-                                    .pens()
-                                    .iter()
-                                    .enumerate()
-                                    .map(|(k, pen)| {
-                                        let dots = outcome
-                                            .drawing
-                                            .points
-                                            .iter()
-                                            .zip(self.dot_instances.iter())
-                                            .filter(|(p, _)| p.class == k as u32)
-                                            .map(|(_, d)| *d)
-                                            .collect();
-                                        (pen.colour, Arc::new(dots))
-                                    })
-                                    .collect(),
-                                None => Vec::new(),
-                            };
+                            self.dot_instances = outcome.dots.clone();
+                            self.pen_layers = outcome.pen_dots.clone();
                             self.dots_generation += 1;
                             self.outcome = Some(outcome);
                             self.error = None;
@@ -513,6 +483,11 @@ fn decode(path: Option<&Path>) -> Result<Decoded, String> {
 }
 
 impl eframe::App for PixelPieApp {
+    /// The panels' colour: they are drawn unfilled, on the clear.
+    fn clear_color(&self, visuals: &egui::Visuals) -> [f32; 4] {
+        visuals.panel_fill.to_normalized_gamma_f32()
+    }
+
     fn save(&mut self, storage: &mut dyn eframe::Storage) {
         eframe::set_value(storage, STORAGE_KEY, &self.settings);
     }
@@ -534,13 +509,19 @@ impl eframe::App for PixelPieApp {
             self.open(&ctx, &path);
         }
         self.handle_shortcuts(&ctx);
+        // The panels are not filled: the window's clear colour is theirs
+        // (`clear_color`), and a software rasterizer is spared egui's
+        // shader over the whole window at every frame.
+        let panel = egui::Frame::side_top_panel(ui.style()).fill(egui::Color32::TRANSPARENT);
         egui::Panel::left("controls")
             .resizable(false)
+            .frame(panel)
             .show(ui, |ui| {
                 // Progress, statistics and the export row keep fixed places
                 // at the bottom; the controls scroll above them.
                 egui::Panel::bottom("actions")
                     .resizable(false)
+                    .frame(panel)
                     .show(ui, |ui| {
                         self.stats_ui(ui);
                         ui.separator();
@@ -548,7 +529,9 @@ impl eframe::App for PixelPieApp {
                     });
                 egui::ScrollArea::vertical().show(ui, |ui| self.controls(ui));
             });
-        egui::CentralPanel::default().show(ui, |ui| self.canvas(ui));
+        egui::CentralPanel::default()
+            .frame(egui::Frame::NONE)
+            .show(ui, |ui| self.canvas(ui));
         self.help_ui(&ctx);
         self.history.observe(&self.settings);
         let key = self.settings.sampling_key();

@@ -96,7 +96,7 @@ impl PixelPieApp {
         }
         if let Some(name) = self.loading_name() {
             ui.horizontal(|ui| {
-                ui.spinner();
+                self.busy_spinner(ui);
                 ui.label(format!("decoding {name}…"));
             });
         } else if let Some(src) = &self.source {

@@ -19,7 +19,7 @@ impl PixelPieApp {
                 });
                 return;
             }
-            ui.spinner();
+            self.busy_spinner(ui);
             ui.label(self.progress_shown().unwrap_or_default());
             if ui
                 .button("Cancel")
@@ -70,6 +70,38 @@ impl PixelPieApp {
             (None, true) => (ui.visuals().text_color(), String::new()),
         };
         ui.colored_label(note.0, note.1);
+    }
+
+    /// A spinner that turns at a few frames a second: egui's asks for a
+    /// frame at once, again and again, and on a software rasterizer every
+    /// frame is CPU time taken from the sampler. The progress line and
+    /// the elapsed time come along with its frames.
+    pub(super) fn busy_spinner(&self, ui: &mut egui::Ui) {
+        let size = ui.spacing().interact_size.y;
+        let (rect, _) = ui.allocate_exact_size(egui::vec2(size, size), egui::Sense::hover());
+        let time = ui.input(|i| i.time);
+        let radius = rect.height() / 2.0 - 2.0;
+        let start = time * std::f64::consts::TAU;
+        let end = start + 240f64.to_radians() * time.sin();
+        let points: Vec<egui::Pos2> = (0..=20)
+            .map(|i| {
+                let a = start + (end - start) * f64::from(i) / 20.0;
+                rect.center() + radius * egui::vec2(a.cos() as f32, a.sin() as f32)
+            })
+            .collect();
+        ui.painter().add(egui::Shape::line(
+            points,
+            egui::Stroke::new(3.0, ui.visuals().strong_text_color()),
+        ));
+        ui.ctx().request_repaint_after(self.busy_frame());
+    }
+
+    /// How often the window redraws while a job runs or a picture decodes:
+    /// twice a second on a software adapter (whose frames cost CPU), ten
+    /// times on a GPU.
+    #[must_use]
+    pub fn busy_frame(&self) -> std::time::Duration {
+        std::time::Duration::from_millis(if self.worker.software() { 500 } else { 100 })
     }
 
     /// The progress line while a job is queued or runs: what it does and

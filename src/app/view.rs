@@ -2,10 +2,13 @@
 //! zoomed about the pointer and panned by dragging; with a sheet of paper
 //! (the Paper section), the sheet and its margins around the drawing.
 
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
 use egui::{Color32, Rect, Sense, Vec2};
 
 use super::PixelPieApp;
-use super::dots::{DotLayer, ViewUniform};
+use super::dots::{Blend, CacheSpec, DotFrame, DotLayer, FillFrame, MAX_CACHE_PX, Placement};
 use super::settings::Background;
 use crate::stipple::DotSize;
 
@@ -24,6 +27,10 @@ pub struct ViewState {
     pub fit_next: bool,
     /// The canvas's size in points, as last drawn.
     pub canvas: Vec2,
+    /// The canvas's top left corner on the screen, as last drawn.
+    pub origin: egui::Pos2,
+    /// The dots' cache.
+    pub cache: DotCache,
     /// Copies per side last drawn (a change fits the view).
     pub tiles: usize,
     /// The view is fitted (no zoom or pan since): a resized canvas fits it
@@ -41,6 +48,8 @@ impl Default for ViewState {
             pan: Vec2::ZERO,
             fit_next: true,
             canvas: Vec2::ZERO,
+            origin: egui::Pos2::ZERO,
+            cache: DotCache::default(),
             tiles: 1,
             fitted: false,
             frame: Rect::NOTHING,
@@ -68,18 +77,42 @@ impl PixelPieApp {
         self.view.fitted = false;
     }
 
+    /// Pans the view by `delta` points, as a drag does.
+    pub fn pan_by(&mut self, delta: Vec2) {
+        self.view.pan += delta;
+        self.view.fitted = false;
+    }
+
     /// Points per image pixel in the view.
     #[must_use]
     pub fn zoom(&self) -> f32 {
         self.view.zoom
     }
 
+    /// Where the canvas is on the screen, in points, as last drawn.
+    #[must_use]
+    pub fn canvas_on_screen(&self) -> Rect {
+        Rect::from_min_size(self.view.origin, self.view.canvas)
+    }
+
+    /// Where the drawing (its first copy) is on the screen, in points, as
+    /// last drawn.
+    #[must_use]
+    pub fn drawing_on_screen(&self) -> Option<Rect> {
+        let src = self.source.as_ref()?;
+        let size = Vec2::new(src.map.width() as f32, src.map.height() as f32);
+        Some(Rect::from_min_size(
+            self.view.origin + self.view.pan,
+            size * self.view.zoom,
+        ))
+    }
+
     /// The zoomable canvas: the paper (or the picture) and the dots.
     pub(super) fn canvas(&mut self, ui: &mut egui::Ui) {
         let (rect, response) = ui.allocate_exact_size(ui.available_size(), Sense::click_and_drag());
         let painter = ui.painter_at(rect);
-        painter.rect_filled(rect, 0.0, BACKDROP);
         let Some(src) = &self.source else {
+            painter.rect_filled(rect, 0.0, BACKDROP);
             painter.text(
                 rect.center(),
                 egui::Align2::CENTER_CENTER,
@@ -97,9 +130,7 @@ impl PixelPieApp {
         let offsets: Vec<Vec2> = (0..tiles * tiles)
             .map(|t| Vec2::new((t % tiles) as f32 * size.x, (t / tiles) as f32 * size.y))
             .collect();
-        if let Some(sheet) = sheet {
-            self.paint_sheet(&painter, rect, sheet);
-        }
+        self.paint_fills(&painter, rect, sheet, &offsets, size);
         self.paint_backgrounds(&painter, rect, &offsets, size);
         if let Some((_, printable)) = sheet {
             // The margins: a thin line around the printable area, over the
@@ -111,8 +142,7 @@ impl PixelPieApp {
                 egui::StrokeKind::Middle,
             );
         }
-        let layers = self.dot_layers(ui, rect, &offsets);
-        self.paint_dots(&painter, rect, layers);
+        self.paint_dots(ui, &painter, rect, &offsets, size);
     }
 
     /// Fits the view when asked (or when a fitted view's canvas, tiling or
@@ -130,6 +160,7 @@ impl PixelPieApp {
             self.view.fit_next = true;
         }
         self.view.canvas = rect.size();
+        self.view.origin = rect.min;
         let tiles = self.tiles();
         if self.view.tiles != tiles {
             self.view.tiles = tiles;
@@ -174,19 +205,53 @@ impl PixelPieApp {
         )
     }
 
-    /// The sheet of paper (in picture pixels) under the drawing, with a
-    /// faint shadow.
-    fn paint_sheet(&self, painter: &egui::Painter, rect: Rect, (sheet, _): (Rect, Rect)) {
-        let on_screen = self.on_screen(rect, sheet);
-        painter.rect_filled(
-            on_screen.translate(Vec2::splat(3.0)),
-            0.0,
-            Color32::from_black_alpha(60),
-        );
-        painter.rect_filled(on_screen, 0.0, Color32::WHITE);
+    /// The flat areas under the drawing: the canvas's backdrop, the sheet of
+    /// paper (in picture pixels) with a faint shadow, and the paper under
+    /// each copy. On the GPU they are one paint callback (egui's shader costs
+    /// a software rasterizer several times more per pixel).
+    fn paint_fills(
+        &self,
+        painter: &egui::Painter,
+        rect: Rect,
+        sheet: Option<(Rect, Rect)>,
+        offsets: &[Vec2],
+        size: Vec2,
+    ) {
+        let mut fills = vec![(rect, BACKDROP)];
+        if let Some((sheet, _)) = sheet {
+            let on_screen = self.on_screen(rect, sheet);
+            fills.push((
+                on_screen.translate(Vec2::splat(3.0)),
+                Color32::from_black_alpha(60),
+            ));
+            fills.push((on_screen, Color32::WHITE));
+        }
+        for off in offsets {
+            let image_rect = Rect::from_min_size(
+                rect.min + self.view.pan + *off * self.view.zoom,
+                size * self.view.zoom,
+            );
+            fills.push((image_rect, Color32::WHITE));
+        }
+        // Within the canvas (its clip rectangle clips egui's shapes, the
+        // scissor the callback's).
+        for (r, _) in &mut fills {
+            *r = r.intersect(rect);
+        }
+        fills.retain(|(r, _)| r.is_positive());
+        if self.gpu_dots {
+            painter.add(egui_wgpu::Callback::new_paint_callback(
+                rect,
+                FillFrame { rects: fills },
+            ));
+        } else {
+            for (r, c) in fills {
+                painter.rect_filled(r, 0.0, c);
+            }
+        }
     }
 
-    /// The paper under each copy, and the map or the photo when asked.
+    /// The map or the photo under each copy, when asked.
     fn paint_backgrounds(&self, painter: &egui::Painter, rect: Rect, offsets: &[Vec2], size: Vec2) {
         let Some(src) = &self.source else { return };
         let uv = Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0));
@@ -195,7 +260,6 @@ impl PixelPieApp {
                 rect.min + self.view.pan + *off * self.view.zoom,
                 size * self.view.zoom,
             );
-            painter.rect_filled(image_rect, 0.0, Color32::WHITE);
             match self.settings.background {
                 Background::Paper => {}
                 Background::Importance => {
@@ -213,104 +277,306 @@ impl PixelPieApp {
         }
     }
 
-    /// The dot layers of each copy: the coverage disks when asked, then
-    /// the dots in the ink, sized as the job draws them.
-    fn dot_layers(&self, ui: &egui::Ui, rect: Rect, offsets: &[Vec2]) -> Vec<DotLayer> {
+    /// The dot layers: the coverage disks when asked, then the dots in the
+    /// ink (or each pen's, multiplied in), sized as the job draws them.
+    fn dot_layers(&self) -> Vec<DotLayer> {
         let s = &self.settings;
-        let [r, g, b] = s.job.ink.0;
-        let size = self.dot_size();
-        let base = ViewUniform {
-            rect: [rect.width(), rect.height()],
-            scale: self.view.zoom,
-            pixels_per_point: ui.ctx().pixels_per_point(),
-            offset: [self.view.pan.x, self.view.pan.y],
-            radius_scale: match size {
-                DotSize::Proportional(f) => f,
-                DotSize::Fixed(_) | DotSize::Calibrated(_) => 0.0,
-            },
-            drawn_scale: match size {
-                DotSize::Calibrated(f) => f,
-                DotSize::Fixed(_) | DotSize::Proportional(_) => 0.0,
-            },
-            color: [
-                f32::from(r) / 255.0,
-                f32::from(g) / 255.0,
-                f32::from(b) / 255.0,
-                1.0,
-            ],
+        let [r, g, b] = s.job.ink.0.map(|c| f32::from(c) / 255.0);
+        let (radius_scale, drawn_scale) = match self.dot_size() {
+            DotSize::Proportional(f) => (f, 0.0),
+            DotSize::Calibrated(f) => (0.0, f),
+            DotSize::Fixed(_) => (0.0, 0.0),
+        };
+        let ink = DotLayer {
+            dots: self.dot_instances.clone(),
+            generation: self.dots_generation,
+            radius_scale,
+            drawn_scale,
+            color: [r, g, b, 1.0],
+            slot: 1,
+            blend: Blend::Ink,
         };
         let mut layers = Vec::new();
-        for (t, off) in offsets.iter().enumerate() {
-            let pan = self.view.pan + *off * self.view.zoom;
-            let base = ViewUniform {
-                offset: [pan.x, pan.y],
-                ..base
-            };
-            let slot = super::dots::LAYERS * t;
-            if s.show_coverage {
-                layers.push(DotLayer {
-                    dots: self.dot_instances.clone(),
-                    generation: self.dots_generation,
-                    view: ViewUniform {
-                        radius_scale: 1.0,
-                        drawn_scale: 0.0,
-                        color: [0.2, 0.45, 0.9, 0.18],
-                        ..base
-                    },
-                    slot,
-                    multiply: false,
-                });
+        if s.show_coverage {
+            layers.push(DotLayer {
+                radius_scale: 1.0,
+                drawn_scale: 0.0,
+                color: [0.2, 0.45, 0.9, 0.18],
+                slot: 0,
+                blend: Blend::Disks,
+                ..ink.clone()
+            });
+        }
+        if self.pen_layers.is_empty() {
+            layers.push(ink.clone());
+        }
+        // A colour drawing: each pen's layer in its ink, multiplied in.
+        for (k, (colour, dots)) in self.pen_layers.iter().enumerate() {
+            if s.hidden_pens.get(k).copied().unwrap_or(false) {
+                continue;
             }
-            if self.pen_layers.is_empty() {
-                layers.push(DotLayer {
-                    dots: self.dot_instances.clone(),
-                    generation: self.dots_generation,
-                    view: base,
-                    slot: slot + 1,
-                    multiply: false,
-                });
-            }
-            // A colour drawing: each pen's layer in its ink, multiplied in.
-            for (k, (colour, dots)) in self.pen_layers.iter().enumerate() {
-                if s.hidden_pens.get(k).copied().unwrap_or(false) {
-                    continue;
-                }
-                let [r, g, b] = colour.map(|c| f32::from(c) / 255.0);
-                layers.push(DotLayer {
-                    dots: dots.clone(),
-                    generation: self.dots_generation,
-                    view: ViewUniform {
-                        color: [r, g, b, 1.0],
-                        ..base
-                    },
-                    slot: slot + 1 + k,
-                    multiply: true,
-                });
-            }
+            let [r, g, b] = colour.map(|c| f32::from(c) / 255.0);
+            layers.push(DotLayer {
+                dots: dots.clone(),
+                color: [r, g, b, 1.0],
+                slot: 1 + k,
+                blend: Blend::Multiply,
+                ..ink.clone()
+            });
         }
         layers
     }
 
-    /// Draws the layers on the GPU (egui_wgpu callbacks), or with egui's
-    /// own shapes where there is no wgpu renderer (a glow build).
-    fn paint_dots(&self, painter: &egui::Painter, rect: Rect, layers: Vec<DotLayer>) {
-        for layer in layers {
-            if self.gpu_dots {
-                painter.add(egui_wgpu::Callback::new_paint_callback(rect, layer));
-                continue;
+    /// Draws the layers: on the GPU through their cache ([`super::dots`]),
+    /// or with egui's own shapes where there is no wgpu renderer (a glow
+    /// build).
+    fn paint_dots(
+        &mut self,
+        ui: &egui::Ui,
+        painter: &egui::Painter,
+        rect: Rect,
+        offsets: &[Vec2],
+        size: Vec2,
+    ) {
+        let layers = self.dot_layers();
+        if self.gpu_dots {
+            if let Some(frame) = self.dot_frame(ui, rect, offsets, size, layers) {
+                painter.add(egui_wgpu::Callback::new_paint_callback(rect, frame));
             }
-            let color = Color32::from_rgba_unmultiplied(
-                (layer.view.color[0] * 255.0) as u8,
-                (layer.view.color[1] * 255.0) as u8,
-                (layer.view.color[2] * 255.0) as u8,
-                (layer.view.color[3] * 255.0) as u8,
-            );
-            let pan = Vec2::new(layer.view.offset[0], layer.view.offset[1]);
-            for d in layer.dots.iter() {
-                let radius = d.radius * layer.view.radius_scale + d.drawn * layer.view.drawn_scale;
-                let c = rect.min + pan + Vec2::new(d.x, d.y) * self.view.zoom;
-                painter.circle_filled(c, (radius * self.view.zoom).max(0.5), color);
+            return;
+        }
+        for layer in layers {
+            let [r, g, b, a] = layer.color.map(|c| (c * 255.0) as u8);
+            let color = Color32::from_rgba_unmultiplied(r, g, b, a);
+            for off in offsets {
+                let pan = self.view.pan + *off * self.view.zoom;
+                for d in layer.dots.iter() {
+                    let radius = d.radius * layer.radius_scale + d.drawn * layer.drawn_scale;
+                    let c = rect.min + pan + Vec2::new(d.x, d.y) * self.view.zoom;
+                    painter.circle_filled(c, (radius * self.view.zoom).max(0.5), color);
+                }
             }
         }
     }
+
+    /// The frame's dots: the cache to show (the one held while the view
+    /// moves, a new one when the drawing changed or the view rests) and
+    /// where the image is now. `None` when no drawing is in sight.
+    fn dot_frame(
+        &mut self,
+        ui: &egui::Ui,
+        rect: Rect,
+        offsets: &[Vec2],
+        size: Vec2,
+        mut layers: Vec<DotLayer>,
+    ) -> Option<DotFrame> {
+        let ppp = ui.ctx().pixels_per_point();
+        let now = Placement {
+            scale: self.view.zoom * ppp,
+            offset: [
+                (rect.min.x + self.view.pan.x) * ppp,
+                (rect.min.y + self.view.pan.y) * ppp,
+            ],
+        };
+        let style: Vec<LayerKey> = layers.iter().map(LayerKey::of).collect();
+        let cache = &mut self.view.cache;
+        if now != cache.last {
+            cache.last = now;
+            cache.moved = Instant::now();
+        }
+        if cache.style.as_ref() != Some(&style) {
+            cache.style = Some(style.clone());
+            cache.restyled = Instant::now();
+        }
+        // The canvas and the drawing (all its copies) on the screen, px.
+        let canvas = Rect::from_min_max(
+            (rect.min.to_vec2() * ppp).to_pos2(),
+            (rect.max.to_vec2() * ppp).to_pos2(),
+        );
+        let tiles_px = offsets.iter().fold(Rect::NOTHING, |r, o| {
+            r.union(Rect::from_min_size(o.to_pos2(), size))
+        });
+        let drawing = Rect::from_min_max(
+            egui::pos2(
+                tiles_px.min.x * now.scale + now.offset[0],
+                tiles_px.min.y * now.scale + now.offset[1],
+            ),
+            egui::pos2(
+                tiles_px.max.x * now.scale + now.offset[0],
+                tiles_px.max.y * now.scale + now.offset[1],
+            ),
+        );
+        let visible = canvas.intersect(drawing);
+        if !visible.is_positive() || layers.is_empty() {
+            return None;
+        }
+        // Screen px per exported PNG px (the view shows the PNG's ink).
+        let domain_px = self.outcome.as_ref().map_or(1.0, |o| o.scale);
+        let export_px = (now.scale / (self.settings.job.scale * domain_px)).min(1.0);
+        let wanted = CacheSpec {
+            at: now,
+            region: cache_region(canvas, drawing),
+            tiles: offsets.iter().map(|o| [o.x, o.y]).collect(),
+            export_px,
+            sample_radius: self.outcome.as_ref().map_or(1.0, |o| o.sizes.sample_radius),
+        };
+        let dots: usize = layers.iter().map(|l| l.dots.len()).sum::<usize>() * offsets.len();
+        let keys = |held: &[LayerKey]| -> Option<Vec<LayerKey>> {
+            // The same layers of the same dots, perhaps sized otherwise.
+            (held.len() == style.len() && held.iter().zip(&style).all(|(a, b)| a.same_dots(b)))
+                .then(|| held.to_vec())
+        };
+        let held = cache.held.as_ref().and_then(|(spec, held)| {
+            let same = keys(held)?;
+            Some((spec.clone(), same))
+        });
+        let still = cache.moved.elapsed() >= SETTLE;
+        let resting = still && cache.restyled.elapsed() >= SETTLE;
+        let (spec, sizes) = match held {
+            // The drawing or its layers changed: a new cache at once.
+            None => (wanted, style.clone()),
+            Some((spec, held)) => {
+                let restyled = held != style;
+                if !restyled && covers(&spec, &wanted, visible) {
+                    (spec, held)
+                } else if resting || (restyled && dots <= LIVE_DOTS && still) {
+                    (wanted, style.clone())
+                } else {
+                    let since = cache.moved.elapsed().min(cache.restyled.elapsed());
+                    ui.ctx().request_repaint_after(SETTLE.saturating_sub(since));
+                    (spec, held)
+                }
+            }
+        };
+        if cache
+            .held
+            .as_ref()
+            .is_none_or(|(s, k)| *s != spec || *k != sizes)
+        {
+            cache.made += 1;
+            cache.held = Some((spec.clone(), sizes.clone()));
+        }
+        // The layers as the cache holds them (their sizes, while it waits).
+        for (layer, key) in layers.iter_mut().zip(&sizes) {
+            layer.radius_scale = f32::from_bits(key.radius_scale);
+            layer.drawn_scale = f32::from_bits(key.drawn_scale);
+        }
+        Some(DotFrame {
+            layers,
+            cache: spec,
+            now,
+        })
+    }
+
+    /// Caches of the dots asked for so far: one per drawing, and one each
+    /// time the view comes to rest after it moved.
+    #[must_use]
+    pub fn dot_caches_made(&self) -> u64 {
+        self.view.cache.made
+    }
+}
+
+/// How long the view must rest before the dots are splatted anew at its
+/// zoom; until then the cache is drawn moved and scaled.
+pub const SETTLE: Duration = Duration::from_millis(150);
+
+/// Drawings of up to this many dots (all copies) follow a change of the
+/// dot size at once; larger ones once the control rests.
+const LIVE_DOTS: usize = 200_000;
+
+/// A layer as its cache holds it.
+#[derive(Clone, Debug, PartialEq)]
+struct LayerKey {
+    slot: usize,
+    generation: u64,
+    dots: usize,
+    radius_scale: u32,
+    drawn_scale: u32,
+}
+
+impl LayerKey {
+    fn of(l: &DotLayer) -> Self {
+        Self {
+            slot: l.slot,
+            generation: l.generation,
+            dots: Arc::as_ptr(&l.dots) as usize,
+            radius_scale: l.radius_scale.to_bits(),
+            drawn_scale: l.drawn_scale.to_bits(),
+        }
+    }
+
+    fn same_dots(&self, other: &Self) -> bool {
+        (self.slot, self.generation, self.dots) == (other.slot, other.generation, other.dots)
+    }
+}
+
+/// The cache of the dots the view holds, and when the view last moved.
+pub struct DotCache {
+    /// The cache asked for and the layers it holds.
+    held: Option<(CacheSpec, Vec<LayerKey>)>,
+    /// The image's placement at the last frame.
+    last: Placement,
+    /// The layers' sizes at the last frame.
+    style: Option<Vec<LayerKey>>,
+    /// When the placement last changed.
+    moved: Instant,
+    /// When the sizes last changed.
+    restyled: Instant,
+    /// Caches asked for.
+    made: u64,
+}
+
+impl Default for DotCache {
+    fn default() -> Self {
+        Self {
+            held: None,
+            last: Placement::default(),
+            style: None,
+            moved: Instant::now(),
+            restyled: Instant::now(),
+            made: 0,
+        }
+    }
+}
+
+/// The screen region to cache, physical px: the canvas and a fifth of it
+/// around (for panning), within the drawing; the canvas alone where that
+/// is too large.
+fn cache_region(canvas: Rect, drawing: Rect) -> [i32; 4] {
+    let round = |r: Rect| {
+        let (x0, y0) = (r.min.x.floor() as i32, r.min.y.floor() as i32);
+        let (x1, y1) = (r.max.x.ceil() as i32, r.max.y.ceil() as i32);
+        [x0, y0, (x1 - x0).max(0), (y1 - y0).max(0)]
+    };
+    let wide = round(canvas.expand2(canvas.size() * 0.2).intersect(drawing));
+    if i64::from(wide[2]) * i64::from(wide[3]) <= MAX_CACHE_PX {
+        return wide;
+    }
+    let [x, y, w, h] = round(canvas.intersect(drawing));
+    // A canvas larger than any cache: its top left part, sharp.
+    let side = (MAX_CACHE_PX as f64).sqrt() as i32;
+    [x, y, w.min(side), h.min(side)]
+}
+
+/// Whether the cache `held` still serves the view `wanted` at rest: the
+/// same scale and style, moved by whole pixels, and covering the part of
+/// the drawing in sight.
+fn covers(held: &CacheSpec, wanted: &CacheSpec, visible: Rect) -> bool {
+    if held.at.scale != wanted.at.scale
+        || held.tiles != wanted.tiles
+        || held.export_px != wanted.export_px
+    {
+        return false;
+    }
+    let dx = wanted.at.offset[0] - held.at.offset[0];
+    let dy = wanted.at.offset[1] - held.at.offset[1];
+    if (dx - dx.round()).abs() > 1e-3 || (dy - dy.round()).abs() > 1e-3 {
+        return false;
+    }
+    let [x, y, w, h] = held.region;
+    let shown = Rect::from_min_size(
+        egui::pos2(x as f32 + dx.round(), y as f32 + dy.round()),
+        egui::vec2(w as f32, h as f32),
+    );
+    shown.expand(0.5).contains_rect(visible)
 }

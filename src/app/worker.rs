@@ -9,6 +9,7 @@ use std::sync::{Arc, Mutex};
 
 use egui_wgpu::wgpu;
 
+use super::dots::DotInstance;
 use super::settings::Settings;
 use crate::backend::BackendChoice;
 use crate::gpu::GpuSampler;
@@ -43,6 +44,65 @@ pub struct Outcome {
     /// Seconds the whole job took: every sampler run, relaxation and dot
     /// sizes (the statistics' `seconds` is the last run's sampler alone).
     pub seconds: f64,
+    /// The dots as the view draws them (image px), built on the worker.
+    pub dots: Arc<Vec<DotInstance>>,
+    /// A colour drawing's dots, pen by pen, with the pen's colour.
+    pub pen_dots: Vec<([u8; 3], Arc<Vec<DotInstance>>)>,
+    /// The sizes of the dots, for the view and the export warnings.
+    pub sizes: DotSizes,
+}
+
+/// What the view and the warnings need to know of a drawing's dot sizes,
+/// in domain px.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct DotSizes {
+    /// The median sample radius.
+    pub sample_radius: f32,
+    /// The radius under which half the ink of calibrated dots lies (each
+    /// dot's ink as its area).
+    pub drawn_ink_median: f32,
+    /// The same for dots sized by their sample radius.
+    pub radius_ink_median: f32,
+}
+
+impl DotSizes {
+    /// The sizes of `dots` (image px) in domain px (`scale` domain px per
+    /// image px).
+    #[must_use]
+    pub fn of(dots: &[DotInstance], scale: f32) -> Self {
+        let mut radii: Vec<f32> = dots.iter().map(|d| d.radius).collect();
+        let sample_radius = median(&mut radii) * scale;
+        let mut drawn: Vec<f32> = dots.iter().map(|d| d.drawn).collect();
+        Self {
+            sample_radius,
+            drawn_ink_median: ink_median(&mut drawn) * scale,
+            radius_ink_median: ink_median(&mut radii) * scale,
+        }
+    }
+}
+
+/// The median of `v` (0 when empty); reorders `v`.
+fn median(v: &mut [f32]) -> f32 {
+    if v.is_empty() {
+        return 0.0;
+    }
+    let mid = v.len() / 2;
+    *v.select_nth_unstable_by(mid, f32::total_cmp).1
+}
+
+/// The radius under which half the ink of dots of radii `v` lies (a dot's
+/// ink is its area); sorts `v`.
+fn ink_median(v: &mut [f32]) -> f32 {
+    v.sort_unstable_by(f32::total_cmp);
+    let total: f64 = v.iter().map(|&r| f64::from(r) * f64::from(r)).sum();
+    let mut sum = 0.0;
+    for &r in v.iter() {
+        sum += f64::from(r) * f64::from(r);
+        if sum >= total / 2.0 {
+            return r;
+        }
+    }
+    0.0
 }
 
 /// A message from the worker.
@@ -70,6 +130,7 @@ pub struct Worker {
     replies: Receiver<Reply>,
     cancel: Arc<AtomicBool>,
     adapter: Option<String>,
+    software: bool,
 }
 
 impl Worker {
@@ -82,10 +143,12 @@ impl Worker {
         let (reply_tx, replies) = channel();
         let cancel = Arc::new(AtomicBool::new(false));
         let mut adapter = None;
+        let mut software = false;
         let gpu_state = gpu.and_then(|(device, queue, info)| {
             match GpuSampler::new(&device, info.name.clone()) {
                 Ok(sampler) => {
                     adapter = Some(info.name);
+                    software = info.device_type == wgpu::DeviceType::Cpu;
                     Some(GpuState {
                         device,
                         queue,
@@ -107,7 +170,14 @@ impl Worker {
             replies,
             cancel,
             adapter,
+            software,
         }
+    }
+
+    /// Whether the window's adapter is a software rasterizer (lavapipe):
+    /// its frames cost CPU time that the sampler needs.
+    pub fn software(&self) -> bool {
+        self.software
     }
 
     /// The GPU adapter the worker samples on, if any.
@@ -160,14 +230,15 @@ fn run(
         }
         cancel.store(false, Ordering::Relaxed);
         let id = job.id;
+        // Progress asks for no frame: the window redraws at its own pace
+        // while a job runs (`busy_frame`), so that its frames do not take
+        // the CPU from the sampler on a software rasterizer.
         let progress = |p: Progress| {
             let _ = replies.send(Reply::Progress(id, p));
-            repaint.request_repaint();
         };
         let ctl = Control::new().with_progress(&progress).with_cancel(&cancel);
         let relaxed = |done: u32| {
             let _ = replies.send(Reply::Relaxed(id, done));
-            repaint.request_repaint();
         };
         let start = std::time::Instant::now();
         let result = match compute(&job, &gpu, ctl, &relaxed) {
@@ -215,8 +286,41 @@ fn compute(
             drawing.points.len()
         ));
     }
+    let scale = (f64::from(drawing.domain.0) / f64::from(job.map.width())) as f32;
+    let dots: Vec<DotInstance> = drawing
+        .points
+        .iter()
+        .zip(&drawing.calibrated)
+        .map(|(p, &c)| DotInstance {
+            x: p.x / scale,
+            y: p.y / scale,
+            radius: p.radius / scale,
+            drawn: c / scale,
+        })
+        .collect();
+    let pen_dots = match &drawing.pens {
+        Some(pens) => pens
+            .pens()
+            .iter()
+            .enumerate()
+            .map(|(k, pen)| {
+                let mine = drawing
+                    .points
+                    .iter()
+                    .zip(&dots)
+                    .filter(|(p, _)| p.class == k as u32)
+                    .map(|(_, d)| *d)
+                    .collect();
+                (pen.colour, Arc::new(mine))
+            })
+            .collect(),
+        None => Vec::new(),
+    };
     Ok(Outcome {
-        scale: (f64::from(drawing.domain.0) / f64::from(job.map.width())) as f32,
+        scale,
+        sizes: DotSizes::of(&dots, scale),
+        dots: Arc::new(dots),
+        pen_dots,
         drawing: Arc::new(drawing),
         settings: s.clone(),
         note,
