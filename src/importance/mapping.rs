@@ -121,7 +121,6 @@ impl Mapping {
     /// [`Self::dot_radius`] for one radius range, as a function of the
     /// importance: the black dots' radius (an inversion of the ink curve)
     /// is found once, for the many dots of a drawing.
-    #[must_use]
     pub fn dot_radii(self, range: RadiusRange) -> impl Fn(f32) -> f32 + Sync {
         let min = f64::from(range.min);
         let black = ink::dot_ratio(K_MAX, min) * min;

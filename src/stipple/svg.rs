@@ -546,7 +546,7 @@ fn circle_segments(r: f64) -> u32 {
 fn push_num(buf: &mut Vec<u8>, v: f64) {
     let t = v * 1000.0;
     let frac = t - t.floor();
-    if !(t.abs() < 1e12) || (frac - 0.5).abs() < 1e-6 {
+    if !t.is_finite() || t.abs() >= 1e12 || (frac - 0.5).abs() < 1e-6 {
         buf.extend_from_slice(num(v).as_bytes());
         return;
     }
