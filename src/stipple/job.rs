@@ -363,7 +363,7 @@ pub struct Stipple {
 /// ```
 /// use pixelpie::stipple::default_domain;
 /// assert_eq!(default_domain(600, 400, 10_000), (1024, 683));
-/// assert_eq!(default_domain(600, 400, 100_000), (3162, 2108));
+/// assert_eq!(default_domain(600, 400, 100_000), (3163, 2109));
 /// let (w, h) = default_domain(600, 400, 1_000_000);
 /// assert!(u64::from(w) * u64::from(h) <= 4096 * 4096 && w == 5016);
 /// ```
