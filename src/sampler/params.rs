@@ -405,6 +405,14 @@ impl KeyLayout {
         if self.greater_wins { a > b } else { a < b }
     }
 
+    /// Where key `a` stands in winning order: `beats(a, b)` exactly when
+    /// `rank(a) < rank(b)`.
+    #[inline]
+    #[must_use]
+    pub fn rank(&self, a: u32) -> u32 {
+        if self.greater_wins { !a } else { a }
+    }
+
     /// The largest batch the layout allows: 2^index_bits darts, and at most
     /// [`fixed::MAX_BATCH`].
     #[must_use]

@@ -10,7 +10,7 @@
 
 use rayon::prelude::*;
 
-use crate::sampler::fixed::{POS_FRAC_BITS, RADIUS_FRAC_BITS, inside};
+use crate::sampler::fixed::{POS_FRAC_BITS, RADIUS_FRAC_BITS, RADIUS_ONE};
 use crate::sampler::{Dart, Plan, Policy};
 
 /// A sample's disk on one class's layer of the coverage map: its own
@@ -47,25 +47,164 @@ impl Disk {
             own: layer == class,
         })
     }
+}
 
-    /// The radius (1/64 px) of pixel `p` of this disk's layer that the
-    /// policy compares with: the class's own, or the cross radius.
-    #[inline]
-    fn pixel_radius(&self, plan: &Plan, p: u32) -> u32 {
-        if self.own {
-            plan.radius_at(self.layer * plan.pixels() + p)
-        } else {
-            plan.cross_at(p)
-        }
+/// The largest distance (1/64 px) at which disk `s` can cover a pixel: its
+/// radius under Prior and Smaller; under Current and Bigger, f(r_s, r) for
+/// the largest pixel radius r near it (the map's largest without blocks).
+#[must_use]
+fn reach(plan: &Plan, blocks: Option<&Blocks>, s: &Disk) -> u32 {
+    match (plan.policy, blocks) {
+        (Policy::Prior | Policy::Smaller, _) => s.radius,
+        (policy, Some(b)) => policy.coverage_radius(s.radius, b.near(s)),
+        (Policy::Current | Policy::Bigger, None) => s.radius.max(plan.radius_range.1),
     }
 }
 
-/// The largest distance (1/64 px) at which disk `s` can cover a pixel.
-#[must_use]
-fn reach(plan: &Plan, s: &Disk) -> u32 {
-    match plan.policy {
-        Policy::Prior | Policy::Smaller => s.radius,
-        Policy::Current | Policy::Bigger => s.radius.max(plan.radius_range.1),
+/// A block's side in pixels: coverage under Current, Bigger and Smaller
+/// reads the smallest and largest radius of the 8×8 blocks a disk meets.
+pub const BLOCK: u32 = 8;
+
+/// The smallest and largest pixel radius of every [`BLOCK`]² block of each
+/// radius layer (one per class, then the cross radii with classes), and the
+/// largest within reach of each block.
+///
+/// A sample covers pixel p when |p − c| < f(r_s, r_p), and every policy's f
+/// grows with r_p: over a block whose radii lie in [lo, hi], the pixels
+/// within f(r_s, lo) are covered whatever their radius, those beyond
+/// f(r_s, hi) are not, and only the ring between reads its pixels' radii.
+/// Under Smaller, where most blocks have lo ≥ r_s, a disk's rows are then
+/// filled as under Prior.
+pub(crate) struct Blocks {
+    /// Blocks per row.
+    cols: u32,
+    /// Block rows per layer.
+    rows: u32,
+    /// `[lo, hi]` of each block, layer by layer, row-major.
+    bounds: Vec<[u32; 2]>,
+    /// The largest `hi` of the blocks within `BLOCK`·`near_blocks` px of
+    /// each block: every pixel a disk can cover (within the map's largest
+    /// radius) lies there.
+    near: Vec<u32>,
+    /// Layers of one class each, before the cross layer.
+    classes: u32,
+}
+
+impl Blocks {
+    /// The blocks of `plan`'s radius map; `None` without one or under Prior,
+    /// whose coverage does not read the pixels' radii.
+    pub(crate) fn new(plan: &Plan) -> Option<Self> {
+        let map = plan.map.as_ref()?;
+        if plan.policy == Policy::Prior {
+            return None;
+        }
+        let (w, h) = (plan.width, plan.height);
+        let (cols, rows) = (w.div_ceil(BLOCK), h.div_ceil(BLOCK));
+        let pixels = plan.pixels() as usize;
+        let radii = map.radii_fx();
+        let mut layers: Vec<&[u32]> = radii.chunks(pixels).collect();
+        if plan.classes > 1 {
+            layers.push(plan.cross.as_deref().map_or(&radii[..pixels], |c| &c[..]));
+        }
+        let per_layer = (cols * rows) as usize;
+        let mut bounds = vec![[u32::MAX, 0]; per_layer * layers.len()];
+        bounds
+            .par_chunks_mut(cols as usize)
+            .enumerate()
+            .for_each(|(i, out)| {
+                let (layer, by) = (i / rows as usize, i as u32 % rows);
+                let src = layers[layer];
+                for y in by * BLOCK..((by + 1) * BLOCK).min(h) {
+                    let row = &src[(y * w) as usize..((y + 1) * w) as usize];
+                    for (b, chunk) in out.iter_mut().zip(row.chunks(BLOCK as usize)) {
+                        for &r in chunk {
+                            b[0] = b[0].min(r);
+                            b[1] = b[1].max(r);
+                        }
+                    }
+                }
+            });
+        // Pixels within the largest radius of a centre in a block lie
+        // within this many pixels of the block, along each axis.
+        let reach = i64::from(plan.radius_range.1.div_ceil(RADIUS_ONE));
+        let b = i64::from(BLOCK);
+        let mut near = vec![0u32; bounds.len()];
+        near.par_chunks_mut(cols as usize)
+            .enumerate()
+            .for_each(|(i, out)| {
+                let (layer, by) = (i / rows as usize, i64::from(i as u32 % rows));
+                let base = layer * per_layer;
+                let mut near_rows = Vec::new();
+                for_each_run(
+                    by * b - reach,
+                    by * b + b - 1 + reach,
+                    h,
+                    plan.periodic,
+                    |_, a, z| {
+                        near_rows.extend(a / BLOCK as usize..=z / BLOCK as usize);
+                    },
+                );
+                for (bx, n) in out.iter_mut().enumerate() {
+                    let bx = bx as i64;
+                    for_each_run(
+                        bx * b - reach,
+                        bx * b + b - 1 + reach,
+                        w,
+                        plan.periodic,
+                        |_, a, z| {
+                            for &ny in &near_rows {
+                                let at = base + ny * cols as usize;
+                                for [_, hi] in
+                                    &bounds[at + a / BLOCK as usize..=at + z / BLOCK as usize]
+                                {
+                                    *n = (*n).max(*hi);
+                                }
+                            }
+                        },
+                    );
+                }
+            });
+        Some(Self {
+            cols,
+            rows,
+            bounds,
+            near,
+            classes: plan.classes,
+        })
+    }
+
+    /// The first block of the layer whose radii disk `s` compares with.
+    #[inline]
+    fn base(&self, s: &Disk) -> usize {
+        let layer = if s.own { s.layer } else { self.classes };
+        (layer * self.cols * self.rows) as usize
+    }
+
+    /// The largest pixel radius within reach of disk `s`'s centre.
+    fn near(&self, s: &Disk) -> u32 {
+        let (bx, by) = (
+            (s.x >> POS_FRAC_BITS) / BLOCK,
+            (s.y >> POS_FRAC_BITS) / BLOCK,
+        );
+        self.near[self.base(s) + (by * self.cols + bx) as usize]
+    }
+
+    /// The smallest and largest radius over the blocks that hold the
+    /// unwrapped pixels `x0..=x1` of row `y` of disk `s`'s layer.
+    fn row_bounds(&self, plan: &Plan, s: &Disk, y: u32, (x0, x1): (i64, i64)) -> [u32; 2] {
+        let row = self.base(s) + (y / BLOCK * self.cols) as usize;
+        let mut out = [u32::MAX, 0];
+        for_each_run(x0, x1, plan.width, plan.periodic, |_, a, z| {
+            for [lo, hi] in &self.bounds[row + a / BLOCK as usize..=row + z / BLOCK as usize] {
+                out = [out[0].min(*lo), out[1].max(*hi)];
+            }
+        });
+        out
+    }
+
+    /// Bytes held.
+    pub(crate) fn bytes(&self) -> usize {
+        8 * self.bounds.capacity() + 4 * self.near.capacity()
     }
 }
 
@@ -129,9 +268,9 @@ fn set_bits(map: &mut [u64], lo: usize, hi: usize) {
 }
 
 /// The unwrapped rows of its layer whose centres may lie within reach of `s`.
-fn row_range(plan: &Plan, s: &Disk) -> (i64, i64) {
+fn row_range(plan: &Plan, blocks: Option<&Blocks>, s: &Disk) -> (i64, i64) {
     let one = 1i64 << POS_FRAC_BITS;
-    let r = i64::from(reach(plan, s)) << (POS_FRAC_BITS - RADIUS_FRAC_BITS);
+    let r = i64::from(reach(plan, blocks, s)) << (POS_FRAC_BITS - RADIUS_FRAC_BITS);
     let cy = i64::from(s.y);
     // Rows whose centre q·256 + 128 lies strictly within r of cy.
     (
@@ -140,14 +279,36 @@ fn row_range(plan: &Plan, s: &Disk) -> (i64, i64) {
     )
 }
 
-/// Marks the pixels of the slot rows `band.start..band.end` (rows of the
-/// stacked layers) that disk `s` covers; `cov` holds those rows.
-fn cover_band(plan: &Plan, s: &Disk, band: std::ops::Range<u32>, cov: &mut [u64]) {
+/// The first and last unwrapped pixel of a row `dy` (1/256 px) from centre
+/// x `cx` whose centres lie strictly within `f` (1/64 px), or `None`.
+#[inline]
+fn span(cx: i64, dy: u64, f: u32) -> Option<(i64, i64)> {
     let one = 1i64 << POS_FRAC_BITS;
     let half = one / 2;
-    let r = i64::from(reach(plan, s)) << (POS_FRAC_BITS - RADIUS_FRAC_BITS);
+    let r = u64::from(f) << (POS_FRAC_BITS - RADIUS_FRAC_BITS);
+    if r <= dy {
+        return None;
+    }
+    let dx_max = isqrt(r * r - dy * dy - 1) as i64;
+    Some((
+        -(-(cx - dx_max - half)).div_euclid(one),
+        (cx + dx_max - half).div_euclid(one),
+    ))
+}
+
+/// Marks the pixels of the slot rows `band.start..band.end` (rows of the
+/// stacked layers) that disk `s` covers; `cov` holds those rows.
+fn cover_band(
+    plan: &Plan,
+    blocks: Option<&Blocks>,
+    s: &Disk,
+    band: std::ops::Range<u32>,
+    cov: &mut [u64],
+) {
+    let one = 1i64 << POS_FRAC_BITS;
+    let half = one / 2;
     let (cx, cy) = (i64::from(s.x), i64::from(s.y));
-    let (y0, y1) = row_range(plan, s);
+    let (y0, y1) = row_range(plan, blocks, s);
     let w = plan.width as usize;
     let top = i64::from(s.layer * plan.height);
     // Off a periodic domain, only the band's own rows are visited.
@@ -159,6 +320,7 @@ fn cover_band(plan: &Plan, s: &Disk, band: std::ops::Range<u32>, cov: &mut [u64]
             y1.min(i64::from(band.end) - 1 - top),
         )
     };
+    let reach = reach(plan, blocks, s);
     for qy in y0..=y1 {
         let Some(y) = wrap(qy, plan.height, plan.periodic) else {
             continue;
@@ -169,26 +331,113 @@ fn cover_band(plan: &Plan, s: &Disk, band: std::ops::Range<u32>, cov: &mut [u64]
         }
         let row = (sy - band.start) as usize * w;
         let dy = (qy * one + half - cy).unsigned_abs();
-        let dx_max = isqrt((r * r) as u64 - dy * dy - 1) as i64;
-        let x0 = -(-(cx - dx_max - half)).div_euclid(one);
-        let x1 = (cx + dx_max - half).div_euclid(one);
-        if plan.policy == Policy::Prior {
+        let Some((x0, x1)) = span(cx, dy, reach) else {
+            continue;
+        };
+        let Some(b) = blocks else {
+            // Every pixel within reach is covered.
             fill_span(cov, row, w, x0, x1, plan.periodic);
             continue;
-        }
-        for qx in x0..=x1 {
-            let Some(x) = wrap(qx, plan.width, plan.periodic) else {
-                continue;
-            };
-            let dx = (qx * one + half - cx).unsigned_abs() as u32;
-            let f = plan
-                .policy
-                .coverage_radius(s.radius, s.pixel_radius(plan, y * plan.width + x));
-            if inside(dx, dy as u32, f) {
-                let p = row + x as usize;
-                cov[p / 64] |= 1 << (p % 64);
+        };
+        // The row's blocks bound f over the span: one f for all its pixels
+        // fills the span as under Prior, else each pixel reads its radius.
+        let [lo, hi] = b.row_bounds(plan, s, y, (x0, x1));
+        let f_hi = plan.policy.coverage_radius(s.radius, hi);
+        if plan.policy.coverage_radius(s.radius, lo) == f_hi {
+            if let Some((a, z)) = span(cx, dy, f_hi) {
+                fill_span(cov, row, w, a, z, plan.periodic);
             }
+            continue;
         }
+        let Some((a, z)) = span(cx, dy, f_hi) else {
+            continue;
+        };
+        let radii = radius_row(plan, s, y);
+        let r_s = s.radius;
+        for_each_run(a, z, plan.width, plan.periodic, |q0, x0, x1| {
+            let run = Run {
+                row: row + x0,
+                radii: &radii[x0..=x1],
+                dx0: q0 * one + half - cx,
+                dy2: dy * dy,
+            };
+            match plan.policy {
+                Policy::Prior | Policy::Current => run.mark(cov, |r| r),
+                Policy::Bigger => run.mark(cov, |r| r.max(r_s)),
+                Policy::Smaller => run.mark(cov, |r| r.min(r_s)),
+            }
+        });
+    }
+}
+
+/// A run of consecutive pixels of one row of the coverage map whose
+/// coverage radius each reads from its own radius.
+struct Run<'a> {
+    /// The run's first bit in the band's words.
+    row: usize,
+    /// The run's pixel radii (1/64 px).
+    radii: &'a [u32],
+    /// x of the first pixel's centre minus the disk's, 1/256 px.
+    dx0: i64,
+    /// The row's dy², 1/256² px².
+    dy2: u64,
+}
+
+impl Run<'_> {
+    /// Marks the pixels whose centres lie strictly within `f(r_pixel)` of
+    /// the disk's centre: [`inside`], without branches.
+    #[inline(always)]
+    fn mark(&self, cov: &mut [u64], f: impl Fn(u32) -> u32) {
+        let one = 1i64 << POS_FRAC_BITS;
+        // One word at a time, its bits gathered in a register.
+        let (mut i, n) = (0usize, self.radii.len());
+        while i < n {
+            let p = self.row + i;
+            let (word, bit0) = (p / 64, p % 64);
+            let end = n.min(i + 64 - bit0);
+            let mut bits = 0u64;
+            for (j, &r) in self.radii[i..end].iter().enumerate() {
+                let dx = (self.dx0 + (i + j) as i64 * one).unsigned_abs();
+                let f = u64::from(f(r)) << (POS_FRAC_BITS - RADIUS_FRAC_BITS);
+                bits |= u64::from(dx * dx + self.dy2 < f * f) << (bit0 + j);
+            }
+            cov[word] |= bits;
+            i = end;
+        }
+    }
+}
+
+/// The pixel radii (1/64 px) of row `y` of the layer disk `s` compares with.
+fn radius_row<'p>(plan: &'p Plan, s: &Disk, y: u32) -> &'p [u32] {
+    let w = plan.width as usize;
+    let at = y as usize * w;
+    match (&plan.map, &plan.cross, s.own) {
+        (Some(m), _, true) => &m.radii_fx()[s.layer as usize * plan.pixels() as usize + at..][..w],
+        (_, Some(c), false) => &c[at..at + w],
+        (Some(m), None, false) => &m.radii_fx()[at..at + w],
+        (None, ..) => unreachable!("blocks need a radius map"),
+    }
+}
+
+/// Calls `f(q0, x0, x1)` for each run of the unwrapped pixels `a..=z` of a
+/// row of `n` pixels that is contiguous on the domain: `x0..=x1` wrapped,
+/// `q0` the unwrapped index of `x0`. Off a periodic domain, the pixels off
+/// its edges are dropped.
+fn for_each_run(a: i64, z: i64, n: u32, periodic: bool, mut f: impl FnMut(i64, usize, usize)) {
+    let n = i64::from(n);
+    if !periodic {
+        let (a, z) = (a.max(0), z.min(n - 1));
+        if a <= z {
+            f(a, a as usize, z as usize);
+        }
+        return;
+    }
+    let mut q = a;
+    while q <= z {
+        let k = q.div_euclid(n);
+        let end = z.min(k * n + n - 1);
+        f(q, (q - k * n) as usize, (end - k * n) as usize);
+        q = end + 1;
     }
 }
 
@@ -245,12 +494,17 @@ pub(crate) fn for_each_band<T: Sync>(
 /// Marks the slots that the survivors cover, on every class's layer. Each
 /// band of [`BAND_ROWS`] slot rows is one task: the map is the same for any
 /// thread count.
-pub fn cover(plan: &Plan, survivors: &[Dart], coverage: &mut [u64]) {
+pub(crate) fn cover(
+    plan: &Plan,
+    blocks: Option<&Blocks>,
+    survivors: &[Dart],
+    coverage: &mut [u64],
+) {
     let bands = plan.slot_rows().div_ceil(BAND_ROWS) as usize;
     // Copies, not indices: a band then reads its disks in sequence.
     let mut buckets: Vec<Vec<Disk>> = vec![Vec::new(); bands];
     for s in survivors.iter().flat_map(|s| Disk::of(plan, s)) {
-        let (y0, y1) = row_range(plan, &s);
+        let (y0, y1) = row_range(plan, blocks, &s);
         let top = s.layer * plan.height;
         let mut add = |y: u32| {
             let b = &mut buckets[((top + y) / BAND_ROWS) as usize];
@@ -272,8 +526,16 @@ pub fn cover(plan: &Plan, survivors: &[Dart], coverage: &mut [u64]) {
                 .for_each(|band| add((band * BAND_ROWS).max(top + a) - top));
         }
     }
+    if blocks.is_some() {
+        // Disks that read pixel radii read them left to right: the radius
+        // map's band is too large for the cache in any other order. Bits
+        // are only ever set, so the order does not change the map.
+        buckets
+            .par_iter_mut()
+            .for_each(|b| b.sort_unstable_by_key(|d| d.x));
+    }
     for_each_band(plan, coverage, &buckets, |s, rows, cov| {
-        cover_band(plan, s, rows, cov)
+        cover_band(plan, blocks, s, rows, cov)
     });
 }
 
@@ -282,13 +544,25 @@ mod tests {
     use std::sync::Arc;
 
     use super::*;
-    use crate::sampler::fixed::{axis_delta, mix, pixel_centre};
+    use crate::sampler::fixed::{axis_delta, inside, mix, pixel_centre};
     use crate::sampler::{Params, RadiusMap};
 
     /// Covers random samples and compares every pixel with the rule itself.
-    fn check(policy: Policy, periodic: bool) {
-        let (w, h) = (150u32, 140u32);
-        let radii: Vec<f32> = (0..w * h).map(|i| 2.0 + ((i % w) / 30) as f32).collect();
+    fn check(policy: Policy, periodic: bool, noise: bool) {
+        let (w, h) = (150u32, 141u32);
+        // Steps of 1 px every 30 columns, and with noise: radii that differ
+        // within most 8×8 blocks (1/64 px steps), some blocks flat.
+        let radii: Vec<f32> = (0..w * h)
+            .map(|i| {
+                let step = 2.0 + ((i % w) / 30) as f32;
+                let flat = (i / w / 24) % 2 == 0;
+                if noise && !flat {
+                    step + (mix(i) % 256) as f32 / 64.0
+                } else {
+                    step
+                }
+            })
+            .collect();
         let map = Arc::new(RadiusMap::from_pixels(w, h, &radii).unwrap());
         let plan = Params::new(w, h)
             .with_radius_map(map)
@@ -296,7 +570,7 @@ mod tests {
             .with_periodic(periodic)
             .plan()
             .unwrap();
-        let samples: Vec<Dart> = (0..200u32)
+        let samples: Vec<Dart> = (0..400u32)
             .map(|k| {
                 let r = mix(k);
                 let pixel = r % (w * h);
@@ -309,7 +583,7 @@ mod tests {
             })
             .collect();
         let mut cov = new_map(w * h);
-        cover(&plan, &samples, &mut cov);
+        cover(&plan, Blocks::new(&plan).as_ref(), &samples, &mut cov);
         let (px, py) = plan.periods();
         for p in 0..w * h {
             let want = samples.iter().any(|s| {
@@ -320,7 +594,7 @@ mod tests {
             assert_eq!(
                 want,
                 is_covered(&cov, p),
-                "{policy:?} periodic {periodic} pixel {p}"
+                "{policy:?} periodic {periodic} noise {noise} pixel {p}"
             );
         }
     }
@@ -329,7 +603,9 @@ mod tests {
     fn cover_marks_exactly_the_pixels_within_the_policy_distance() {
         for policy in Policy::ALL {
             for periodic in [false, true] {
-                check(policy, periodic);
+                for noise in [false, true] {
+                    check(policy, periodic, noise);
+                }
             }
         }
     }

@@ -65,45 +65,32 @@ fn occluded(plan: &Plan, grid: &DartGrid, e: &GridEntry) -> bool {
     let (period_x, period_y) = plan.periods();
     let (cols, ncols) = cells_along(px, grid.cell, plan.width, grid.cell, plan.periodic);
     let (rows, nrows) = cells_along(py, grid.cell, plan.height, grid.cell, plan.periodic);
-    // Cells next to each other in a grid row hold consecutive entries, so
-    // each run of adjacent columns is one slice; a slice is tested without
-    // branches, since whether a dart wins is a coin toss.
-    let mut runs = [(0u32, 0u32); 4];
-    let mut nruns = 0;
-    for (i, &c) in cols[..ncols].iter().enumerate() {
-        if i > 0 && c == runs[nruns - 1].1 + 1 {
-            runs[nruns - 1].1 = c;
-        } else {
-            runs[nruns] = (c, c);
-            nruns += 1;
-        }
-    }
+    // A cell's darts are in winning order: its scan stops at the first
+    // that does not beat e (e itself at the latest: keys are unique), or at
+    // the first that covers e's pixel centre.
     for &ny in &rows[..nrows] {
         let base = ny * grid.cols;
-        let mut hit = false;
-        for &(c0, c1) in &runs[..nruns] {
-            let (a, b) = (
-                grid.start[(base + c0) as usize],
-                grid.start[(base + c1) as usize + 1],
-            );
+        for &nx in &cols[..ncols] {
+            let c = (base + nx) as usize;
+            let (a, b) = (grid.start[c], grid.start[c + 1]);
             for di in &grid.entries[a as usize..b as usize] {
-                // Keys are unique, so a key beating e's is another dart's.
+                if !layout.beats(di.key, e.key) {
+                    break;
+                }
                 // Another class keeps the cross radius away.
                 let reach = if di.class == e.class {
                     di.radius
                 } else {
                     di.cross
                 };
-                hit |= layout.beats(di.key, e.key)
-                    & inside(
-                        axis_delta(di.x, cx, period_x),
-                        axis_delta(di.y, cy, period_y),
-                        reach,
-                    );
+                if inside(
+                    axis_delta(di.x, cx, period_x),
+                    axis_delta(di.y, cy, period_y),
+                    reach,
+                ) {
+                    return true;
+                }
             }
-        }
-        if hit {
-            return true;
         }
     }
     false

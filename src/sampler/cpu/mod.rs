@@ -50,6 +50,8 @@ pub struct CpuStepper<'p> {
     survivors: Vec<Dart>,
     grid: throw::DartGrid,
     culler: cull::Culler,
+    /// The radius map's blocks, for coverage under a policy that reads it.
+    blocks: Option<cover::Blocks>,
     peak_bytes: usize,
 }
 
@@ -68,6 +70,7 @@ impl<'p> CpuStepper<'p> {
             survivors: Vec::new(),
             grid: throw::DartGrid::default(),
             culler: cull::Culler::default(),
+            blocks: cover::Blocks::new(plan),
             peak_bytes: 0,
         }
     }
@@ -103,7 +106,12 @@ impl Stepper for CpuStepper<'_> {
         let t1 = Instant::now();
         self.culler
             .survivors(plan, &self.darts, &self.grid, &mut self.survivors);
-        cover::cover(plan, &self.survivors, &mut self.coverage);
+        cover::cover(
+            plan,
+            self.blocks.as_ref(),
+            &self.survivors,
+            &mut self.coverage,
+        );
         let t2 = Instant::now();
         self.empty.compact(&self.coverage);
         let t3 = Instant::now();
@@ -128,6 +136,7 @@ impl Stepper for CpuStepper<'_> {
 
     fn bytes(&self) -> usize {
         let map_bytes = self.plan.map.as_ref().map_or(0, |m| 4 * m.radii_fx().len());
-        8 * self.coverage.len() + map_bytes + self.peak_bytes
+        let blocks = self.blocks.as_ref().map_or(0, cover::Blocks::bytes);
+        8 * self.coverage.len() + map_bytes + blocks + self.peak_bytes
     }
 }

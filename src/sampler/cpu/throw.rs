@@ -52,7 +52,8 @@ pub struct DartGrid {
     pub rows: u32,
     /// `start[c]..start[c + 1]` indexes `entries` for cell `c`.
     pub start: Vec<u32>,
-    /// The darts with their keys, grouped by cell, in dart order within a cell.
+    /// The darts with their keys, grouped by cell, in winning order within a
+    /// cell (the best key first).
     pub entries: Vec<GridEntry>,
     /// The cell of each dart, in dart order.
     cell_of: Vec<u32>,
@@ -162,6 +163,15 @@ impl DartGrid {
                 let mut prev = first;
                 for s in start.iter_mut() {
                     (*s, prev) = (prev, *s);
+                }
+                // Each cell's darts in winning order, so that the cull stops
+                // at the first that cannot beat the dart it tests.
+                let layout = plan.layout;
+                let end = first + entries.len() as u32;
+                for (c, &a) in start.iter().enumerate() {
+                    let b = start.get(c + 1).copied().unwrap_or(end);
+                    entries[(a - first) as usize..(b - first) as usize]
+                        .sort_unstable_by_key(|e| layout.rank(e.key));
                 }
             });
     }
