@@ -546,11 +546,22 @@ fn circle_segments(r: f64) -> u32 {
 fn push_num(buf: &mut Vec<u8>, v: f64) {
     let t = v * 1000.0;
     let frac = t - t.floor();
-    if !t.is_finite() || t.abs() >= 1e12 || (frac - 0.5).abs() < 1e-6 {
+    if !t.is_finite() || t.abs() >= 1e12 {
         buf.extend_from_slice(num(v).as_bytes());
         return;
     }
-    let n = t.round() as i64;
+    let n = if (frac - 0.5).abs() >= 1e-6 {
+        t.round() as i64
+    } else if frac == 0.5 && v.mul_add(1000.0, -t) == 0.0 {
+        // An exact tie (v·1000 exact, ending in .5: a dart coordinate on
+        // the 1/256 px grid, one in 32) rounds half to even, as `format!`
+        // does.
+        let below = t.floor() as i64;
+        below + (below & 1)
+    } else {
+        buf.extend_from_slice(num(v).as_bytes());
+        return;
+    };
     if n < 0 {
         buf.push(b'-');
     }
@@ -686,13 +697,20 @@ mod tests {
             f64::NAN,
             f64::INFINITY,
             123.456,
+            0.0625,
+            -0.0625,
+            0.1875,
+            -0.1875,
+            2.0 / 256.0,
         ];
         for _ in 0..200_000 {
             let bits = next();
-            let v = match bits % 4 {
+            let v = match bits % 5 {
                 0 => f64::from(f32::from_bits((next() as u32) & 0x4fff_ffff)),
                 1 => (bits >> 11) as f64 / (1u64 << 40) as f64 * 1e4,
                 2 => f64::from(((bits >> 20) % 2_000_000) as f32 / 64.0) * (210.0 / 5016.0),
+                // Dart coordinates: the 1/256 px grid, exact ties included.
+                3 => ((bits >> 30) % 4_000_000) as f64 / 256.0 - 2000.0,
                 _ => ((bits >> 30) % 100_000) as f64 / 2000.0 - 25.0,
             };
             values.push(v);
