@@ -56,8 +56,10 @@ impl Prepared {
 
     /// `base` (domain, policy, seed…) with the map's radii at `scale`.
     pub fn params(&self, base: &Params, scale: f64) -> crate::sampler::Result<Params> {
-        let radii = self.map.radii(self.mapping, self.range.scaled(scale));
-        let m = RadiusMap::from_pixels(self.map.width(), self.map.height(), &radii)?;
+        // The radii of `map.radii(..)`, quantized as they are made.
+        let radius = ImportanceMap::radius_fn(self.mapping, self.range.scaled(scale));
+        let values = self.map.values();
+        let m = RadiusMap::from_fn(self.map.width(), self.map.height(), |i| radius(values[i]))?;
         Ok(base.clone().with_radius_map(Arc::new(m)))
     }
 

@@ -118,6 +118,18 @@ pub enum Tones {
     Linear,
 }
 
+impl Tones {
+    /// The grey of the linear value `v` in these tones.
+    #[inline]
+    #[must_use]
+    pub fn tone(self, v: f32) -> f32 {
+        match self {
+            Self::Display => linear_to_srgb(v).clamp(0.0, 1.0),
+            Self::Linear => v,
+        }
+    }
+}
+
 /// Tone adjustments, applied in this order: levels, gamma, invert.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct Adjust {
@@ -287,8 +299,23 @@ impl ImportanceMap {
     /// assert!((r.value(0, 0) - 0.5).abs() < 1e-6);
     /// ```
     pub fn resized(&self, width: u32, height: u32) -> Result<Self> {
+        self.resized_with(width, height, |v| v)
+    }
+
+    /// [`Self::resized`] with `post` applied to every value as it is made:
+    /// one pass and one map where resizing, then mapping, take two of each.
+    pub fn resized_with(
+        &self,
+        width: u32,
+        height: u32,
+        post: impl Fn(f32) -> f32 + Sync,
+    ) -> Result<Self> {
         if (width, height) == (self.width, self.height) {
-            return Ok(self.clone());
+            return Ok(Self {
+                width,
+                height,
+                values: self.values.par_iter().map(|&v| post(v)).collect(),
+            });
         }
         if width == 0 || height == 0 {
             return Err(Error::InvalidParameter(format!(
@@ -300,7 +327,12 @@ impl ImportanceMap {
                 "importance map buffer has the wrong size".into(),
             ));
         }
-        let values = resize_triangle(&self.values, (self.width, self.height), (width, height));
+        let values = resize_triangle(
+            &self.values,
+            (self.width, self.height),
+            (width, height),
+            post,
+        );
         Ok(Self {
             width,
             height,
@@ -324,11 +356,7 @@ impl ImportanceMap {
             Tones::Display => Self {
                 width: self.width,
                 height: self.height,
-                values: self
-                    .values
-                    .par_iter()
-                    .map(|&v| linear_to_srgb(v).clamp(0.0, 1.0))
-                    .collect(),
+                values: self.values.par_iter().map(|&v| tones.tone(v)).collect(),
             },
         }
     }
@@ -353,27 +381,30 @@ impl ImportanceMap {
     /// ```
     #[must_use]
     pub fn radii(&self, mapping: Mapping, range: RadiusRange) -> Vec<f32> {
-        if mapping == Mapping::Linear {
-            return self
-                .values
-                .par_iter()
-                .map(|&v| mapping.radius(v, range))
-                .collect();
-        }
+        let radius = Self::radius_fn(mapping, range);
+        self.values.par_iter().map(|&v| radius(v)).collect()
+    }
+
+    /// The radius of a value under `mapping`, as [`Self::radii`] gives it.
+    pub fn radius_fn(mapping: Mapping, range: RadiusRange) -> impl Fn(f32) -> f32 + Sync {
         // The calibrated mappings invert a curve: tabulate them once.
         const STEPS: usize = 4096;
-        let lut: Vec<f32> = (0..=STEPS)
-            .map(|i| mapping.radius(i as f32 / STEPS as f32, range))
-            .collect();
-        self.values
-            .iter()
-            .map(|&v| {
-                let x = v.clamp(0.0, 1.0) * STEPS as f32;
-                let i = (x as usize).min(STEPS - 1);
-                let f = x - i as f32;
-                lut[i] + f * (lut[i + 1] - lut[i])
-            })
-            .collect()
+        let lut: Vec<f32> = if mapping == Mapping::Linear {
+            Vec::new()
+        } else {
+            (0..=STEPS)
+                .map(|i| mapping.radius(i as f32 / STEPS as f32, range))
+                .collect()
+        };
+        move |v: f32| {
+            if lut.is_empty() {
+                return mapping.radius(v, range);
+            }
+            let x = v.clamp(0.0, 1.0) * STEPS as f32;
+            let i = (x as usize).min(STEPS - 1);
+            let f = x - i as f32;
+            lut[i] + f * (lut[i + 1] - lut[i])
+        }
     }
 
     /// Whether a dot at (x, y) survives the white cutoff: its pixel's value is
@@ -461,7 +492,12 @@ fn triangle_weights(from: u32, to: u32) -> Vec<(u32, Vec<f32>)> {
 /// clamped to [0, 1]: `image::imageops::resize(…, FilterType::Triangle)`
 /// value for value (a vertical pass, then a horizontal one, each output's
 /// sum in the same order), with rows in parallel.
-fn resize_triangle(values: &[f32], from: (u32, u32), to: (u32, u32)) -> Vec<f32> {
+fn resize_triangle(
+    values: &[f32],
+    from: (u32, u32),
+    to: (u32, u32),
+    post: impl Fn(f32) -> f32 + Sync,
+) -> Vec<f32> {
     let w = from.0 as usize;
     let (nw, nh) = (to.0 as usize, to.1 as usize);
     let vertical = triangle_weights(from.1, to.1);
@@ -487,7 +523,7 @@ fn resize_triangle(values: &[f32], from: (u32, u32), to: (u32, u32)) -> Vec<f32>
                 for (i, wt) in ws.iter().enumerate() {
                     t += src[*left as usize + i] * wt;
                 }
-                *o = t.clamp(0.0, 1.0);
+                *o = post(t.clamp(0.0, 1.0));
             }
         });
     out
@@ -526,7 +562,7 @@ mod resize_tests {
                     .into_iter()
                     .map(|v| v.clamp(0.0, 1.0))
                     .collect();
-            let ours = resize_triangle(&values, from, to);
+            let ours = resize_triangle(&values, from, to, |v| v);
             assert!(
                 theirs
                     .iter()

@@ -157,7 +157,10 @@ impl ImportanceOptions {
             )));
         }
         let (w, h) = size(map.width(), map.height());
-        let map = map.resized(w, h)?.toned(self.tones).adjusted(&adjust)?;
+        // Resized, toned and adjusted in one pass: the values of
+        // `resized(w, h)?.toned(tones).adjusted(&adjust)?`.
+        let tones = self.tones;
+        let map = map.resized_with(w, h, |v| adjust.apply(tones.tone(v)))?;
         let range = self.radius_range(count_target)?;
         Ok(Prepared {
             map,

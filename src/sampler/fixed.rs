@@ -121,7 +121,10 @@ pub fn key_to_depth(key: u32) -> f32 {
 /// Converts a radius in pixels to radius units, rounding to the nearest 1/64 px.
 #[must_use]
 pub fn radius_to_fx(r: f32) -> u32 {
-    (f64::from(r) * f64::from(RADIUS_ONE)).round() as u32
+    // r·64 is exact in f64 with at most 24 significant bits, so adding ½ is
+    // exact below 2^52 and truncating rounds half away from zero, as
+    // `round()` does (a libm call on baseline x86-64), saturating alike.
+    (f64::from(r) * f64::from(RADIUS_ONE) + 0.5) as u32
 }
 
 /// Converts radius units to pixels (exact).
@@ -164,6 +167,30 @@ mod tests {
         for w in keys.windows(2) {
             let (a, b) = (key_to_depth(w[0]), key_to_depth(w[1]));
             assert!(a < b && a.is_normal() && b < 1.0);
+        }
+    }
+
+    #[test]
+    fn radius_to_fx_rounds_as_round_does() {
+        let mut state = 0x9e37_79b9_u32;
+        let mut values = vec![0.0, -0.0, 0.5 / 64.0, 1.5 / 64.0, -0.5 / 64.0, 1e30, -1e30];
+        values.extend([
+            f32::NAN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::MAX,
+            f32::MIN_POSITIVE,
+        ]);
+        for _ in 0..1_000_000 {
+            state ^= state << 13;
+            state ^= state >> 17;
+            state ^= state << 5;
+            values.push(f32::from_bits(state));
+            values.push((state % 100_000) as f32 / 128.0);
+        }
+        for r in values {
+            let want = (f64::from(r) * f64::from(RADIUS_ONE)).round() as u32;
+            assert_eq!(radius_to_fx(r), want, "{r:e}");
         }
     }
 

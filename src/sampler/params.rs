@@ -4,6 +4,8 @@
 
 use std::sync::Arc;
 
+use rayon::prelude::*;
+
 use super::classes::ClassRadii;
 use super::fixed::{
     self, KEY_BITS, MAX_SIDE, MAX_SUBPIXEL_BITS, MIN_RADIUS_FX, RADIUS_ONE, radius_to_fx,
@@ -120,15 +122,48 @@ impl RadiusMap {
                 len: radii.len(),
             });
         }
-        if let Some((i, &r)) = radii.iter().enumerate().find(|(_, r)| !r.is_finite()) {
+        Self::from_fn(width, height, |i| radii[i])
+    }
+
+    /// [`Self::from_pixels`] of the radii `radius(i)` of pixels `i` (row-major),
+    /// without a buffer of them: computed in parallel, quantized as they are
+    /// made. The first bad pixel is the one reported.
+    pub fn from_fn(width: u32, height: u32, radius: impl Fn(usize) -> f32 + Sync) -> Result<Self> {
+        check_size(width, height)?;
+        let n = width as usize * height as usize;
+        // u32::MAX stands for a radius that is not finite (or that large).
+        let radii: Vec<u32> = (0..n)
+            .into_par_iter()
+            .map(|i| {
+                let r = radius(i);
+                if r.is_finite() {
+                    radius_to_fx(r.max(0.0))
+                } else {
+                    u32::MAX
+                }
+            })
+            .collect();
+        let (min, max) = radii
+            .par_iter()
+            .fold(|| (u32::MAX, 0), |(lo, hi), &r| (lo.min(r), hi.max(r)))
+            .reduce(|| (u32::MAX, 0), |a, b| (a.0.min(b.0), a.1.max(b.1)));
+        if max == u32::MAX
+            && let Some(i) = (0..n)
+                .into_par_iter()
+                .position_first(|i| !radius(i).is_finite())
+        {
             return Err(Error::InvalidRadius(format!(
-                "radius map holds {r} at pixel ({}, {})",
+                "radius map holds {} at pixel ({}, {})",
+                radius(i),
                 i as u32 % width,
                 i as u32 / width
             )));
         }
-        let radii: Vec<u32> = radii.iter().map(|&r| radius_to_fx(r.max(0.0))).collect();
-        if let Some(i) = radii.iter().position(|&r| r < MIN_RADIUS_FX) {
+        if min < MIN_RADIUS_FX {
+            let i = radii
+                .par_iter()
+                .position_first(|&r| r < MIN_RADIUS_FX)
+                .unwrap_or(0);
             return Err(Error::InvalidRadius(format!(
                 "radius map holds {} px at pixel ({}, {}); radii must be at least 1 px",
                 fixed::fx_to_radius(radii[i]),
@@ -136,8 +171,6 @@ impl RadiusMap {
                 i as u32 / width
             )));
         }
-        let min = radii.iter().copied().min().unwrap_or(MIN_RADIUS_FX);
-        let max = radii.iter().copied().max().unwrap_or(MIN_RADIUS_FX);
         Ok(Self {
             width,
             height,
@@ -156,7 +189,7 @@ impl RadiusMap {
     /// ```
     pub fn from_pixels_scaled(width: u32, height: u32, radii: &[f32], scale: f64) -> Result<Self> {
         let scaled: Vec<f32> = radii
-            .iter()
+            .par_iter()
             .map(|&r| (f64::from(r) * scale) as f32)
             .collect();
         Self::from_pixels(width, height, &scaled)

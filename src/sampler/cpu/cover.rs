@@ -128,40 +128,44 @@ impl Blocks {
         // within this many pixels of the block, along each axis.
         let reach = i64::from(plan.radius_range.1.div_ceil(RADIUS_ONE));
         let b = i64::from(BLOCK);
+        // A max filter over those blocks, one axis at a time.
+        let along = |i: u32, n_blocks: u32, n_px: u32| {
+            let mut out = Vec::new();
+            let i = i64::from(i);
+            for_each_run(
+                i * b - reach,
+                i * b + b - 1 + reach,
+                n_px,
+                plan.periodic,
+                |_, a, z| {
+                    out.extend(a / BLOCK as usize..=z / BLOCK as usize);
+                },
+            );
+            debug_assert!(out.iter().all(|&j| j < n_blocks as usize));
+            out
+        };
+        let near_cols: Vec<Vec<usize>> = (0..cols).map(|bx| along(bx, cols, w)).collect();
+        let near_rows: Vec<Vec<usize>> = (0..rows).map(|by| along(by, rows, h)).collect();
+        let mut across = vec![0u32; bounds.len()];
+        across
+            .par_chunks_mut(cols as usize)
+            .zip(bounds.par_chunks(cols as usize))
+            .for_each(|(out, row)| {
+                for (n, js) in out.iter_mut().zip(&near_cols) {
+                    *n = js.iter().map(|&j| row[j][1]).max().unwrap_or(0);
+                }
+            });
         let mut near = vec![0u32; bounds.len()];
         near.par_chunks_mut(cols as usize)
             .enumerate()
             .for_each(|(i, out)| {
-                let (layer, by) = (i / rows as usize, i64::from(i as u32 % rows));
+                let (layer, by) = (i / rows as usize, i % rows as usize);
                 let base = layer * per_layer;
-                let mut near_rows = Vec::new();
-                for_each_run(
-                    by * b - reach,
-                    by * b + b - 1 + reach,
-                    h,
-                    plan.periodic,
-                    |_, a, z| {
-                        near_rows.extend(a / BLOCK as usize..=z / BLOCK as usize);
-                    },
-                );
-                for (bx, n) in out.iter_mut().enumerate() {
-                    let bx = bx as i64;
-                    for_each_run(
-                        bx * b - reach,
-                        bx * b + b - 1 + reach,
-                        w,
-                        plan.periodic,
-                        |_, a, z| {
-                            for &ny in &near_rows {
-                                let at = base + ny * cols as usize;
-                                for [_, hi] in
-                                    &bounds[at + a / BLOCK as usize..=at + z / BLOCK as usize]
-                                {
-                                    *n = (*n).max(*hi);
-                                }
-                            }
-                        },
-                    );
+                for &j in &near_rows[by] {
+                    let row = &across[base + j * cols as usize..][..cols as usize];
+                    for (n, &a) in out.iter_mut().zip(row) {
+                        *n = (*n).max(a);
+                    }
                 }
             });
         Some(Self {
