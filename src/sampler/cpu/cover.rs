@@ -347,15 +347,20 @@ fn cover_band(
         // fills the span as under Prior, else each pixel reads its radius.
         let [lo, hi] = b.row_bounds(plan, s, y, (x0, x1));
         let f_hi = plan.policy.coverage_radius(s.radius, hi);
-        if plan.policy.coverage_radius(s.radius, lo) == f_hi {
-            if let Some((a, z)) = span(cx, dy, f_hi) {
-                fill_span(cov, row, w, a, z, plan.periodic);
-            }
-            continue;
-        }
-        let Some((a, z)) = span(cx, dy, f_hi) else {
+        // The span of f_hi: the reach's when they agree (Smaller's rule),
+        // else one more square root.
+        let outer = if f_hi == reach {
+            Some((x0, x1))
+        } else {
+            span(cx, dy, f_hi)
+        };
+        let Some((a, z)) = outer else {
             continue;
         };
+        if plan.policy.coverage_radius(s.radius, lo) == f_hi {
+            fill_span(cov, row, w, a, z, plan.periodic);
+            continue;
+        }
         let radii = radius_row(plan, s, y);
         let r_s = s.radius;
         for_each_run(a, z, plan.width, plan.periodic, |q0, x0, x1| {

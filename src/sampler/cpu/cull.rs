@@ -8,8 +8,8 @@
 use rayon::prelude::*;
 
 use super::throw::{DartGrid, GridEntry};
-use crate::sampler::fixed::{POS_FRAC_BITS, axis_delta, inside, pixel_centre};
-use crate::sampler::{Dart, Plan};
+use crate::sampler::fixed::{POS_FRAC_BITS, RADIUS_ONE, axis_delta, inside, pixel_centre};
+use crate::sampler::{Dart, Plan, Policy};
 
 /// The grid columns (or rows) that hold pixels within `reach` pixels of pixel
 /// `p` along an axis of `n` pixels, wrapping when periodic. At most 4, since
@@ -63,8 +63,15 @@ fn occluded(plan: &Plan, grid: &DartGrid, e: &GridEntry) -> bool {
     let (px, py) = (e.x >> POS_FRAC_BITS, e.y >> POS_FRAC_BITS);
     let (cx, cy) = (pixel_centre(px), pixel_centre(py));
     let (period_x, period_y) = plan.periods();
-    let (cols, ncols) = cells_along(px, grid.cell, plan.width, grid.cell, plan.periodic);
-    let (rows, nrows) = cells_along(py, grid.cell, plan.height, grid.cell, plan.periodic);
+    // Under Smaller only a dart of radius at most e's beats it, and its disk
+    // (or its cross-class disk, no larger) reaches at most that far.
+    let reach = if plan.policy == Policy::Smaller {
+        e.radius.div_ceil(RADIUS_ONE).min(grid.cell)
+    } else {
+        grid.cell
+    };
+    let (cols, ncols) = cells_along(px, reach, plan.width, grid.cell, plan.periodic);
+    let (rows, nrows) = cells_along(py, reach, plan.height, grid.cell, plan.periodic);
     // A cell's darts are in winning order: its scan stops at the first
     // that does not beat e (e itself at the latest: keys are unique), or at
     // the first that covers e's pixel centre.
