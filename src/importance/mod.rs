@@ -189,6 +189,7 @@ impl Adjust {
     /// let a = Adjust { black: 0.2, white: 0.6, gamma: 2.0, invert: true };
     /// assert!((a.apply(0.4) - 0.75).abs() < 1e-6);
     /// ```
+    #[inline]
     #[must_use]
     pub fn apply(&self, v: f32) -> f32 {
         let v = ((v - self.black) / (self.white - self.black)).clamp(0.0, 1.0);
