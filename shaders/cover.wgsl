@@ -12,6 +12,10 @@
 @group(0) @binding(3) var<storage, read_write> coverage: array<atomic<u32>>;
 @group(0) @binding(4) var radius_map: texture_2d<u32>;
 @group(0) @binding(5) var<uniform> ex: Exact;
+// The largest pixel radius within reach of each 8×8 block of the radius map,
+// layer by layer (one per class, then the cross radii): pixel mode, Current
+// and Bigger, with a map. CPU mirror: `Blocks` in src/sampler/cpu/cover.rs.
+@group(0) @binding(6) var<storage, read> near: array<u32>;
 
 fn radius_at(x: u32, y: u32) -> u32 {
     if cfg.uniform_radius != 0u {
@@ -67,7 +71,20 @@ fn cover(
     }
     var reach = radius;
     if cfg.policy == POLICY_CURRENT || cfg.policy == POLICY_BIGGER {
-        reach = max(radius, cfg.max_radius);
+        if cfg.uniform_radius != 0u {
+            reach = max(radius, cfg.max_radius);
+        } else {
+            // f(r_s, r) for the largest pixel radius r within reach of the
+            // centre's block: no pixel farther can be covered.
+            let cols = (cfg.width + 7u) / 8u;
+            let blocks = cols * ((cfg.height + 7u) / 8u);
+            var l = layer;
+            if !own {
+                l = cfg.classes;
+            }
+            let b = l * blocks + ((s.y >> POS_FRAC_BITS) / 8u) * cols + (s.x >> POS_FRAC_BITS) / 8u;
+            reach = coverage_radius(cfg.policy, radius, near[b]);
+        }
     }
     let r = i32(reach << (POS_FRAC_BITS - RADIUS_FRAC_BITS));
     let cx = i32(s.x);

@@ -9,7 +9,8 @@ use super::util::Bindings;
 
 /// The cover kernel.
 pub struct CoverStage {
-    /// The layout: config, survivors, survivor count, coverage, radius map.
+    /// The layout: config, survivors, survivor count, coverage, radius map,
+    /// the blocks' reach (binding 6).
     pub layout: wgpu::BindGroupLayout,
     /// Exact mode's layout: the same, and its configuration.
     pub exact_layout: wgpu::BindGroupLayout,
@@ -28,9 +29,11 @@ impl CoverStage {
             util::storage(3, c, false),
             util::texture(4, wgpu::TextureSampleType::Uint),
             util::uniform(5, c),
+            util::storage(6, c, true),
         ];
-        let layout = util::layout(device, "cover", &entries[..5]);
-        let exact_layout = util::layout(device, "cover exact", &entries);
+        let pixel_entries = [&entries[..5], &entries[6..]].concat();
+        let layout = util::layout(device, "cover", &pixel_entries);
+        let exact_layout = util::layout(device, "cover exact", &entries[..6]);
         let module = util::module(device, "cover.wgsl", util::SHADERS[3].1);
         Self {
             cover: util::compute(
@@ -52,17 +55,23 @@ impl CoverStage {
 
     /// Binds the stage to one run's resources.
     pub fn bind(&self, device: &wgpu::Device, b: &Bindings<'_>) -> wgpu::BindGroup {
-        util::bind_group(
-            device,
-            &self.layout,
-            &[
-                b.config.as_entire_binding(),
-                b.survivors.as_entire_binding(),
-                b.survivor_count.as_entire_binding(),
-                b.coverage.as_entire_binding(),
-                wgpu::BindingResource::TextureView(b.radius),
-            ],
-        )
+        let resources = [
+            (0, b.config.as_entire_binding()),
+            (1, b.survivors.as_entire_binding()),
+            (2, b.survivor_count.as_entire_binding()),
+            (3, b.coverage.as_entire_binding()),
+            (4, wgpu::BindingResource::TextureView(b.radius)),
+            (6, b.near.as_entire_binding()),
+        ];
+        let entries: Vec<_> = resources
+            .into_iter()
+            .map(|(binding, resource)| wgpu::BindGroupEntry { binding, resource })
+            .collect();
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("cover"),
+            layout: &self.layout,
+            entries: &entries,
+        })
     }
 
     /// Binds exact mode's kernel: the config, the survivors, their count,

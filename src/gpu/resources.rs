@@ -11,7 +11,7 @@ use super::cull::CullStage;
 use super::throw::{ThrowGroups, ThrowStage};
 use super::util::{self, Bindings};
 use crate::sampler::Dart;
-use crate::sampler::{Plan, Result};
+use crate::sampler::{Plan, Policy, Result};
 
 /// Bytes of the read-back header: empty count, survivor count, padding and
 /// six timestamps.
@@ -290,6 +290,7 @@ impl Resources {
             keys: &keys,
             depth: &depth,
             radius: &radius.view,
+            near: &radius.near,
         };
         let throw_groups = stages.throw.bind(device, &bindings);
         let cull_group = stages.cull.bind(device, &bindings);
@@ -301,6 +302,7 @@ impl Resources {
         };
         let bytes = s1_bytes
             + radius.bytes(plan)
+            + radius.near.size()
             + 3 * dart_bytes
             + coverage.size()
             + word_scan.bytes()
@@ -635,6 +637,10 @@ pub struct RadiusTexture {
     texture: wgpu::Texture,
     /// Its view, for bind groups.
     pub view: wgpu::TextureView,
+    /// The largest radius within reach of each 8×8 block of each layer
+    /// (`cpu::cover::Blocks`): what limits cover's reach under Current and
+    /// Bigger. One word without a map.
+    pub near: wgpu::Buffer,
     has_map: bool,
     narrow: bool,
     rows: u32,
@@ -666,9 +672,21 @@ impl RadiusTexture {
             view_formats: &[],
         });
         let view = texture.create_view(&Default::default());
+        let blocks = if has_map {
+            crate::sampler::cpu::cover::Blocks::count(plan)
+        } else {
+            1
+        };
+        let near = util::buffer_of(
+            device,
+            "near radii",
+            4 * blocks as u64,
+            wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        );
         Self {
             texture,
             view,
+            near,
             has_map,
             narrow,
             rows,
@@ -703,9 +721,15 @@ impl RadiusTexture {
         }
     }
 
-    /// Uploads the plan's radius map, if any.
+    /// Uploads the plan's radius map, if any, and under Current and Bigger
+    /// its blocks' reach.
     pub fn upload(&self, queue: &wgpu::Queue, plan: &Plan) {
         let Some(map) = &plan.map else { return };
+        if matches!(plan.policy, Policy::Current | Policy::Bigger)
+            && let Some(blocks) = crate::sampler::cpu::cover::Blocks::new(plan)
+        {
+            queue.write_buffer(&self.near, 0, bytemuck::cast_slice(blocks.near_all()));
+        }
         let with_cross: Vec<u32>;
         let radii = match &plan.cross {
             Some(cross) if plan.classes() > 1 => {

@@ -242,6 +242,8 @@ pub struct Bindings<'a> {
     pub depth: &'a wgpu::TextureView,
     /// The radius map.
     pub radius: &'a wgpu::TextureView,
+    /// The largest radius within reach of each 8×8 block of the radius map.
+    pub near: &'a wgpu::Buffer,
 }
 
 /// The layout naga reads from WGSL `source` for `struct name`: its size and
