@@ -208,11 +208,13 @@ impl Blocks {
 
     /// The largest radius within reach of each block, layer by layer, row
     /// by row: what the GPU's cover reads (`shaders/cover.wgsl`, `near`).
+    #[cfg(feature = "gpu")]
     pub(crate) fn near_all(&self) -> &[u32] {
         &self.near
     }
 
-    /// The blocks of `plan`'s layers: the length of [`Self::near_all`].
+    /// The blocks of `plan`'s layers: the length of `Self::near_all`.
+    #[cfg(feature = "gpu")]
     pub(crate) fn count(plan: &Plan) -> usize {
         let layers = plan.classes + u32::from(plan.classes > 1);
         (plan.width.div_ceil(BLOCK) * plan.height.div_ceil(BLOCK) * layers) as usize
