@@ -325,6 +325,7 @@ impl GpuSampler {
             return Err(error::unusable("no resources"));
         };
         res.radius.upload(queue, &plan);
+        res.radius.upload_near(queue, &plan);
         let mut config = Config::new(&plan);
         config.splat = u32::from(path == S1Path::Compute);
         let mut encoder = device.create_command_encoder(&Default::default());

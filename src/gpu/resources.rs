@@ -721,15 +721,19 @@ impl RadiusTexture {
         }
     }
 
-    /// Uploads the plan's radius map, if any, and under Current and Bigger
-    /// its blocks' reach.
-    pub fn upload(&self, queue: &wgpu::Queue, plan: &Plan) {
-        let Some(map) = &plan.map else { return };
+    /// Under Current and Bigger with a map, uploads its blocks' reach, which
+    /// the pixel pass's cover reads (exact mode's does not).
+    pub fn upload_near(&self, queue: &wgpu::Queue, plan: &Plan) {
         if matches!(plan.policy, Policy::Current | Policy::Bigger)
             && let Some(blocks) = crate::sampler::cpu::cover::Blocks::new(plan)
         {
             queue.write_buffer(&self.near, 0, bytemuck::cast_slice(blocks.near_all()));
         }
+    }
+
+    /// Uploads the plan's radius map, if any.
+    pub fn upload(&self, queue: &wgpu::Queue, plan: &Plan) {
+        let Some(map) = &plan.map else { return };
         let with_cross: Vec<u32>;
         let radii = match &plan.cross {
             Some(cross) if plan.classes() > 1 => {

@@ -285,10 +285,11 @@ fn set_bits(map: &mut [u64], lo: usize, hi: usize) {
     }
 }
 
-/// The unwrapped rows of its layer whose centres may lie within reach of `s`.
-fn row_range(plan: &Plan, blocks: Option<&Blocks>, s: &Disk) -> (i64, i64) {
+/// The unwrapped rows of its layer whose centres lie within `reach` (1/64
+/// px) of `s`'s centre.
+fn row_range(s: &Disk, reach: u32) -> (i64, i64) {
     let one = 1i64 << POS_FRAC_BITS;
-    let r = i64::from(reach(plan, blocks, s)) << (POS_FRAC_BITS - RADIUS_FRAC_BITS);
+    let r = i64::from(reach) << (POS_FRAC_BITS - RADIUS_FRAC_BITS);
     let cy = i64::from(s.y);
     // Rows whose centre q·256 + 128 lies strictly within r of cy.
     (
@@ -326,7 +327,8 @@ fn cover_band(
     let one = 1i64 << POS_FRAC_BITS;
     let half = one / 2;
     let (cx, cy) = (i64::from(s.x), i64::from(s.y));
-    let (y0, y1) = row_range(plan, blocks, s);
+    let reach = reach(plan, blocks, s);
+    let (y0, y1) = row_range(s, reach);
     let w = plan.width as usize;
     let top = i64::from(s.layer * plan.height);
     // Off a periodic domain, only the band's own rows are visited.
@@ -338,7 +340,6 @@ fn cover_band(
             y1.min(i64::from(band.end) - 1 - top),
         )
     };
-    let reach = reach(plan, blocks, s);
     for qy in y0..=y1 {
         let Some(y) = wrap(qy, plan.height, plan.periodic) else {
             continue;
@@ -467,29 +468,9 @@ fn for_each_run(a: i64, z: i64, n: u32, periodic: bool, mut f: impl FnMut(i64, u
 /// Sets pixels `x0..=x1` of the `n`-pixel row starting at bit `row`,
 /// wrapping or clipping at the row's ends.
 pub(crate) fn fill_span(cov: &mut [u64], row: usize, n: usize, x0: i64, x1: i64, periodic: bool) {
-    let n = n as i64;
-    if x0 > x1 {
-        return;
-    }
-    let mut set = |a: i64, b: i64| set_bits(cov, row + a as usize, row + b as usize);
-    if !periodic {
-        let (a, b) = (x0.max(0), x1.min(n - 1));
-        if a <= b {
-            set(a, b);
-        }
-        return;
-    }
-    if x1 - x0 + 1 >= n {
-        set(0, n - 1);
-        return;
-    }
-    let (a, b) = (x0.rem_euclid(n), x1.rem_euclid(n));
-    if a <= b {
-        set(a, b);
-    } else {
-        set(a, n - 1);
-        set(0, b);
-    }
+    for_each_run(x0, x1, n as u32, periodic, |_, a, z| {
+        set_bits(cov, row + a, row + z)
+    });
 }
 
 /// Runs `mark(item, rows, words)` for every item of every band's bucket,
@@ -527,7 +508,7 @@ pub(crate) fn cover(
     // Copies, not indices: a band then reads its disks in sequence.
     let mut buckets: Vec<Vec<Disk>> = vec![Vec::new(); bands];
     for s in survivors.iter().flat_map(|s| Disk::of(plan, s)) {
-        let (y0, y1) = row_range(plan, blocks, &s);
+        let (y0, y1) = row_range(&s, reach(plan, blocks, &s));
         let top = s.layer * plan.height;
         let mut add = |y: u32| {
             let b = &mut buckets[((top + y) / BAND_ROWS) as usize];

@@ -33,17 +33,10 @@ pub(crate) fn cells_along(
         }
         return (out, len);
     }
-    let (lo, hi) = if periodic {
-        (
-            i64::from(p) - i64::from(reach),
-            i64::from(p) + i64::from(reach),
-        )
-    } else {
-        (
-            i64::from(p.saturating_sub(reach)),
-            i64::from((p + reach).min(n - 1)),
-        )
-    };
+    let (lo, hi) = (
+        i64::from(p) - i64::from(reach),
+        i64::from(p) + i64::from(reach),
+    );
     let mut x = lo;
     while x <= hi {
         let w = x.rem_euclid(i64::from(n)) as u32;
