@@ -361,6 +361,10 @@ fn cover_band(
         // The row's blocks bound f over the span: one f for all its pixels
         // fills the span as under Prior, else each pixel reads its radius.
         let [lo, hi] = b.row_bounds(plan, s, y, (x0, x1));
+        if lo > hi {
+            // No pixel of the span lies on the domain.
+            continue;
+        }
         let f_hi = plan.policy.coverage_radius(s.radius, hi);
         // The span of f_hi: the reach's when they agree (Smaller's rule),
         // else one more square root.
@@ -372,25 +376,38 @@ fn cover_band(
         let Some((a, z)) = outer else {
             continue;
         };
-        if plan.policy.coverage_radius(s.radius, lo) == f_hi {
+        let f_lo = plan.policy.coverage_radius(s.radius, lo);
+        if f_lo == f_hi {
             fill_span(cov, row, w, a, z, plan.periodic);
             continue;
         }
+        // Within f_lo every pixel is covered whatever its radius: only the
+        // ring between f_lo and f_hi reads the pixels' radii.
         let radii = radius_row(plan, s, y);
         let r_s = s.radius;
-        for_each_run(a, z, plan.width, plan.periodic, |q0, x0, x1| {
-            let run = Run {
-                row: row + x0,
-                radii: &radii[x0..=x1],
-                dx0: q0 * one + half - cx,
-                dy2: dy * dy,
-            };
-            match plan.policy {
-                Policy::Prior | Policy::Current => run.mark(cov, |r| r),
-                Policy::Bigger => run.mark(cov, |r| r.max(r_s)),
-                Policy::Smaller => run.mark(cov, |r| r.min(r_s)),
+        let mut mark = |a: i64, z: i64| {
+            for_each_run(a, z, plan.width, plan.periodic, |q0, x0, x1| {
+                let run = Run {
+                    row: row + x0,
+                    radii: &radii[x0..=x1],
+                    dx0: q0 * one + half - cx,
+                    dy2: dy * dy,
+                };
+                match plan.policy {
+                    Policy::Prior | Policy::Current => run.mark(cov, |r| r),
+                    Policy::Bigger => run.mark(cov, |r| r.max(r_s)),
+                    Policy::Smaller => run.mark(cov, |r| r.min(r_s)),
+                }
+            });
+        };
+        match span(cx, dy, f_lo) {
+            None => mark(a, z),
+            Some((ia, iz)) => {
+                mark(a, ia - 1);
+                mark(iz + 1, z);
+                fill_span(cov, row, w, ia, iz, plan.periodic);
             }
-        });
+        }
     }
 }
 
