@@ -132,20 +132,26 @@ impl RadiusMap {
         check_size(width, height)?;
         let n = width as usize * height as usize;
         // u32::MAX stands for a radius that is not finite (or that large).
-        let radii: Vec<u32> = (0..n)
-            .into_par_iter()
-            .map(|i| {
-                let r = radius(i);
-                if r.is_finite() {
-                    radius_to_fx(r.max(0.0))
-                } else {
-                    u32::MAX
-                }
-            })
-            .collect();
+        // The smallest and largest are found as the radii are made.
+        const CHUNK: usize = 1 << 14;
+        let mut radii = vec![0u32; n];
         let (min, max) = radii
-            .par_iter()
-            .fold(|| (u32::MAX, 0), |(lo, hi), &r| (lo.min(r), hi.max(r)))
+            .par_chunks_mut(CHUNK)
+            .enumerate()
+            .map(|(c, out)| {
+                let (mut lo, mut hi) = (u32::MAX, 0);
+                for (r_out, i) in out.iter_mut().zip(c * CHUNK..) {
+                    let r = radius(i);
+                    let fx = if r.is_finite() {
+                        radius_to_fx(r.max(0.0))
+                    } else {
+                        u32::MAX
+                    };
+                    (lo, hi) = (lo.min(fx), hi.max(fx));
+                    *r_out = fx;
+                }
+                (lo, hi)
+            })
             .reduce(|| (u32::MAX, 0), |a, b| (a.0.min(b.0), a.1.max(b.1)));
         if max == u32::MAX
             && let Some(i) = (0..n)
