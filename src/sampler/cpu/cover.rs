@@ -65,6 +65,12 @@ fn reach(plan: &Plan, blocks: Option<&Blocks>, s: &Disk) -> u32 {
 /// reads the smallest and largest radius of the 8×8 blocks a disk meets.
 pub const BLOCK: u32 = 8;
 
+/// Bytes of a block in [`Blocks`]' `fine`.
+const FINE_BLOCK: usize = (BLOCK * BLOCK) as usize;
+
+/// A `fine` offset that does not fit in a byte: the radius map is read.
+const FINE_FAR: u8 = u8::MAX;
+
 /// The smallest and largest pixel radius of every [`BLOCK`]² block of each
 /// radius layer (one per class, then the cross radii with classes), and the
 /// largest within reach of each block.
@@ -82,6 +88,10 @@ pub(crate) struct Blocks {
     rows: u32,
     /// `[lo, hi]` of each block, layer by layer, row-major.
     bounds: Vec<[u32; 2]>,
+    /// Each pixel's radius minus its block's `lo`, [`FINE_FAR`] when that
+    /// is too large for a byte; a block's 64 pixels together (row-major
+    /// within the block), blocks as in `bounds`.
+    fine: Vec<u8>,
     /// The largest `hi` of the blocks within `BLOCK`·`near_blocks` px of
     /// each block: every pixel a disk can cover (within the map's largest
     /// radius) lies there.
@@ -120,6 +130,28 @@ impl Blocks {
                         for &r in chunk {
                             b[0] = b[0].min(r);
                             b[1] = b[1].max(r);
+                        }
+                    }
+                }
+            });
+        // Each pixel's radius over its block's smallest, blocks in a row
+        // of 64 bytes: what a ring pixel reads (one cache line a block,
+        // not one a row).
+        let mut fine = vec![FINE_FAR; bounds.len() * FINE_BLOCK];
+        fine.par_chunks_mut(cols as usize * FINE_BLOCK)
+            .zip(bounds.par_chunks(cols as usize))
+            .enumerate()
+            .for_each(|(i, (out, row_bounds))| {
+                let (layer, by) = (i / rows as usize, i as u32 % rows);
+                let src = layers[layer];
+                for y in by * BLOCK..((by + 1) * BLOCK).min(h) {
+                    let row = &src[(y * w) as usize..((y + 1) * w) as usize];
+                    let dy = (y % BLOCK) as usize * BLOCK as usize;
+                    for (bx, chunk) in row.chunks(BLOCK as usize).enumerate() {
+                        let lo = row_bounds[bx][0];
+                        let at = bx * FINE_BLOCK + dy;
+                        for (o, &r) in out[at..at + chunk.len()].iter_mut().zip(chunk) {
+                            *o = u8::try_from(r - lo).unwrap_or(FINE_FAR);
                         }
                     }
                 }
@@ -172,6 +204,7 @@ impl Blocks {
             cols,
             rows,
             bounds,
+            fine,
             near,
             classes: plan.classes,
         })
@@ -206,6 +239,26 @@ impl Blocks {
         out
     }
 
+    /// The radius of pixel `x` of row `y` of disk `s`'s layer, read from
+    /// its block (`radii`, that row of the map, when it does not fit).
+    #[inline]
+    fn radius(&self, s: &Disk, x: u32, y: u32, radii: &[u32]) -> u32 {
+        let block = self.base(s) + (y / BLOCK * self.cols + x / BLOCK) as usize;
+        let off = self.fine[block * FINE_BLOCK + ((y % BLOCK) * BLOCK + x % BLOCK) as usize];
+        if off == FINE_FAR {
+            radii[x as usize]
+        } else {
+            self.bounds[block][0] + u32::from(off)
+        }
+    }
+
+    /// The bounds of the blocks of row `y` of disk `s`'s layer.
+    #[inline]
+    fn block_row(&self, s: &Disk, y: u32) -> &[[u32; 2]] {
+        let row = self.base(s) + (y / BLOCK * self.cols) as usize;
+        &self.bounds[row..row + self.cols as usize]
+    }
+
     /// The largest radius within reach of each block, layer by layer, row
     /// by row: what the GPU's cover reads (`shaders/cover.wgsl`, `near`).
     #[cfg(feature = "gpu")]
@@ -222,7 +275,7 @@ impl Blocks {
 
     /// Bytes held.
     pub(crate) fn bytes(&self) -> usize {
-        8 * self.bounds.capacity() + 4 * self.near.capacity()
+        8 * self.bounds.capacity() + self.fine.capacity() + 4 * self.near.capacity()
     }
 }
 
@@ -340,6 +393,8 @@ fn cover_band(
             y1.min(i64::from(band.end) - 1 - top),
         )
     };
+    // The bounds of the last row of blocks: (its index, [lo, hi]).
+    let mut bounds: Option<(u32, [u32; 2])> = None;
     for qy in y0..=y1 {
         let Some(y) = wrap(qy, plan.height, plan.periodic) else {
             continue;
@@ -358,9 +413,23 @@ fn cover_band(
             fill_span(cov, row, w, x0, x1, plan.periodic);
             continue;
         };
-        // The row's blocks bound f over the span: one f for all its pixels
-        // fills the span as under Prior, else each pixel reads its radius.
-        let [lo, hi] = b.row_bounds(plan, s, y, (x0, x1));
+        // The blocks bound f over the span: one f for all its pixels fills
+        // the span as under Prior, else the ring where f varies reads its
+        // pixels' radii. The bounds are taken once per row of blocks, over
+        // the disk's widest row in it (a span that holds every other's).
+        let by = y / BLOCK;
+        let [lo, hi] = match bounds {
+            Some((at, bounds)) if at == by => bounds,
+            _ => {
+                let first = qy - i64::from(y % BLOCK);
+                let widest = (cy >> POS_FRAC_BITS).clamp(first, first + i64::from(BLOCK) - 1);
+                let dy_w = (widest * one + half - cy).unsigned_abs();
+                let wide = span(cx, dy_w, reach).unwrap_or((x0, x1));
+                let got = b.row_bounds(plan, s, y, wide);
+                bounds = Some((by, got));
+                got
+            }
+        };
         if lo > hi {
             // No pixel of the span lies on the domain.
             continue;
@@ -383,68 +452,77 @@ fn cover_band(
         }
         // Within f_lo every pixel is covered whatever its radius: only the
         // ring between f_lo and f_hi reads the pixels' radii.
-        let radii = radius_row(plan, s, y);
-        let r_s = s.radius;
-        let mut mark = |a: i64, z: i64| {
-            for_each_run(a, z, plan.width, plan.periodic, |q0, x0, x1| {
-                let run = Run {
-                    row: row + x0,
-                    radii: &radii[x0..=x1],
-                    dx0: q0 * one + half - cx,
-                    dy2: dy * dy,
-                };
-                match plan.policy {
-                    Policy::Prior | Policy::Current => run.mark(cov, |r| r),
-                    Policy::Bigger => run.mark(cov, |r| r.max(r_s)),
-                    Policy::Smaller => run.mark(cov, |r| r.min(r_s)),
-                }
-            });
+        let ring = Ring {
+            s,
+            y,
+            row,
+            dy,
+            f_lo,
         };
-        match span(cx, dy, f_lo) {
-            None => mark(a, z),
-            Some((ia, iz)) => {
-                mark(a, ia - 1);
-                mark(iz + 1, z);
-                fill_span(cov, row, w, ia, iz, plan.periodic);
-            }
-        }
+        ring.cover(plan, b, (a, z), cov);
     }
 }
 
-/// A run of consecutive pixels of one row of the coverage map whose
-/// coverage radius each reads from its own radius.
-struct Run<'a> {
-    /// The run's first bit in the band's words.
+/// The pixels of one row of a disk's span whose coverage radius varies,
+/// between f_lo and f_hi.
+struct Ring<'a> {
+    /// The disk.
+    s: &'a Disk,
+    /// The row within the disk's layer.
+    y: u32,
+    /// The row's first bit in the band's words.
     row: usize,
-    /// The run's pixel radii (1/64 px).
-    radii: &'a [u32],
-    /// x of the first pixel's centre minus the disk's, 1/256 px.
-    dx0: i64,
-    /// The row's dy², 1/256² px².
-    dy2: u64,
+    /// The row's distance from the disk's centre, 1/256 px.
+    dy: u64,
+    /// The coverage radius of the row's smallest pixel radius (1/64 px).
+    f_lo: u32,
 }
 
-impl Run<'_> {
-    /// Marks the pixels whose centres lie strictly within `f(r_pixel)` of
-    /// the disk's centre: [`inside`], without branches.
-    #[inline(always)]
-    fn mark(&self, cov: &mut [u64], f: impl Fn(u32) -> u32) {
+impl Ring<'_> {
+    /// Marks the covered pixels of the unwrapped span `a..=z` (f_hi's).
+    /// The pixels within f_lo are one run, so the ring is walked in from
+    /// both ends until a pixel lies within f_lo and the run between is
+    /// filled: the ring is mostly a pixel wide, or none.
+    fn cover(&self, plan: &Plan, b: &Blocks, (a, z): (i64, i64), cov: &mut [u64]) {
         let one = 1i64 << POS_FRAC_BITS;
-        // One word at a time, its bits gathered in a register.
-        let (mut i, n) = (0usize, self.radii.len());
-        while i < n {
-            let p = self.row + i;
-            let (word, bit0) = (p / 64, p % 64);
-            let end = n.min(i + 64 - bit0);
-            let mut bits = 0u64;
-            for (j, &r) in self.radii[i..end].iter().enumerate() {
-                let dx = (self.dx0 + (i + j) as i64 * one).unsigned_abs();
-                let f = u64::from(f(r)) << (POS_FRAC_BITS - RADIUS_FRAC_BITS);
-                bits |= u64::from(dx * dx + self.dy2 < f * f) << (bit0 + j);
+        let (s, y, row) = (self.s, self.y, self.row);
+        let cx = i64::from(s.x) - one / 2;
+        let (policy, r_s, dy2) = (plan.policy, s.radius, self.dy * self.dy);
+        let within = |q: i64, f: u32| {
+            let dx = (q * one - cx).unsigned_abs();
+            let f = u64::from(f) << (POS_FRAC_BITS - RADIUS_FRAC_BITS);
+            dx * dx + dy2 < f * f
+        };
+        let radii = radius_row(plan, s, y);
+        // A ring pixel's own block mostly decides it: its radius is read
+        // only when f over the block's radii straddles the pixel.
+        let block_row = b.block_row(s, y);
+        let mut test = |q: i64| {
+            if let Some(x) = wrap(q, plan.width, plan.periodic) {
+                let [lo, hi] = block_row[(x / BLOCK) as usize];
+                let covered = within(q, policy.coverage_radius(r_s, lo))
+                    || (within(q, policy.coverage_radius(r_s, hi))
+                        && within(q, policy.coverage_radius(r_s, b.radius(s, x, y, radii))));
+                if covered {
+                    let bit = row + x as usize;
+                    cov[bit / 64] |= 1 << (bit % 64);
+                }
             }
-            cov[word] |= bits;
-            i = end;
+        };
+        let mut ia = a;
+        while ia <= z && !within(ia, self.f_lo) {
+            test(ia);
+            ia += 1;
         }
+        if ia > z {
+            return;
+        }
+        let mut iz = z;
+        while !within(iz, self.f_lo) {
+            test(iz);
+            iz -= 1;
+        }
+        fill_span(cov, row, plan.width as usize, ia, iz, plan.periodic);
     }
 }
 
