@@ -118,39 +118,33 @@ impl Blocks {
         }
         let per_layer = (cols * rows) as usize;
         let mut bounds = vec![[u32::MAX, 0]; per_layer * layers.len()];
+        // Each pixel's radius over its block's smallest, blocks in a row
+        // of 64 bytes: what a ring pixel reads (one cache line a block,
+        // not one a row). Made with the bounds, a row of blocks at a time
+        // while its rows are in the cache.
+        let mut fine = vec![FINE_FAR; bounds.len() * FINE_BLOCK];
         bounds
             .par_chunks_mut(cols as usize)
+            .zip(fine.par_chunks_mut(cols as usize * FINE_BLOCK))
             .enumerate()
-            .for_each(|(i, out)| {
+            .for_each(|(i, (out, fine))| {
                 let (layer, by) = (i / rows as usize, i as u32 % rows);
                 let src = layers[layer];
-                for y in by * BLOCK..((by + 1) * BLOCK).min(h) {
-                    let row = &src[(y * w) as usize..((y + 1) * w) as usize];
-                    for (b, chunk) in out.iter_mut().zip(row.chunks(BLOCK as usize)) {
+                let ys = by * BLOCK..((by + 1) * BLOCK).min(h);
+                let row = |y: u32| &src[(y * w) as usize..((y + 1) * w) as usize];
+                for y in ys.clone() {
+                    for (b, chunk) in out.iter_mut().zip(row(y).chunks(BLOCK as usize)) {
                         for &r in chunk {
                             b[0] = b[0].min(r);
                             b[1] = b[1].max(r);
                         }
                     }
                 }
-            });
-        // Each pixel's radius over its block's smallest, blocks in a row
-        // of 64 bytes: what a ring pixel reads (one cache line a block,
-        // not one a row).
-        let mut fine = vec![FINE_FAR; bounds.len() * FINE_BLOCK];
-        fine.par_chunks_mut(cols as usize * FINE_BLOCK)
-            .zip(bounds.par_chunks(cols as usize))
-            .enumerate()
-            .for_each(|(i, (out, row_bounds))| {
-                let (layer, by) = (i / rows as usize, i as u32 % rows);
-                let src = layers[layer];
-                for y in by * BLOCK..((by + 1) * BLOCK).min(h) {
-                    let row = &src[(y * w) as usize..((y + 1) * w) as usize];
+                for y in ys {
                     let dy = (y % BLOCK) as usize * BLOCK as usize;
-                    for (bx, chunk) in row.chunks(BLOCK as usize).enumerate() {
-                        let lo = row_bounds[bx][0];
-                        let at = bx * FINE_BLOCK + dy;
-                        for (o, &r) in out[at..at + chunk.len()].iter_mut().zip(chunk) {
+                    for (bx, chunk) in row(y).chunks(BLOCK as usize).enumerate() {
+                        let (lo, at) = (out[bx][0], bx * FINE_BLOCK + dy);
+                        for (o, &r) in fine[at..at + chunk.len()].iter_mut().zip(chunk) {
                             *o = u8::try_from(r - lo).unwrap_or(FINE_FAR);
                         }
                     }
