@@ -8,7 +8,7 @@ use rayon::prelude::*;
 
 use super::compact::EmptyList;
 use crate::sampler::fixed::{self, POS_FRAC_BITS, RADIUS_ONE};
-use crate::sampler::{Dart, Plan};
+use crate::sampler::{Dart, KeyLayout, Plan};
 
 /// Dart `k` of the iteration with key `iteration_key`, as [`throw`] makes
 /// it (in two passes): the tests' reference.
@@ -82,6 +82,42 @@ pub struct DartGrid {
     pub entries: Vec<GridEntry>,
     /// The cell of each dart, in dart order.
     cell_of: Vec<u32>,
+    /// The darts' indices in winning order.
+    order: Vec<u32>,
+}
+
+/// The indices of `darts` in winning order (ascending `layout.rank` of
+/// their keys) into `out`. A key is the radius bits over the index, so
+/// this is the index order (reversed when the greater key wins), stably
+/// sorted by the radius bits: a counting sort, not a comparison sort.
+fn winning_order(layout: KeyLayout, darts: &[Dart], out: &mut Vec<u32>) {
+    let n = darts.len() as u32;
+    out.clear();
+    // By index, in the winning direction.
+    let by_index = |k: u32| if layout.greater_wins { n - 1 - k } else { k };
+    if layout.radius_bits == 0 {
+        out.extend((0..n).map(by_index));
+        return;
+    }
+    // The radius bits of dart k, as a bucket in winning order.
+    let top = (1u32 << layout.radius_bits) - 1;
+    let bucket = |k: u32| {
+        let b = layout.key(0, darts[k as usize].radius) >> layout.index_bits;
+        (if layout.greater_wins { top - b } else { b }) as usize
+    };
+    let mut at = vec![0u32; top as usize + 2];
+    for k in 0..n {
+        at[bucket(k) + 1] += 1;
+    }
+    for b in 1..at.len() {
+        at[b] += at[b - 1];
+    }
+    out.resize(n as usize, 0);
+    for k in (0..n).map(by_index) {
+        let slot = &mut at[bucket(k)];
+        out[*slot as usize] = k;
+        *slot += 1;
+    }
 }
 
 /// A dart as the grid holds it: its depth key, centre and radii, stored
@@ -149,6 +185,11 @@ impl DartGrid {
             (start, entries, first) = (s_rest, e_rest, first + len);
         }
         let cell_of = &self.cell_of;
+        // The darts in winning order, so that each cell's darts land in it
+        // in that order: the cull stops at the first that cannot beat the
+        // dart it tests.
+        winning_order(plan.layout, darts, &mut self.order);
+        let order = &self.order;
         tasks
             .into_par_iter()
             .for_each(|(b, start, entries, first)| {
@@ -166,12 +207,13 @@ impl DartGrid {
                     (*s, at) = (at, at + *s);
                 }
                 // Place the band's darts, then restore the starts.
-                for (k, (&c, d)) in cell_of.iter().zip(darts).enumerate() {
+                for &k in order {
+                    let (c, d) = (cell_of[k as usize], &darts[k as usize]);
                     if (lo..hi).contains(&c) {
                         let slot = &mut start[(c - lo) as usize];
                         let pixels = plan.pixels();
                         entries[(*slot - first) as usize] = GridEntry {
-                            key: plan.layout.key(k as u32, d.radius),
+                            key: plan.layout.key(k, d.radius),
                             x: d.x,
                             y: d.y,
                             radius: d.radius,
@@ -189,22 +231,13 @@ impl DartGrid {
                 for s in start.iter_mut() {
                     (*s, prev) = (prev, *s);
                 }
-                // Each cell's darts in winning order, so that the cull stops
-                // at the first that cannot beat the dart it tests.
-                let layout = plan.layout;
-                let end = first + entries.len() as u32;
-                for (c, &a) in start.iter().enumerate() {
-                    let b = start.get(c + 1).copied().unwrap_or(end);
-                    entries[(a - first) as usize..(b - first) as usize]
-                        .sort_unstable_by_key(|e| layout.rank(e.key));
-                }
             });
     }
 
     /// Bytes held.
     #[must_use]
     pub fn bytes(&self) -> usize {
-        4 * (self.start.capacity() + self.cell_of.capacity())
+        4 * (self.start.capacity() + self.cell_of.capacity() + self.order.capacity())
             + self.entries.capacity() * std::mem::size_of::<GridEntry>()
     }
 }
@@ -215,6 +248,33 @@ mod tests {
 
     use super::*;
     use crate::sampler::{Params, RadiusMap};
+
+    /// The counting sort gives the darts in ascending rank of their keys,
+    /// under every policy's key layout.
+    #[test]
+    fn winning_order_sorts_the_darts_by_rank() {
+        let (w, h) = (64u32, 48u32);
+        let radii: Vec<f32> = (0..w * h)
+            .map(|i| 1.0 + (fixed::mix(i) % 400) as f32 / 64.0)
+            .collect();
+        let map = Arc::new(RadiusMap::from_pixels(w, h, &radii).unwrap());
+        for policy in crate::sampler::Policy::ALL {
+            let plan = Params::new(w, h)
+                .with_radius_map(map.clone())
+                .with_policy(policy)
+                .plan()
+                .unwrap();
+            let empty = EmptyList::all(w * h, w);
+            let mut darts = Vec::new();
+            throw(&plan, 2, 900, &empty, &mut darts);
+            let layout = plan.layout;
+            let mut want: Vec<u32> = (0..darts.len() as u32).collect();
+            want.sort_by_key(|&k| layout.rank(layout.key(k, darts[k as usize].radius)));
+            let mut got = Vec::new();
+            winning_order(layout, &darts, &mut got);
+            assert_eq!(got, want, "{policy:?}");
+        }
+    }
 
     /// The two-pass throw gives [`dart`] for every dart, on a compacted list
     /// of empty slots, with classes and sub-pixel bits.
