@@ -118,6 +118,7 @@ impl Prepared {
         let range = self.range.scaled(scale);
         const STEPS: usize = 1024;
         let lut: Vec<f64> = (0..=STEPS)
+            .into_par_iter()
             .map(|i| {
                 let r = f64::from(self.mapping.radius(i as f32 / STEPS as f32, range));
                 crate::sampler::RSA_DENSITY / (std::f64::consts::PI * r * r / 4.0)

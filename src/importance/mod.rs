@@ -394,6 +394,7 @@ impl ImportanceMap {
             Vec::new()
         } else {
             (0..=STEPS)
+                .into_par_iter()
                 .map(|i| mapping.radius(i as f32 / STEPS as f32, range))
                 .collect()
         };
