@@ -494,7 +494,8 @@ pub struct Plan {
     /// Whether some slots start covered (a class without a radius there).
     pub(crate) holes: bool,
     /// The expected number of points at RSA saturation density, summed in
-    /// parallel: within 1e-8 of [`Self::expected_points`], relatively.
+    /// parallel: within 4·n·ε of [`Self::expected_points`] (n pixels),
+    /// relatively.
     pub(crate) expected_points: f64,
     /// Exact mode.
     pub(crate) exact: bool,

@@ -223,10 +223,10 @@ impl Blocks {
     /// The smallest and largest radius over the blocks that hold the
     /// unwrapped pixels `x0..=x1` of row `y` of disk `s`'s layer.
     fn row_bounds(&self, plan: &Plan, s: &Disk, y: u32, (x0, x1): (i64, i64)) -> [u32; 2] {
-        let row = self.base(s) + (y / BLOCK * self.cols) as usize;
+        let row = self.block_row(s, y);
         let mut out = [u32::MAX, 0];
         for_each_run(x0, x1, plan.width, plan.periodic, |_, a, z| {
-            for [lo, hi] in &self.bounds[row + a / BLOCK as usize..=row + z / BLOCK as usize] {
+            for [lo, hi] in &row[a / BLOCK as usize..=z / BLOCK as usize] {
                 out = [out[0].min(*lo), out[1].max(*hi)];
             }
         });
