@@ -246,6 +246,25 @@ impl Blocks {
         }
     }
 
+    /// Asks the cache for the bytes of the blocks at the ends of disk `s`'s
+    /// rows, where its ring lies: a hint, no result.
+    #[inline]
+    fn prefetch(&self, plan: &Plan, s: &Disk) {
+        let r = i64::from(s.radius.div_ceil(RADIUS_ONE));
+        let (x, y) = (i64::from(s.x >> POS_FRAC_BITS), i64::from(s.y >> POS_FRAC_BITS));
+        let (w, h) = (i64::from(plan.width), i64::from(plan.height));
+        let block = |q: i64, n: i64| (q.clamp(0, n - 1) / i64::from(BLOCK)) as usize;
+        let (left, right) = (block(x - r, w), block(x + r, w));
+        let base = self.base(s);
+        for by in block(y - r, h)..=block(y + r, h) {
+            let row = base + by * self.cols as usize;
+            prefetch(&self.fine[(row + left) * FINE_BLOCK]);
+            if right != left {
+                prefetch(&self.fine[(row + right) * FINE_BLOCK]);
+            }
+        }
+    }
+
     /// The bounds of the blocks of row `y` of disk `s`'s layer.
     #[inline]
     fn block_row(&self, s: &Disk, y: u32) -> &[[u32; 2]] {
@@ -271,6 +290,23 @@ impl Blocks {
     pub(crate) fn bytes(&self) -> usize {
         8 * self.bounds.capacity() + self.fine.capacity() + 4 * self.near.capacity()
     }
+}
+
+/// Asks the cache for the line holding `at`: a hint that changes no result.
+#[inline]
+fn prefetch(at: &u8) {
+    #[cfg(target_arch = "x86_64")]
+    #[expect(
+        unsafe_code,
+        reason = "_mm_prefetch takes a raw pointer; a prefetch never faults, and this one is of a live reference"
+    )]
+    // SAFETY: `at` is a valid reference; prefetching reads nothing back.
+    unsafe {
+        use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
+        _mm_prefetch::<_MM_HINT_T0>(std::ptr::from_ref(at).cast());
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = at;
 }
 
 /// The largest `d >= 0` with `d * d <= m`.
@@ -627,10 +663,34 @@ pub(crate) fn cover(
             .par_iter_mut()
             .for_each(|b| b.sort_unstable_by_key(|d| d.x));
     }
-    for_each_band(plan, coverage, &buckets, |s, rows, cov| {
-        cover_band(plan, blocks, s, rows, cov)
-    });
+    let Some(b) = blocks else {
+        for_each_band(plan, coverage, &buckets, |s, rows, cov| {
+            cover_band(plan, None, s, rows, cov)
+        });
+        return;
+    };
+    // The ring's pixels read the blocks' bytes at the ends of the disk's
+    // rows, lines of a table too large for the cache: they are asked for a
+    // few disks ahead, so that they arrive while the disks before are
+    // covered (half the ring's time was spent waiting on them).
+    let band_words = (BAND_ROWS * plan.width / 64) as usize;
+    coverage
+        .par_chunks_mut(band_words)
+        .zip(buckets.par_iter())
+        .enumerate()
+        .for_each(|(i, (cov, list))| {
+            let rows = i as u32 * BAND_ROWS..((i as u32 + 1) * BAND_ROWS).min(plan.slot_rows());
+            for (k, s) in list.iter().enumerate() {
+                if let Some(ahead) = list.get(k + PREFETCH_AHEAD) {
+                    b.prefetch(plan, ahead);
+                }
+                cover_band(plan, blocks, s, rows.clone(), cov);
+            }
+        });
 }
+
+/// Disks ahead of the one covered whose blocks' bytes are asked for.
+const PREFETCH_AHEAD: usize = 4;
 
 #[cfg(test)]
 mod tests {
