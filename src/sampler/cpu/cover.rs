@@ -251,7 +251,10 @@ impl Blocks {
     #[inline]
     fn prefetch(&self, plan: &Plan, s: &Disk) {
         let r = i64::from(s.radius.div_ceil(RADIUS_ONE));
-        let (x, y) = (i64::from(s.x >> POS_FRAC_BITS), i64::from(s.y >> POS_FRAC_BITS));
+        let (x, y) = (
+            i64::from(s.x >> POS_FRAC_BITS),
+            i64::from(s.y >> POS_FRAC_BITS),
+        );
         let (w, h) = (i64::from(plan.width), i64::from(plan.height));
         let block = |q: i64, n: i64| (q.clamp(0, n - 1) / i64::from(BLOCK)) as usize;
         let (left, right) = (block(x - r, w), block(x + r, w));
