@@ -85,7 +85,8 @@ impl Prepared {
                 short_of: None,
             });
         };
-        let expected = self.predicted_points(1.0);
+        let knots = self.knots();
+        let expected = knots.predicted(self, 1.0);
         if expected <= 0.0 {
             return Err(Error::InvalidParameter(
                 "the white cutoff leaves no pixel to place dots on".into(),
@@ -96,7 +97,7 @@ impl Prepared {
         let floor = 1.0 / f64::from(self.range.min);
         let mut scale = (expected / n as f64).sqrt().max(floor);
         for _ in 0..6 {
-            let predicted = self.predicted_points(scale);
+            let predicted = knots.predicted(self, scale);
             if predicted <= 0.0 {
                 break;
             }
@@ -113,38 +114,85 @@ impl Prepared {
     /// (about 250K pixels), those past the white cutoff left out.
     #[must_use]
     pub fn predicted_points(&self, scale: f64) -> f64 {
+        self.knots().predicted(self, scale)
+    }
+
+    /// The sampled pixels' values as weights on the knots of the density
+    /// table that [`Self::predicted_points`] interpolates: made once, it
+    /// predicts the count at any scale in 1025 products.
+    fn knots(&self) -> Knots {
         let (w, h) = (self.map.width() as usize, self.map.height() as usize);
         let step = ((w * h) as f64 / 250_000.0).sqrt().floor().max(1.0) as usize;
-        let range = self.range.scaled(scale);
-        const STEPS: usize = 1024;
-        let lut: Vec<f64> = (0..=STEPS)
-            .into_par_iter()
-            .map(|i| {
-                let r = f64::from(self.mapping.radius(i as f32 / STEPS as f32, range));
-                crate::sampler::RSA_DENSITY / (std::f64::consts::PI * r * r / 4.0)
-                    * super::ink::density(r)
-            })
-            .collect();
         let values = self.map.values();
-        let sum: f64 = (0..h)
+        // Integer weights (2^-32 per unit) add up exactly, in any order: the
+        // prediction, hence the scale, is the same for any thread count.
+        let weights = (0..h)
             .into_par_iter()
             .step_by(step)
-            .map(|y| {
-                let row = &values[y * w..(y + 1) * w];
-                row.iter()
-                    .step_by(step)
-                    .filter(|&&v| self.cutoff.is_none_or(|c| v <= c))
-                    .map(|&v| {
-                        let x = v.clamp(0.0, 1.0) * STEPS as f32;
-                        let i = (x as usize).min(STEPS - 1);
-                        let f = f64::from(x - i as f32);
-                        lut[i] + f * (lut[i + 1] - lut[i])
-                    })
-                    .sum::<f64>()
+            .fold(
+                || vec![0u64; KNOTS + 1],
+                |mut acc, y| {
+                    let row = &values[y * w..(y + 1) * w];
+                    for &v in row
+                        .iter()
+                        .step_by(step)
+                        .filter(|&&v| self.cutoff.is_none_or(|c| v <= c))
+                    {
+                        let x = v.clamp(0.0, 1.0) * KNOTS as f32;
+                        let i = (x as usize).min(KNOTS - 1);
+                        let f = (f64::from(x - i as f32) * KNOT_ONE) as u64;
+                        acc[i] += KNOT_ONE as u64 - f;
+                        acc[i + 1] += f;
+                    }
+                    acc
+                },
+            )
+            .reduce(
+                || vec![0u64; KNOTS + 1],
+                |mut a, b| {
+                    a.iter_mut().zip(&b).for_each(|(a, b)| *a += b);
+                    a
+                },
+            );
+        Knots {
+            weights,
+            sampled: h.div_ceil(step) * w.div_ceil(step),
+        }
+    }
+}
+
+/// Knots of the density table of [`Prepared::predicted_points`].
+const KNOTS: usize = 1024;
+
+/// A whole pixel's weight on the knots.
+const KNOT_ONE: f64 = 4_294_967_296.0;
+
+/// The sampled pixels of a map as weights on the density table's knots.
+struct Knots {
+    /// The weight on each knot, in 2^-32 of a pixel.
+    weights: Vec<u64>,
+    /// The pixels sampled.
+    sampled: usize,
+}
+
+impl Knots {
+    /// [`Prepared::predicted_points`] at `scale`.
+    fn predicted(&self, map: &Prepared, scale: f64) -> f64 {
+        let range = map.range.scaled(scale);
+        let sum: f64 = self
+            .weights
+            .iter()
+            .enumerate()
+            .filter(|(_, w)| **w > 0)
+            .map(|(i, &w)| {
+                let r = f64::from(map.mapping.radius(i as f32 / KNOTS as f32, range));
+                let density = crate::sampler::RSA_DENSITY / (std::f64::consts::PI * r * r / 4.0)
+                    * super::ink::density(r);
+                density * (w as f64 / KNOT_ONE)
             })
             .sum();
-        let sampled = h.div_ceil(step) * w.div_ceil(step);
-        sum * (w * h) as f64 / sampled as f64 * COUNT_BIAS
+        let (w, h) = (map.map.width() as usize, map.map.height() as usize);
+        sum * (w * h) as f64 / self.sampled as f64 * COUNT_BIAS
     }
 }
 
