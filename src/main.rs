@@ -10,8 +10,8 @@ use clap::Parser;
 /// and drops maps of the domain's size (the enlarged photo's passes, the
 /// radius map, the blocks, the SVG's chunks), and with the system
 /// allocator each is a fresh mapping whose every page faults in (12% of a
-/// 100K-dot run). 0.87× the time of a 100K-dot SVG, 0.88× at 1M (peak
-/// 242 → 290 MB); `docs/benchmarks.md`.
+/// 100K-dot run's CPU). 0.85–0.97× the time of a 100K-dot SVG, 0.88–1.05×
+/// at 1M, peak 241 → 290 MB there (`docs/benchmarks.md`).
 #[global_allocator]
 static ALLOC: mimalloc::MiMalloc = mimalloc::MiMalloc;
 

@@ -610,6 +610,21 @@ pub(crate) fn for_each_band<T: Sync>(
     buckets: &[Vec<T>],
     mark: impl Fn(&T, std::ops::Range<u32>, &mut [u64]) + Sync,
 ) {
+    for_each_bucket(plan, coverage, buckets, |list, rows, cov| {
+        for s in list {
+            mark(s, rows.clone(), cov);
+        }
+    });
+}
+
+/// Runs `mark(bucket, rows, words)` for every band's bucket, one task per
+/// band of [`BAND_ROWS`] rows, `words` the band's part of the coverage map.
+fn for_each_bucket<T: Sync>(
+    plan: &Plan,
+    coverage: &mut [u64],
+    buckets: &[Vec<T>],
+    mark: impl Fn(&[T], std::ops::Range<u32>, &mut [u64]) + Sync,
+) {
     let band_words = (BAND_ROWS * plan.width / 64) as usize;
     coverage
         .par_chunks_mut(band_words)
@@ -617,9 +632,7 @@ pub(crate) fn for_each_band<T: Sync>(
         .enumerate()
         .for_each(|(b, (cov, list))| {
             let rows = b as u32 * BAND_ROWS..((b as u32 + 1) * BAND_ROWS).min(plan.slot_rows());
-            for s in list {
-                mark(s, rows.clone(), cov);
-            }
+            mark(list, rows, cov);
         });
 }
 
@@ -666,30 +679,18 @@ pub(crate) fn cover(
             .par_iter_mut()
             .for_each(|b| b.sort_unstable_by_key(|d| d.x));
     }
-    let Some(b) = blocks else {
-        for_each_band(plan, coverage, &buckets, |s, rows, cov| {
-            cover_band(plan, None, s, rows, cov)
-        });
-        return;
-    };
     // The ring's pixels read the blocks' bytes at the ends of the disk's
     // rows, lines of a table too large for the cache: they are asked for a
     // few disks ahead, so that they arrive while the disks before are
     // covered (half the ring's time was spent waiting on them).
-    let band_words = (BAND_ROWS * plan.width / 64) as usize;
-    coverage
-        .par_chunks_mut(band_words)
-        .zip(buckets.par_iter())
-        .enumerate()
-        .for_each(|(i, (cov, list))| {
-            let rows = i as u32 * BAND_ROWS..((i as u32 + 1) * BAND_ROWS).min(plan.slot_rows());
-            for (k, s) in list.iter().enumerate() {
-                if let Some(ahead) = list.get(k + PREFETCH_AHEAD) {
-                    b.prefetch(plan, ahead);
-                }
-                cover_band(plan, blocks, s, rows.clone(), cov);
+    for_each_bucket(plan, coverage, &buckets, |list, rows, cov| {
+        for (k, s) in list.iter().enumerate() {
+            if let (Some(b), Some(ahead)) = (blocks, list.get(k + PREFETCH_AHEAD)) {
+                b.prefetch(plan, ahead);
             }
-        });
+            cover_band(plan, blocks, s, rows.clone(), cov);
+        }
+    });
 }
 
 /// Disks ahead of the one covered whose blocks' bytes are asked for.
