@@ -247,7 +247,9 @@ impl Blocks {
     }
 
     /// Asks the cache for the bytes of the blocks at the ends of disk `s`'s
-    /// rows, where its ring lies: a hint, no result.
+    /// rows at its own radius: where its ring lies when the pixel radii near
+    /// it are close to its own (under Current and Bigger the ring may lie
+    /// farther out, and is then read as without the hint). A hint, no result.
     #[inline]
     fn prefetch(&self, plan: &Plan, s: &Disk) {
         let r = i64::from(s.radius.div_ceil(RADIUS_ONE));
