@@ -32,9 +32,9 @@ fn main() {
     let base = base.unwrap();
     println!("{img} at {side}², radii {r0}..{r1} px, best of {reps}");
     println!(
-        "| policy | points | iterations | s | M samples/s | ÷ Prior | throw ms | cull+cover ms | compact ms |"
+        "| policy | points | iterations | darts | s | M samples/s | ÷ Prior | ns/dart | throw ms | cull+cover ms | compact ms |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|");
     let mut prior = 0.0;
     for policy in [
         Policy::Prior,
@@ -49,9 +49,20 @@ fn main() {
             continue;
         }
         let params = base.clone().with_policy(policy);
+        let plan = params.plan().unwrap();
         let mut best: Option<pixelpie::sampler::SampleSet> = None;
+        let mut darts = 0u64;
         for _ in 0..reps {
-            let s = cpu::sample(&params, Control::default()).unwrap();
+            // The darts of each iteration: the batch, capped by the pixels
+            // empty before it (no pixel of these maps starts covered).
+            let empties = std::sync::Mutex::new(vec![u64::from(side) * u64::from(side)]);
+            let log = |p: pixelpie::sampler::Progress| empties.lock().unwrap().push(p.empty_pixels);
+            let s = cpu::sample(&params, Control::default().with_progress(&log)).unwrap();
+            let empties = empties.into_inner().unwrap();
+            darts = empties[..empties.len() - 1]
+                .iter()
+                .map(|&e| u64::from(plan.darts_for(u32::try_from(e).unwrap())))
+                .sum();
             if best
                 .as_ref()
                 .is_none_or(|b| s.stats.seconds < b.stats.seconds)
@@ -66,13 +77,14 @@ fn main() {
         }
         let st = &s.stats.stages;
         println!(
-            "| {} | {} | {} | {:.3} | {:.2} | {:.2} | {:.0} | {:.0} | {:.0} |",
+            "| {} | {} | {} | {darts} | {:.3} | {:.2} | {:.2} | {:.0} | {:.0} | {:.0} | {:.0} |",
             policy.name(),
             s.points.len(),
             s.stats.iterations,
             s.stats.seconds,
             rate,
             rate / prior,
+            s.stats.seconds * 1e9 / darts as f64,
             st.get("throw") * 1e3,
             st.get("cull") * 1e3,
             st.get("compact") * 1e3

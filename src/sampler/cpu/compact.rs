@@ -63,6 +63,18 @@ impl EmptyList {
         }
     }
 
+    /// Asks the cache for the line holding the `i`-th empty pixel: a hint
+    /// that changes no result.
+    #[inline]
+    pub fn prefetch(&self, i: u32) {
+        if let Some(pieces) = &self.pieces {
+            let b = self.starts.partition_point(|&s| s <= i) - 1;
+            if let Some(p) = pieces[b].get((i - self.starts[b]) as usize) {
+                super::prefetch(p);
+            }
+        }
+    }
+
     /// Removes the pixels that the coverage map ([`super::cover::new_map`])
     /// marks, keeping the order.
     pub fn compact(&mut self, coverage: &[u64]) {

@@ -10,6 +10,7 @@
 
 use rayon::prelude::*;
 
+use super::prefetch;
 use crate::sampler::fixed::{POS_FRAC_BITS, RADIUS_FRAC_BITS, RADIUS_ONE};
 use crate::sampler::{Dart, Plan, Policy};
 
@@ -297,23 +298,6 @@ impl Blocks {
     }
 }
 
-/// Asks the cache for the line holding `at`: a hint that changes no result.
-#[inline]
-fn prefetch(at: &u8) {
-    #[cfg(target_arch = "x86_64")]
-    #[expect(
-        unsafe_code,
-        reason = "_mm_prefetch takes a raw pointer; a prefetch never faults, and this one is of a live reference"
-    )]
-    // SAFETY: `at` is a valid reference; prefetching reads nothing back.
-    unsafe {
-        use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
-        _mm_prefetch::<_MM_HINT_T0>(std::ptr::from_ref(at).cast());
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = at;
-}
-
 /// The largest `d >= 0` with `d * d <= m`.
 pub(crate) fn isqrt(m: u64) -> u64 {
     // m < 2^62, so the signed conversions (one instruction each) are exact
@@ -386,6 +370,13 @@ fn row_range(s: &Disk, reach: u32) -> (i64, i64) {
     )
 }
 
+/// Whether a row `dy` (1/256 px) from a centre has pixels within `f` (1/64
+/// px) of it, as [`span`] finds them: a test without the square root.
+#[inline]
+fn reaches(dy: u64, f: u32) -> bool {
+    (u64::from(f) << (POS_FRAC_BITS - RADIUS_FRAC_BITS)) > dy
+}
+
 /// The first and last unwrapped pixel of a row `dy` (1/256 px) from centre
 /// x `cx` whose centres lie strictly within `f` (1/64 px), or `None`.
 #[inline]
@@ -393,7 +384,7 @@ fn span(cx: i64, dy: u64, f: u32) -> Option<(i64, i64)> {
     let one = 1i64 << POS_FRAC_BITS;
     let half = one / 2;
     let r = u64::from(f) << (POS_FRAC_BITS - RADIUS_FRAC_BITS);
-    if r <= dy {
+    if !reaches(dy, f) {
         return None;
     }
     let dx_max = isqrt(r * r - dy * dy - 1) as i64;
@@ -440,14 +431,16 @@ fn cover_band(
         }
         let row = (sy - band.start) as usize * w;
         let dy = (qy * one + half - cy).unsigned_abs();
-        let Some((x0, x1)) = span(cx, dy, reach) else {
-            continue;
-        };
         let Some(b) = blocks else {
             // Every pixel within reach is covered.
-            fill_span(cov, row, w, x0, x1, plan.periodic);
+            if let Some((x0, x1)) = span(cx, dy, reach) {
+                fill_span(cov, row, w, x0, x1, plan.periodic);
+            }
             continue;
         };
+        if !reaches(dy, reach) {
+            continue;
+        }
         // The blocks bound f over the span: one f for all its pixels fills
         // the span as under Prior, else the ring where f varies reads its
         // pixels' radii. The bounds are taken once per row of blocks, over
@@ -459,7 +452,11 @@ fn cover_band(
                 let first = qy - i64::from(y % BLOCK);
                 let widest = (cy >> POS_FRAC_BITS).clamp(first, first + i64::from(BLOCK) - 1);
                 let dy_w = (widest * one + half - cy).unsigned_abs();
-                let wide = span(cx, dy_w, reach).unwrap_or((x0, x1));
+                // The widest row is no farther from the centre than this
+                // one, so its span is not empty.
+                let Some(wide) = span(cx, dy_w, reach) else {
+                    continue;
+                };
                 let got = b.row_bounds(plan, s, y, wide);
                 bounds = Some((by, got));
                 got
@@ -469,15 +466,11 @@ fn cover_band(
             // No pixel of the span lies on the domain.
             continue;
         }
+        // The span of f_hi, the largest distance at which the row's pixels
+        // can be covered: the only square root of the row (the reach's span
+        // is not needed where the blocks bound f).
         let f_hi = plan.policy.coverage_radius(s.radius, hi);
-        // The span of f_hi: the reach's when they agree (Smaller's rule),
-        // else one more square root.
-        let outer = if f_hi == reach {
-            Some((x0, x1))
-        } else {
-            span(cx, dy, f_hi)
-        };
-        let Some((a, z)) = outer else {
+        let Some((a, z)) = span(cx, dy, f_hi) else {
             continue;
         };
         let f_lo = plan.policy.coverage_radius(s.radius, lo);

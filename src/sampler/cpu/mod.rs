@@ -18,6 +18,23 @@ use compact::EmptyList;
 use super::run::{self, StageTimes, Step, Stepper};
 use super::{Control, Dart, Params, Plan, Result, SampleSet, Stats};
 
+/// Asks the cache for the line holding `at`: a hint that changes no result.
+#[inline]
+pub(crate) fn prefetch<T>(at: &T) {
+    #[cfg(target_arch = "x86_64")]
+    #[expect(
+        unsafe_code,
+        reason = "_mm_prefetch takes a raw pointer; a prefetch never faults, and this one is of a live reference"
+    )]
+    // SAFETY: `at` is a valid reference; prefetching reads nothing back.
+    unsafe {
+        use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
+        _mm_prefetch::<_MM_HINT_T0>(std::ptr::from_ref(at).cast());
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = at;
+}
+
 /// Runs the sampler on the CPU (the exact mode's refinement included).
 ///
 /// ```
