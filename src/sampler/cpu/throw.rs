@@ -41,7 +41,7 @@ fn place(plan: &Plan, h: u32, slot: u32) -> Dart {
 /// puts it there. Both reads, the empty list's and then the radius map's,
 /// are at random into arrays larger than the cache: each is asked for
 /// [`THROW_AHEAD`] darts ahead, chunk by chunk, so that many are in flight
-/// at once (twice the speed of letting each dart wait on its own).
+/// at once (measured: the throw in 0.5–0.65× the time it took without).
 pub fn throw(plan: &Plan, iteration: u32, count: u32, empty: &EmptyList, out: &mut Vec<Dart>) {
     let ik = fixed::iteration_key(plan.seed_key, iteration);
     let n = empty.len();
