@@ -709,10 +709,13 @@ impl Plan {
     #[inline]
     #[must_use]
     pub fn radius_at(&self, p: u32) -> u32 {
-        match &self.map {
-            Some(m) => m.radii[p as usize],
-            None => self.radius_range.0,
-        }
+        self.radius_in_map(p).map_or(self.radius_range.0, |r| *r)
+    }
+
+    /// Where the radius map holds slot `p`'s radius; `None` without a map.
+    #[inline]
+    pub(crate) fn radius_in_map(&self, p: u32) -> Option<&u32> {
+        self.map.as_ref().map(|m| &m.radii[p as usize])
     }
 
     /// The darts of iteration with `empty` empty pixels: the batch, capped by

@@ -53,26 +53,26 @@ impl EmptyList {
     #[inline]
     #[must_use]
     pub fn get(&self, i: u32) -> u32 {
-        match &self.pieces {
-            None => i,
-            Some(pieces) => {
-                // The last band starting at or before i: the one holding it.
-                let b = self.starts.partition_point(|&s| s <= i) - 1;
-                pieces[b][(i - self.starts[b]) as usize]
-            }
-        }
+        self.stored(i).map_or(i, |p| *p)
     }
 
     /// Asks the cache for the line holding the `i`-th empty pixel: a hint
     /// that changes no result.
     #[inline]
     pub fn prefetch(&self, i: u32) {
-        if let Some(pieces) = &self.pieces {
-            let b = self.starts.partition_point(|&s| s <= i) - 1;
-            if let Some(p) = pieces[b].get((i - self.starts[b]) as usize) {
-                super::prefetch(p);
-            }
+        if let Some(p) = self.stored(i) {
+            super::prefetch(p);
         }
+    }
+
+    /// Where the list holds its `i`-th empty pixel; `None` while every
+    /// pixel is empty and the list is not stored.
+    #[inline]
+    fn stored(&self, i: u32) -> Option<&u32> {
+        let pieces = self.pieces.as_ref()?;
+        // The last band starting at or before i: the one holding it.
+        let b = self.starts.partition_point(|&s| s <= i) - 1;
+        Some(&pieces[b][(i - self.starts[b]) as usize])
     }
 
     /// Removes the pixels that the coverage map ([`super::cover::new_map`])

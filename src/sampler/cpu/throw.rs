@@ -45,7 +45,6 @@ fn place(plan: &Plan, h: u32, slot: u32) -> Dart {
 pub fn throw(plan: &Plan, iteration: u32, count: u32, empty: &EmptyList, out: &mut Vec<Dart>) {
     let ik = fixed::iteration_key(plan.seed_key, iteration);
     let n = empty.len();
-    let radii = plan.map.as_ref().map(|m| m.radii_fx());
     out.clear();
     out.resize(count as usize, Dart::default());
     out.par_chunks_mut(THROW_CHUNK)
@@ -64,8 +63,11 @@ pub fn throw(plan: &Plan, iteration: u32, count: u32, empty: &EmptyList, out: &m
                 chunk[i].pixel = empty.get(chunk[i].pixel);
             }
             for i in 0..chunk.len() {
-                if let (Some(radii), Some(ahead)) = (radii, chunk.get(i + THROW_AHEAD)) {
-                    super::prefetch(&radii[ahead.pixel as usize]);
+                if let Some(r) = chunk
+                    .get(i + THROW_AHEAD)
+                    .and_then(|ahead| plan.radius_in_map(ahead.pixel))
+                {
+                    super::prefetch(r);
                 }
                 let d = &mut chunk[i];
                 *d = place(plan, d.x, d.pixel);
