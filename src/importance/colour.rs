@@ -121,21 +121,70 @@ impl ColourMap {
                 "cannot resize the picture to {width}x{height}"
             )));
         }
-        let flat: Vec<f32> = self.rgb.iter().flatten().copied().collect();
-        let buf = image::ImageBuffer::<image::Rgb<f32>, Vec<f32>>::from_raw(
-            self.width,
-            self.height,
-            flat,
-        )
-        .ok_or_else(|| Error::InvalidParameter("picture buffer has the wrong size".into()))?;
-        let out =
-            image::imageops::resize(&buf, width, height, image::imageops::FilterType::Triangle);
-        let rgb = out
-            .into_raw()
-            .chunks_exact(3)
-            .map(|c| [c[0], c[1], c[2]].map(|v| v.clamp(0.0, 1.0)))
+        // Channel by channel through the grey maps' parallel resize, which
+        // is `image`'s triangle filter value for value.
+        let planes = [0, 1, 2].map(|k| {
+            let plane: Vec<f32> = self.rgb.iter().map(|c| c[k]).collect();
+            super::resize_triangle(&plane, (self.width, self.height), (width, height), |v| v)
+        });
+        let rgb = (0..planes[0].len())
+            .map(|i| [planes[0][i], planes[1][i], planes[2][i]])
             .collect();
         Ok(Self { width, height, rgb })
+    }
+
+    /// The picture with the grey drawing's tone adjustments (levels,
+    /// gamma, invert) applied to its lightness, hue kept: each pixel's
+    /// luminance Y, in the drawing's `tones`, goes through `adjust` as a
+    /// grey pixel's value would, and the colour is scaled to the new
+    /// luminance; where that pushes a channel past 1, the colour moves
+    /// toward the grey of the same luminance until it fits. So a grey
+    /// picture is adjusted exactly as the grey drawing adjusts it.
+    /// Returns the picture and each pixel's adjusted tone (what
+    /// `--white-cutoff` compares).
+    pub fn adjusted(
+        &self,
+        tones: super::Tones,
+        adjust: &super::Adjust,
+    ) -> Result<(Self, Vec<f32>)> {
+        use rayon::prelude::*;
+        adjust.validate()?;
+        let (rgb, tone): (Vec<[f32; 3]>, Vec<f32>) = self
+            .rgb
+            .par_iter()
+            .map(|&c| {
+                let y = (0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]).clamp(0.0, 1.0);
+                let t = adjust.apply(tones.tone(y));
+                let y2 = match tones {
+                    super::Tones::Linear => t,
+                    super::Tones::Display => crate::colour::srgb_to_linear(t),
+                }
+                .clamp(0.0, 1.0);
+                let out = if y <= 1e-6 {
+                    [y2; 3]
+                } else {
+                    let s = y2 / y;
+                    let scaled = c.map(|v| v * s);
+                    let top = scaled.iter().copied().fold(0.0f32, f32::max);
+                    if top > 1.0 {
+                        // Toward the grey of luminance y2, which fits.
+                        let k = (1.0 - y2) / (top - y2).max(1e-6);
+                        scaled.map(|v| (y2 + k * (v - y2)).clamp(0.0, 1.0))
+                    } else {
+                        scaled.map(|v| v.clamp(0.0, 1.0))
+                    }
+                };
+                (out, t)
+            })
+            .unzip();
+        Ok((
+            Self {
+                width: self.width,
+                height: self.height,
+                rgb,
+            },
+            tone,
+        ))
     }
 
     /// One importance map per pen: v = 1 − the pen's ink (0 = full ink),

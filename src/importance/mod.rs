@@ -494,7 +494,7 @@ fn triangle_weights(from: u32, to: u32) -> Vec<(u32, Vec<f32>)> {
 /// clamped to [0, 1]: `image::imageops::resize(…, FilterType::Triangle)`
 /// value for value (a vertical pass, then a horizontal one, each output's
 /// sum in the same order), with rows in parallel.
-fn resize_triangle(
+pub(crate) fn resize_triangle(
     values: &[f32],
     from: (u32, u32),
     to: (u32, u32),

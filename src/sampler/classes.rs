@@ -62,51 +62,73 @@ impl ClassRadii {
     /// assert_eq!(c.cross_px(1, 0), 4.0);
     /// ```
     pub fn new(width: u32, height: u32, maps: &[Vec<f32>]) -> Result<Self> {
+        let pixels = width as usize * height as usize;
+        if let Some(map) = maps.iter().find(|m| m.len() != pixels) {
+            return Err(Error::RadiusMapSize {
+                expected: (width, height),
+                len: map.len(),
+            });
+        }
+        Self::from_fn(width, height, maps.len(), |c, i| maps[c][i])
+    }
+
+    /// [`Self::new`] of the radii `radius(c, i)` of class `c` at pixel `i`
+    /// (row-major), without a buffer of them: made in parallel, quantized
+    /// as they are made. The first bad pixel is the one reported.
+    pub fn from_fn(
+        width: u32,
+        height: u32,
+        classes: usize,
+        radius: impl Fn(usize, usize) -> f32 + Sync,
+    ) -> Result<Self> {
         super::params::check_size(width, height)?;
-        let classes = maps.len() as u32;
-        if classes == 0 || classes > MAX_CLASSES {
+        if classes == 0 || classes > MAX_CLASSES as usize {
             return Err(Error::InvalidParameter(format!(
                 "{classes} classes: a run takes 1 to {MAX_CLASSES}"
             )));
         }
+        let classes = classes as u32;
         let pixels = width as usize * height as usize;
         if (pixels as u64) * u64::from(classes) > u64::from(u32::MAX >> 1) {
             return Err(Error::InvalidSize(format!(
                 "{width}x{height} with {classes} classes: too many slots"
             )));
         }
-        let mut radii = Vec::with_capacity(pixels * maps.len());
-        for (c, map) in maps.iter().enumerate() {
-            if map.len() != pixels {
-                return Err(Error::RadiusMapSize {
-                    expected: (width, height),
-                    len: map.len(),
-                });
-            }
-            for (i, &r) in map.iter().enumerate() {
-                if r == f32::INFINITY {
-                    radii.push(0);
-                    continue;
+        // u32::MAX marks a radius below 1 px (or not a number).
+        let mut radii = vec![0u32; pixels * classes as usize];
+        radii
+            .par_chunks_mut(width as usize)
+            .enumerate()
+            .for_each(|(row, out)| {
+                let (c, y) = (row / height as usize, row % height as usize);
+                let first = y * width as usize;
+                for (x, o) in out.iter_mut().enumerate() {
+                    let r = radius(c, first + x);
+                    *o = if r == f32::INFINITY {
+                        0
+                    } else {
+                        let fx = if r.is_finite() {
+                            radius_to_fx(r.max(0.0))
+                        } else {
+                            0
+                        };
+                        if fx < MIN_RADIUS_FX { u32::MAX } else { fx }
+                    };
                 }
-                let fx = if r.is_finite() {
-                    radius_to_fx(r.max(0.0))
-                } else {
-                    0
-                };
-                if fx < MIN_RADIUS_FX {
-                    return Err(Error::InvalidRadius(format!(
-                        "class {c} holds {r} px at pixel ({}, {}); radii must be at least 1 px",
-                        i as u32 % width,
-                        i as u32 / width
-                    )));
-                }
-                radii.push(fx);
-            }
+            });
+        if let Some(bad) = radii.iter().position(|&r| r == u32::MAX) {
+            let (c, i) = (bad / pixels, bad % pixels);
+            return Err(Error::InvalidRadius(format!(
+                "class {c} holds {} px at pixel ({}, {}); radii must be at least 1 px",
+                radius(c, i),
+                i as u32 % width,
+                i as u32 / width
+            )));
         }
         let cross: Vec<u32> = (0..pixels)
             .into_par_iter()
             .map(|p| {
-                let density: f64 = (0..maps.len())
+                let density: f64 = (0..classes as usize)
                     .map(|c| radii[c * pixels + p])
                     .filter(|&r| r > 0)
                     .map(|r| {
@@ -121,7 +143,7 @@ impl ClassRadii {
                 }
             })
             .collect();
-        let holes = radii.contains(&0);
+        let holes = radii.par_iter().any(|&r| r == 0);
         let stacked = RadiusMap::stacked(width, height * classes, radii);
         Ok(Self {
             stacked: Arc::new(stacked),
