@@ -124,7 +124,9 @@ fn main() -> Result<()> {
         job.points = Some(points);
         job.pens = Some(pens.clone());
         let t = Instant::now();
-        let drawing = job.run_colour(&picture, sample)?;
+        let drawing = job.draw(pixelpie::stipple::Picture::Colour(&picture), sample, |_| {
+            true
+        })?;
         let seconds = t.elapsed().as_secs_f64();
         let domain = drawing.domain;
         let img = job.picture(&drawing, (w, h))?;

@@ -194,8 +194,13 @@ fn pixelpie_row(
             iterations: relax_steps,
             periodic: false,
         };
-        points =
-            pixelpie::stipple::relax_points(&prepared, fitted.range, &points, options, |_| true)?;
+        points = pixelpie::stipple::relax_points(
+            std::slice::from_ref(&prepared),
+            fitted.range,
+            &points,
+            options,
+            |_| true,
+        )?;
     }
     let seconds = t.elapsed().as_secs_f64();
     let calibrated = points

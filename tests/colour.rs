@@ -311,18 +311,132 @@ fn bad_pens_end_in_one_error_line_and_no_output() {
         assert!(err.starts_with("error:"), "--pens {pens:?}: {err}");
         assert!(!out.exists(), "--pens {pens:?} left an output");
     }
-    // Options that only a grey drawing has are refused with pens.
-    let o = pixelpie(&[
-        "stipple",
-        &asset("rocket.jpg"),
-        "-o",
-        out.to_str().unwrap(),
-        "--pens",
-        "cmyk",
-        "--relax",
-        "2",
-    ]);
-    assert!(!o.status.success() && !out.exists());
+}
+
+/// Per pen: its dots' count and their distinct drawn radii.
+fn per_pen(job: &Job, d: &Stipple) -> Vec<(usize, usize)> {
+    let mut out = Vec::new();
+    for layer in job.pen_dots(d) {
+        let mut radii: Vec<u32> = layer.iter().map(|d| d.radius.to_bits()).collect();
+        radii.sort_unstable();
+        radii.dedup();
+        out.push((layer.len(), radii.len()));
+    }
+    out
+}
+
+/// The dots' ink: Σ π r² over all pens.
+fn ink_area(job: &Job, d: &Stipple) -> f64 {
+    job.dots(d)
+        .iter()
+        .map(|d| std::f64::consts::PI * f64::from(d.radius).powi(2))
+        .sum()
+}
+
+#[test]
+fn colour_takes_every_grey_control() {
+    let photo = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/astronaut.jpg");
+    let cmyk = |f: &dyn Fn(&mut Job)| {
+        let mut j = Job::default();
+        j.points = Some(3000);
+        j.pens = Some(PenSet::cmyk());
+        f(&mut j);
+        j
+    };
+    let plain = cmyk(&|_| {});
+    let d0 = run(&plain, &photo);
+    // Relaxation moves all pens together: every dot keeps its pen, and the
+    // union's spacing evens out (the closest pair moves apart).
+    let relaxed = cmyk(&|j| j.relax = 4);
+    let d1 = run(&relaxed, &photo);
+    let counts = |d: &Stipple| {
+        let mut c = [0usize; 4];
+        for p in &d.set.points {
+            c[p.class as usize] += 1;
+        }
+        c
+    };
+    assert_eq!(
+        counts(&d0),
+        counts(&d1),
+        "relaxation changed the pens' counts"
+    );
+    let nearest = |d: &Stipple| {
+        let pts = &d.points;
+        let mut all: Vec<f32> = pts
+            .iter()
+            .enumerate()
+            .map(|(i, a)| {
+                pts.iter()
+                    .enumerate()
+                    .filter(|(j, _)| *j != i)
+                    .map(|(_, b)| (a.x - b.x).powi(2) + (a.y - b.y).powi(2))
+                    .fold(f32::MAX, f32::min)
+            })
+            .collect();
+        all.sort_by(f32::total_cmp);
+        all[all.len() / 100]
+    };
+    assert!(
+        nearest(&d1) > nearest(&d0),
+        "relaxed: 1st percentile of the nearest distance {} <= {}",
+        nearest(&d1),
+        nearest(&d0)
+    );
+    // Gamma above 1 darkens the mid-tones: more ink; invert changes it.
+    let darker = run(&cmyk(&|j| j.importance.gamma = 2.0), &photo);
+    let a0 = ink_area(&plain, &d0);
+    assert!(
+        ink_area(&plain, &darker) > 1.1 * a0,
+        "gamma 2 did not darken"
+    );
+    let inverted = cmyk(&|j| j.importance.invert = true);
+    let di = run(&inverted, &photo);
+    assert!(
+        (ink_area(&inverted, &di) - a0).abs() > 0.1 * a0,
+        "invert changed nothing"
+    );
+    // The white cutoff: no dots where the adjusted grey is lighter (but
+    // for a few at the edges of those areas, which the resize softens).
+    let cut = cmyk(&|j| j.importance.white_cutoff = Some(0.5));
+    let dc = run(&cut, &photo);
+    let grey = pixelpie::importance::ImportanceMap::open(&photo, None)
+        .unwrap()
+        .resized(dc.domain.0, dc.domain.1)
+        .unwrap()
+        .toned(Tones::Display);
+    let light = |d: &Stipple| {
+        d.points
+            .iter()
+            .filter(|p| grey.value_at(p.x, p.y) > 0.6)
+            .count()
+    };
+    assert!(
+        light(&dc) * 10 < light(&d0),
+        "{} dots lie where the grey is past the cutoff, {} without it",
+        light(&dc),
+        light(&d0)
+    );
+    // Fixed dots: one radius per pen, as in grey; sized dots: many.
+    let fixed = cmyk(&|j| j.dot = Some(pixelpie::stipple::DotMode::Fixed));
+    let df = run(&fixed, &photo);
+    for (pen, (n, radii)) in per_pen(&fixed, &df).into_iter().enumerate() {
+        assert!(
+            n == 0 || radii == 1,
+            "pen {pen}: {radii} radii in {n} fixed dots"
+        );
+    }
+    assert!(per_pen(&plain, &d0).iter().any(|&(_, r)| r > 10));
+    // Linear mapping, per pen: accepted, equal dots within each pen.
+    let linear = cmyk(&|j| j.importance.mapping = Some(pixelpie::importance::MappingKind::Linear));
+    let dl = run(&linear, &photo);
+    assert!(dl.points.len() > 2500);
+    for (pen, (n, radii)) in per_pen(&linear, &dl).into_iter().enumerate() {
+        assert!(
+            n == 0 || radii == 1,
+            "pen {pen}: {radii} radii under linear mapping"
+        );
+    }
 }
 
 #[test]

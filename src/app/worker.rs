@@ -265,20 +265,14 @@ fn compute(
     let s = &job.settings;
     let mut note = None;
     let run = s.job();
-    let drawing = if run.colour() {
-        run.run_colour(&job.colour, |params| {
-            Ok(sample(params, s.backend, gpu, ctl, &mut note)?)
-        })?
-    } else {
-        run.run_map(
-            &job.map,
-            |params| Ok(sample(params, s.backend, gpu, ctl, &mut note)?),
-            |done| {
-                relaxed(done);
-                ctl.check().is_ok()
-            },
-        )?
-    };
+    let drawing = run.draw(
+        crate::stipple::Picture::Both(&job.map, &job.colour),
+        |params| Ok(sample(params, s.backend, gpu, ctl, &mut note)?),
+        |done| {
+            relaxed(done);
+            ctl.check().is_ok()
+        },
+    )?;
     ctl.check()?;
     if let Some(n) = drawing.short_of {
         note = Some(format!(

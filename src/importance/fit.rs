@@ -301,16 +301,22 @@ pub struct Classes<'a> {
 }
 
 impl Classes<'_> {
+    /// The ink of the lightest dots at radius range `range`: where a map
+    /// asks for less than half of it, its class has no samples.
+    #[must_use]
+    pub fn lightest(&self, range: RadiusRange) -> f64 {
+        let white = f64::from(range.max);
+        super::ink::ink(
+            f64::from(self.maps[0].mapping.dot_radius(1.0, range)) / white,
+            white,
+        )
+    }
+
     /// `base` with every class's radii at `scale`.
     pub fn params(&self, base: &Params, scale: f64) -> crate::sampler::Result<Params> {
         let first = &self.maps[0];
         let range = first.range.scaled(scale);
-        // The ink of the lightest dots: below half of it, no dots.
-        let white = f64::from(range.max);
-        let lightest = super::ink::ink(
-            f64::from(first.mapping.dot_radius(1.0, range)) / white,
-            white,
-        );
+        let lightest = self.lightest(range);
         let radius: Vec<_> = self
             .maps
             .iter()
@@ -341,11 +347,7 @@ impl Classes<'_> {
         let (w, h) = (first.map.width() as usize, first.map.height() as usize);
         let step = ((w * h) as f64 / 250_000.0).sqrt().floor().max(1.0) as usize;
         let range = first.range;
-        let white = f64::from(range.max);
-        let lightest = super::ink::ink(
-            f64::from(first.mapping.dot_radius(1.0, range)) / white,
-            white,
-        );
+        let lightest = self.lightest(range);
         let radius: Vec<_> = self
             .maps
             .iter()

@@ -362,6 +362,18 @@ impl ImportanceMap {
         }
     }
 
+    /// The map with `value` at every pixel index `i` where `pick(i)`.
+    #[must_use]
+    pub fn with_values_where(mut self, pick: impl Fn(usize) -> bool + Sync, value: f32) -> Self {
+        let value = value.clamp(0.0, 1.0);
+        self.values
+            .par_iter_mut()
+            .enumerate()
+            .filter(|(i, _)| pick(*i))
+            .for_each(|(_, v)| *v = value);
+        self
+    }
+
     /// The map with `adjust` applied to every value.
     pub fn adjusted(&self, adjust: &Adjust) -> Result<Self> {
         adjust.validate()?;

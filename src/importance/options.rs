@@ -133,6 +133,17 @@ impl ImportanceOptions {
         }
     }
 
+    /// The tone adjustments: levels, gamma, invert.
+    #[must_use]
+    pub fn adjust(&self) -> Adjust {
+        Adjust {
+            black: self.black_level,
+            white: self.white_level,
+            gamma: self.gamma,
+            invert: self.invert,
+        }
+    }
+
     /// [`Self::prepare`] for a map already in memory (borrowed: the
     /// prepared map is a resized copy anyway).
     pub fn prepare_map(
@@ -142,12 +153,7 @@ impl ImportanceOptions {
         default_mapping: Mapping,
         count_target: bool,
     ) -> Result<Prepared> {
-        let adjust = Adjust {
-            black: self.black_level,
-            white: self.white_level,
-            gamma: self.gamma,
-            invert: self.invert,
-        };
+        let adjust = self.adjust();
         adjust.validate()?;
         if let Some(c) = self.white_cutoff
             && !(0.0..=1.0).contains(&c)

@@ -7,15 +7,26 @@
 
 use std::path::Path;
 
-use super::job::{Format, Job, Order, Stipple};
-use super::{Dot, svg, tsp};
+use super::job::{Format, Job, Stipple};
+use super::{Dot, svg};
 use rayon::prelude::*;
 
 use crate::colour::pens::MAX_PENS;
 use crate::colour::{RenderModel, Separation};
 use crate::importance::ink::{self, K_MAX};
-use crate::importance::{Classes, ColourMap, Prepared, RadiusRange, Tones};
-use crate::sampler::{Params, Point, SampleSet};
+use crate::importance::{Adjust, ColourMap, Mapping, MappingKind, Prepared, RadiusRange, Tones};
+use crate::sampler::Point;
+
+/// A colour picture prepared for drawing: one map per pen, and what the
+/// size stage's correction compares the drawing with.
+pub(crate) struct Separated {
+    /// One prepared map per pen, at the domain's size.
+    pub maps: Vec<Prepared>,
+    /// The picture, tones adjusted, at the size it was separated at.
+    pub picture: ColourMap,
+    /// The separation (its table solved where the picture needed it).
+    pub separation: Separation,
+}
 
 impl Job {
     /// The render model of this job's pens, under its tone convention.
@@ -25,29 +36,60 @@ impl Job {
         self.pens.as_ref().map(|p| RenderModel::new(p, linear))
     }
 
-    /// Draws a colour `picture` with the job's pens ([`Job::colour`]), with
-    /// `sample` running the sampler.
-    pub fn run_colour(
+    /// The prepare stage of a colour drawing: the picture at the domain's
+    /// size (`domain`), its tones adjusted as the grey drawing's are
+    /// ([`ColourMap::adjusted`]: levels, gamma and invert on the
+    /// lightness, hue kept), separated into the pens' inks, one map per
+    /// pen, no ink where `--white-cutoff` drops dots. The separation is
+    /// solved at the smaller of the picture's and the domain's sizes, and
+    /// the inks resized (triangle filter) to the domain when it is larger.
+    pub(crate) fn separate(
         &self,
         picture: &ColourMap,
-        sample: impl FnMut(&Params) -> crate::Result<SampleSet>,
-    ) -> crate::Result<Stipple> {
-        let t0 = std::time::Instant::now();
-        self.check()?;
-        let (Some(pens), Some(model)) = (self.pens.clone(), self.render_model()) else {
+        domain: (u32, u32),
+        count_target: bool,
+    ) -> crate::Result<Separated> {
+        let Some(model) = self.render_model() else {
             return Err(
                 super::Error::InvalidParameter("a colour drawing needs --pens".into()).into(),
             );
         };
-        let (points, count_target) = self.count();
-        let (width, height) = self.domain_for((picture.width(), picture.height()), points);
-        let picture = picture.resized(width, height)?;
+        let (width, height) = domain;
+        let imp = &self.importance;
+        let source = u64::from(picture.width()) * u64::from(picture.height());
+        let upscaled = source < u64::from(width) * u64::from(height);
+        let at = if upscaled {
+            picture.clone()
+        } else {
+            picture.resized(width, height)?
+        };
+        let adjust = imp.adjust();
+        let (at, tone) = if adjust == Adjust::default() && imp.white_cutoff.is_none() {
+            (at, None)
+        } else {
+            let (a, t) = at.adjusted(imp.tones, &adjust)?;
+            (a, Some(t))
+        };
         let separation = Separation::new(model, K_MAX);
-        let mapping = self.dot_mode().mapping(self.dot_ratio);
-        let range = self.importance.radius_range(count_target)?;
-        let range = self.dot_range(range, (width, height))?;
-        let prepared: Vec<Prepared> = picture
-            .separate(&separation)
+        let mut inks = at.separate(&separation);
+        if let (Some(cut), Some(tone)) = (imp.white_cutoff, &tone) {
+            // No ink, hence no dots, where the grey drawing drops them.
+            inks = inks
+                .into_iter()
+                .map(|map| map.with_values_where(|i| tone[i] > cut, 1.0))
+                .collect();
+        }
+        if upscaled {
+            for map in &mut inks {
+                *map = map.resized(width, height)?;
+            }
+        }
+        let mapping = match imp.mapping {
+            Some(MappingKind::Linear) => Mapping::Linear,
+            _ => self.dot_mode().mapping(self.dot_ratio),
+        };
+        let range = self.dot_range(imp.radius_range(count_target)?, domain)?;
+        let maps = inks
             .into_iter()
             .map(|map| Prepared {
                 map,
@@ -56,85 +98,72 @@ impl Job {
                 cutoff: None,
             })
             .collect();
-        let t_load = t0.elapsed().as_secs_f64();
-        let base = self
-            .sampler
-            .apply(Params::new(width, height).with_policy(self.policy));
-        let fitted = Classes { maps: &prepared }.sample(&base, points, sample)?;
-        let (set, range) = (fitted.set, fitted.range);
-        let t_sample = t0.elapsed().as_secs_f64() - t_load;
-        // Pen by pen, in the pens' order; each pen's own tour with --order tsp.
-        let mut by_pen: Vec<Vec<Point>> = vec![Vec::new(); pens.len()];
-        for p in &set.points {
-            by_pen[p.class as usize].push(*p);
+        Ok(Separated {
+            maps,
+            picture: at,
+            separation,
+        })
+    }
+
+    /// The size stage of a colour drawing: each dot calibrated to its pen's
+    /// ink at the spacing it has among the other pens' dots ([`Density`]),
+    /// then corrected toward the picture's colours ([`Correction`]); with
+    /// `--dot fixed`, one radius per pen (the root mean square of its
+    /// calibrated dots'); with `--mapping linear`, the mapping's dots.
+    pub(crate) fn colour_sizes(
+        &self,
+        separated: &Separated,
+        points: &[Point],
+        range: RadiusRange,
+        domain: (u32, u32),
+    ) -> crate::Result<Vec<f32>> {
+        let maps = &separated.maps;
+        if maps.first().is_some_and(|m| m.mapping == Mapping::Linear) {
+            return Ok(points
+                .iter()
+                .map(|p| maps[p.class as usize].dot_radius(p, range))
+                .collect());
         }
-        let mut tour: Option<tsp::Tour> = None;
-        let mut ordered = Vec::with_capacity(set.points.len());
-        for pen_points in by_pen {
-            if self.order == Order::Tsp {
-                let xy: Vec<[f64; 2]> = pen_points
-                    .iter()
-                    .map(|p| [f64::from(p.x), f64::from(p.y)])
-                    .collect();
-                let t = tsp::plan(&xy, tsp::TspOptions::default());
-                let base = ordered.len();
-                ordered.extend(t.order.iter().map(|&i| pen_points[i]));
-                let all = tour.get_or_insert_with(|| tsp::Tour {
-                    order: Vec::new(),
-                    nearest_neighbour_length: 0.0,
-                    length: 0.0,
-                    moves: 0,
-                });
-                all.order.extend(t.order.iter().map(|&i| base + i));
-                all.nearest_neighbour_length += t.nearest_neighbour_length;
-                all.length += t.length;
-                all.moves += t.moves;
-            } else {
-                ordered.extend(pen_points);
-            }
-        }
-        let density = Density::new(&ordered, &prepared, range, (width, height));
-        let inks: Vec<f64> = ordered
+        let density = Density::new(points, maps, range, domain);
+        let inks: Vec<f64> = points
             .iter()
-            .map(|p| f64::from(1.0 - prepared[p.class as usize].map.value_at(p.x, p.y)))
+            .map(|p| f64::from(1.0 - maps[p.class as usize].map.value_at(p.x, p.y)))
             .collect();
-        let spacing: Vec<f64> = ordered
-            .iter()
-            .map(|p| density.effective_radius(p))
-            .collect();
-        let mut calibrated: Vec<f32> = ordered
+        let spacing: Vec<f64> = points.iter().map(|p| density.effective_radius(p)).collect();
+        let mut calibrated: Vec<f32> = points
             .iter()
             .zip(&inks)
             .zip(&spacing)
             .map(|((p, &ink), &r_eff)| {
-                let map = &prepared[p.class as usize];
+                let map = &maps[p.class as usize];
                 map.dot_radius(p, range) * dot_factor(ink, f64::from(p.radius), r_eff)
             })
             .collect();
         if matches!(self.dot_size(), super::DotSize::Calibrated(_)) {
-            Correction::new(&picture, &separation, (width, height), ordered.len())?.apply(
-                &ordered,
-                &inks,
-                &spacing,
-                &mut calibrated,
-                pens.len(),
-            )?;
+            Correction::new(
+                &separated.picture,
+                &separated.separation,
+                domain,
+                points.len(),
+            )?
+            .apply(points, &inks, &spacing, &mut calibrated, maps.len())?;
         }
-        let mut drawing = Stipple {
-            dots: Vec::new(),
-            points: ordered,
-            calibrated,
-            set,
-            domain: (width, height),
-            range,
-            runs: fitted.runs,
-            short_of: fitted.short_of,
-            tour,
-            seconds: (t_load, t_sample, 0.0),
-            pens: Some(pens),
-        };
-        drawing.dots = self.dots(&drawing);
-        Ok(drawing)
+        if self.dot_mode() == super::DotMode::Fixed {
+            let mut sums = vec![(0f64, 0usize); maps.len()];
+            for (p, &r) in points.iter().zip(&calibrated) {
+                let s = &mut sums[p.class as usize];
+                s.0 += f64::from(r) * f64::from(r);
+                s.1 += 1;
+            }
+            let radius: Vec<f32> = sums
+                .iter()
+                .map(|&(sq, n)| (sq / n.max(1) as f64).sqrt() as f32)
+                .collect();
+            for (p, r) in points.iter().zip(&mut calibrated) {
+                *r = radius[p.class as usize];
+            }
+        }
+        Ok(calibrated)
     }
 
     /// Writes a colour drawing (its `pens` set) in `format` to `path`: one

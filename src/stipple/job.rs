@@ -10,6 +10,7 @@
 //! same job therefore gives the same drawing and the same files, byte for
 //! byte, from all three.
 
+use std::borrow::Cow;
 use std::path::Path;
 use std::str::FromStr;
 
@@ -20,10 +21,42 @@ use super::svg::DotPath;
 use super::{Dot, DotSize, Error, relax, svg, tsp};
 use crate::colour::PenSet;
 use crate::importance::{
-    ColourMap, DEFAULT_RADIUS_RATIO, ImportanceMap, ImportanceOptions, Mapping, RadiusRange,
-    fit_size,
+    Classes, ColourMap, DEFAULT_RADIUS_RATIO, ImportanceMap, ImportanceOptions, Mapping, Prepared,
+    RadiusRange, fit_size,
 };
 use crate::sampler::{DEFAULT_POLICY, Params, Point, Policy, SampleSet, SamplerOptions};
+
+/// A picture to draw, in memory: grey, colour, or both (the app keeps
+/// both). A grey job draws the grey (a colour picture's luminance when
+/// only colour is given); a colour job the colour (a grey picture's grey
+/// as colour when only grey is given).
+#[derive(Clone, Copy, Debug)]
+pub enum Picture<'a> {
+    /// A grey picture.
+    Grey(&'a ImportanceMap),
+    /// A colour picture.
+    Colour(&'a ColourMap),
+    /// The same picture loaded both ways.
+    Both(&'a ImportanceMap, &'a ColourMap),
+}
+
+impl<'a> Picture<'a> {
+    /// The grey picture.
+    fn grey(self) -> Cow<'a, ImportanceMap> {
+        match self {
+            Self::Grey(m) | Self::Both(m, _) => Cow::Borrowed(m),
+            Self::Colour(c) => Cow::Owned(c.luminance()),
+        }
+    }
+
+    /// The colour picture.
+    fn colour(self) -> Cow<'a, ColourMap> {
+        match self {
+            Self::Colour(c) | Self::Both(_, c) => Cow::Borrowed(c),
+            Self::Grey(m) => Cow::Owned(m.colours()),
+        }
+    }
+}
 
 /// The default number of dots.
 pub const DEFAULT_POINTS: usize = 10_000;
@@ -449,26 +482,6 @@ impl Job {
                 );
             }
         }
-        if self.colour() {
-            let imp = &self.importance;
-            let grey_only = [
-                (self.relax > 0, "--relax"),
-                (imp.invert, "--invert"),
-                (imp.gamma != 1.0, "--gamma"),
-                (
-                    imp.black_level != 0.0 || imp.white_level != 1.0,
-                    "the levels",
-                ),
-                (imp.white_cutoff.is_some(), "--white-cutoff"),
-                (
-                    imp.mapping == Some(crate::importance::MappingKind::Linear),
-                    "--mapping linear",
-                ),
-            ];
-            if let Some((_, what)) = grey_only.iter().find(|(on, _)| *on) {
-                return bad(format!("{what} applies to grey drawings, not with --pens"));
-            }
-        }
         if !(self.scale.is_finite() && self.scale > 0.0) {
             return bad(format!("--scale {} must be a positive number", self.scale));
         }
@@ -562,85 +575,148 @@ impl Job {
         relaxed: impl FnMut(u32) -> bool,
     ) -> crate::Result<Stipple> {
         let t0 = std::time::Instant::now();
-        if self.colour() {
-            let picture = ColourMap::open(image, self.importance.hdr_white)?;
-            let opened = t0.elapsed().as_secs_f64();
-            let mut drawing = self.run_colour(&picture, sample)?;
-            drawing.seconds.0 += opened;
-            return Ok(drawing);
-        }
-        let map = ImportanceMap::open(image, self.importance.hdr_white)?;
+        let (grey, colour);
+        let picture = if self.colour() {
+            colour = ColourMap::open(image, self.importance.hdr_white)?;
+            Picture::Colour(&colour)
+        } else {
+            grey = ImportanceMap::open(image, self.importance.hdr_white)?;
+            Picture::Grey(&grey)
+        };
         let opened = t0.elapsed().as_secs_f64();
-        let mut drawing = self.run_map(&map, sample, relaxed)?;
+        let mut drawing = self.draw(picture, sample, relaxed)?;
         drawing.seconds.0 += opened;
         Ok(drawing)
     }
 
-    /// [`Self::run`] for a picture already in memory (borrowed: the app
-    /// keeps its picture across jobs).
+    /// [`Self::draw`] of a grey picture.
     pub fn run_map(
         &self,
         map: &ImportanceMap,
         sample: impl FnMut(&Params) -> crate::Result<SampleSet>,
         relaxed: impl FnMut(u32) -> bool,
     ) -> crate::Result<Stipple> {
+        self.draw(Picture::Grey(map), sample, relaxed)
+    }
+
+    /// The one staged run of every drawing, grey or colour, of a picture in
+    /// memory (borrowed: the app keeps its picture across jobs): prepare
+    /// (one map per pen; a grey drawing is one pen) → sample → relax →
+    /// order → size. The writers are [`Self::write`]. `sample` runs the
+    /// sampler; `relaxed` hears each relaxation step done and returns false
+    /// to stop.
+    pub fn draw(
+        &self,
+        picture: Picture<'_>,
+        sample: impl FnMut(&Params) -> crate::Result<SampleSet>,
+        relaxed: impl FnMut(u32) -> bool,
+    ) -> crate::Result<Stipple> {
         let t0 = std::time::Instant::now();
         self.check()?;
         let (points, count_target) = self.count();
-        let mapping = self.dot_mode().mapping(self.dot_ratio);
-        let mut prepared = self.importance.prepare_map(
-            map,
-            |w, h| self.domain_for((w, h), points),
-            mapping,
-            count_target,
-        )?;
-        let (width, height) = (prepared.map.width(), prepared.map.height());
-        prepared.range = self.dot_range(prepared.range, (width, height))?;
+        // Prepare.
+        let (separated, grey) = if self.colour() {
+            let colour = picture.colour();
+            let domain = self.domain_for((colour.width(), colour.height()), points);
+            (Some(self.separate(&colour, domain, count_target)?), None)
+        } else {
+            let map = picture.grey();
+            let mut prepared = self.importance.prepare_map(
+                &map,
+                |w, h| self.domain_for((w, h), points),
+                self.dot_mode().mapping(self.dot_ratio),
+                count_target,
+            )?;
+            let domain = (prepared.map.width(), prepared.map.height());
+            prepared.range = self.dot_range(prepared.range, domain)?;
+            (None, Some(prepared))
+        };
+        let maps: &[Prepared] = match (&separated, &grey) {
+            (Some(s), _) => &s.maps,
+            (None, Some(g)) => std::slice::from_ref(g),
+            (None, None) => unreachable!("a drawing prepares a grey or a colour picture"),
+        };
+        let domain = (maps[0].map.width(), maps[0].map.height());
         let t_load = t0.elapsed().as_secs_f64();
+        // Sample.
         let base = self
             .sampler
-            .apply(Params::new(width, height).with_policy(self.policy));
-        let fitted = prepared.sample(&base, points, sample)?;
+            .apply(Params::new(domain.0, domain.1).with_policy(self.policy));
+        let fitted = if separated.is_some() {
+            Classes { maps }.sample(&base, points, sample)?
+        } else {
+            maps[0].sample(&base, points, sample)?
+        };
         let (mut set, range) = (fitted.set, fitted.range);
         let t_sample = t0.elapsed().as_secs_f64() - t_load;
+        // Relax.
         if self.relax > 0 {
             let options = relax::RelaxOptions {
                 iterations: self.relax,
                 periodic: self.sampler.periodic,
             };
-            let moved = super::relax_points(&prepared, range, &set.points, options, relaxed)?;
+            let moved = super::relax_points(maps, range, &set.points, options, relaxed)?;
             set = set.with_points(moved);
         }
         let t_relax = t0.elapsed().as_secs_f64() - t_load - t_sample;
-        let (points, tour) = match self.order {
-            Order::None => (set.points.clone(), None),
-            Order::Tsp => {
-                let xy: Vec<[f64; 2]> = set
-                    .points
-                    .iter()
-                    .map(|p| [f64::from(p.x), f64::from(p.y)])
-                    .collect();
-                let tour = tsp::plan(&xy, tsp::TspOptions::default());
-                let ordered = tour.order.iter().map(|&i| set.points[i]).collect();
-                (ordered, Some(tour))
-            }
+        // Order.
+        let (points, tour) = self.ordered(&set.points, maps.len());
+        // Size.
+        let calibrated = match &separated {
+            Some(s) => self.colour_sizes(s, &points, range, domain)?,
+            None => maps[0].dot_radii(&points, range),
         };
-        let calibrated = prepared.dot_radii(&points, range);
         let mut drawing = Stipple {
             dots: Vec::new(),
             points,
             calibrated,
             set,
-            domain: (width, height),
+            domain,
             range,
             runs: fitted.runs,
             short_of: fitted.short_of,
             tour,
             seconds: (t_load, t_sample, t_relax),
-            pens: None,
+            pens: separated.and(self.pens.clone()),
         };
         drawing.dots = self.dots(&drawing);
         Ok(drawing)
+    }
+
+    /// The order stage: the points pen by pen in the pens' order, each
+    /// pen's in the sampler's order or, with `--order tsp`, along its own
+    /// tour (the tours joined, pen after pen).
+    fn ordered(&self, points: &[Point], pens: usize) -> (Vec<Point>, Option<tsp::Tour>) {
+        let mut by_pen: Vec<Vec<Point>> = vec![Vec::new(); pens.max(1)];
+        for p in points {
+            if let Some(pen) = by_pen.get_mut(p.class as usize) {
+                pen.push(*p);
+            }
+        }
+        if self.order == Order::None {
+            return (by_pen.concat(), None);
+        }
+        let mut all = tsp::Tour {
+            order: Vec::with_capacity(points.len()),
+            nearest_neighbour_length: 0.0,
+            length: 0.0,
+            moves: 0,
+        };
+        let mut ordered = Vec::with_capacity(points.len());
+        for pen_points in by_pen {
+            let xy: Vec<[f64; 2]> = pen_points
+                .iter()
+                .map(|p| [f64::from(p.x), f64::from(p.y)])
+                .collect();
+            let t = tsp::plan(&xy, tsp::TspOptions::default());
+            let base = ordered.len();
+            ordered.extend(t.order.iter().map(|&i| pen_points[i]));
+            all.order.extend(t.order.iter().map(|&i| base + i));
+            all.nearest_neighbour_length += t.nearest_neighbour_length;
+            all.length += t.length;
+            all.moves += t.moves;
+        }
+        (ordered, Some(all))
     }
 
     /// Whether the dots' own radius or the pen sets the sample radii (else

@@ -19,7 +19,7 @@ pub mod tsp;
 
 pub use job::{
     DEFAULT_DOT_RATIO, DEFAULT_POINTS, DotMode, Format, Ink, Job, MAX_DOMAIN_PIXELS,
-    MIN_DOMAIN_SIDE, Order, Stipple, default_domain,
+    MIN_DOMAIN_SIDE, Order, Picture, Stipple, default_domain,
 };
 pub use paper::{Paper, Placement};
 pub use sample_job::{Radii, SampleJob, Sampled};
@@ -119,33 +119,58 @@ impl DotSize {
     }
 }
 
-/// The points of a stipple of `prepared` after `iterations` weighted Lloyd
-/// steps ([`relax`]). A pixel weighs 1/r⁴ for its sample radius r (zero
-/// where the white cutoff removes dots): a centroidal Voronoi tessellation
-/// puts points at a density of √weight (Gersho's conjecture, which Lloyd's
-/// method follows), so the relaxation evens the spacing while it keeps the
-/// calibrated density, hence the tones. Each point's radius becomes the
-/// sample radius of its new pixel. `progress` as in [`relax::relax`].
+/// The points of a stipple of `maps` (one per pen; the grey drawing has
+/// one) after `iterations` weighted Lloyd steps ([`relax`]). With one map a
+/// pixel weighs 1/r⁴ for its sample radius r (zero where the white cutoff
+/// removes dots): a centroidal Voronoi tessellation puts points at a
+/// density of √weight (Gersho's conjecture, which Lloyd's method follows),
+/// so the relaxation evens the spacing while it keeps the calibrated
+/// density, hence the tones. With several pens all points relax together
+/// toward the union's density, (Σ_k 1/r_k²)² over the pens that have
+/// samples at the pixel ([`crate::importance::Classes`]): the pens keep
+/// their interleaving and each point its pen. Each point's radius becomes
+/// its pen's sample radius at its new pixel. `progress` as in
+/// [`relax::relax`].
 pub fn relax_points(
-    prepared: &Prepared,
+    maps: &[Prepared],
     range: RadiusRange,
     points: &[Point],
     options: relax::RelaxOptions,
     progress: impl FnMut(u32) -> bool,
 ) -> Result<Vec<Point>> {
-    let radii = prepared.map.radii(prepared.mapping, range);
-    let weights: Vec<f32> = radii
-        .iter()
-        .zip(prepared.map.values())
-        .map(|(&r, &v)| {
-            if prepared.cutoff.is_some_and(|c| v > c) {
-                0.0
-            } else {
-                (1.0 / f64::from(r).powi(4)) as f32
-            }
-        })
-        .collect();
-    let (w, h) = (prepared.map.width(), prepared.map.height());
+    use rayon::prelude::*;
+    let Some(first) = maps.first() else {
+        return Err(Error::InvalidParameter("nothing to relax".into()));
+    };
+    let radii: Vec<Vec<f32>> = maps.iter().map(|m| m.map.radii(m.mapping, range)).collect();
+    let weights: Vec<f32> = if let [prepared] = maps {
+        radii[0]
+            .iter()
+            .zip(prepared.map.values())
+            .map(|(&r, &v)| {
+                if prepared.cutoff.is_some_and(|c| v > c) {
+                    0.0
+                } else {
+                    (1.0 / f64::from(r).powi(4)) as f32
+                }
+            })
+            .collect()
+    } else {
+        let lightest = crate::importance::Classes { maps }.lightest(range);
+        (0..radii[0].len())
+            .into_par_iter()
+            .map(|i| {
+                let inv: f64 = maps
+                    .iter()
+                    .zip(&radii)
+                    .filter(|(m, _)| f64::from(1.0 - m.map.values()[i]) >= lightest / 2.0)
+                    .map(|(_, r)| 1.0 / f64::from(r[i]).powi(2))
+                    .sum();
+                (inv * inv) as f32
+            })
+            .collect()
+    };
+    let (w, h) = (first.map.width(), first.map.height());
     let density = relax::Density {
         width: w,
         height: h,
@@ -156,14 +181,16 @@ pub fn relax_points(
     let moved = relax::relax(&xy, &density, options, progress);
     Ok(moved
         .iter()
-        .map(|&[x, y]| {
+        .zip(points)
+        .map(|(&[x, y], p)| {
             let px = (x.max(0.0) as u32).min(w - 1);
             let py = (y.max(0.0) as u32).min(h - 1);
+            let class = if maps.len() == 1 { 0 } else { p.class };
             Point {
                 x,
                 y,
-                radius: radii[(py * w + px) as usize],
-                class: 0,
+                radius: radii[class as usize][(py * w + px) as usize],
+                class,
             }
         })
         .collect())
