@@ -446,3 +446,32 @@ fn exact_mode_on_the_gpu_backend_writes_the_cpus_points() {
     assert_eq!(s["exact"].as_bool(), Some(true));
     assert_eq!(s["maximal"].as_bool(), Some(true));
 }
+
+#[test]
+fn help_texts_carry_no_rustdoc_markup() {
+    for cmd in [
+        &["sample"][..],
+        &["stipple"],
+        &["analyze"],
+        &["fidelity"],
+        &["bench"],
+        &["calibrate", "chart"],
+        &["calibrate", "fit"],
+        &["calibrate", "simulate"],
+    ] {
+        let mut args = cmd.to_vec();
+        args.push("--help");
+        let o = pixelpie(&args);
+        let help = String::from_utf8_lossy(&o.stdout);
+        assert!(
+            o.status.success() && help.contains("Usage"),
+            "{cmd:?}: {help}"
+        );
+        for markup in ["[`", "`]", "[`Self", "](", "crate::"] {
+            assert!(
+                !help.contains(markup),
+                "{cmd:?} --help shows rustdoc markup {markup:?}:\n{help}"
+            );
+        }
+    }
+}

@@ -304,7 +304,7 @@ def _make_command() -> Any:
         "--paper",
         type=vpype_cli.TextType(),
         help=(
-            "The sheet: a4, a3, a5, letter, legal, tabloid or WxHmm; the drawing fits inside "
+            "The sheet: a1 to a6, letter, legal, tabloid or WxHmm; the drawing fits inside "
             f"the margins, centred. [default: {DEFAULT_PAPER} unless --width-mm is given]"
         ),
     )

@@ -49,6 +49,7 @@ impl PixelPieApp {
             return;
         };
         let mut pens: Vec<Pen> = set.pens().to_vec();
+        let pen_mm = job.pen_mm;
         let mut changed = false;
         let mut remove = None;
         self.settings.hidden_pens.resize(pens.len(), false);
@@ -79,20 +80,40 @@ impl PixelPieApp {
                         changed = true;
                     }
                 }
-                let mut width = pen.width_mm.unwrap_or(0.0);
-                if ui
-                    .add(
-                        egui::DragValue::new(&mut width)
-                            .range(0.0..=5.0)
-                            .speed(0.01)
-                            .max_decimals(2)
-                            .suffix("mm"),
-                    )
-                    .on_hover_text(
-                        "The pen's width in the SVG's pen paths (0: the export's Pen mm)",
-                    )
-                    .changed()
-                {
+                // The width the pen draws at: its own, else the export's
+                // Pen mm; with neither, it draws no pen paths, which the
+                // row says rather than showing 0.
+                let mut width = pen.width_mm.or(pen_mm).unwrap_or(0.0);
+                let own = pen.width_mm.is_some();
+                let hover = match (own, pen_mm) {
+                    (true, _) => "This pen's own width in the SVG's pen paths".to_owned(),
+                    (false, Some(mm)) => format!(
+                        "No width of its own: the export's Pen mm ({mm:.2} mm); drag to give it one"
+                    ),
+                    (false, None) => "No width: the dots are drawn as circles; set Pen mm \
+                        (Export) or drag to give this pen a width"
+                        .to_owned(),
+                };
+                let drag = egui::DragValue::new(&mut width)
+                    .range(0.0..=5.0)
+                    .speed(0.01)
+                    .max_decimals(2)
+                    .custom_parser(|t| {
+                        let t = t.trim().trim_end_matches("mm").trim();
+                        if t == "no width" {
+                            Some(0.0)
+                        } else {
+                            t.parse().ok()
+                        }
+                    })
+                    .custom_formatter(move |v, _| {
+                        if v <= 0.0 {
+                            "no width".to_owned()
+                        } else {
+                            format!("{v:.2}mm")
+                        }
+                    });
+                if ui.add(drag).on_hover_text(hover).changed() {
                     pen.width_mm = (width > 0.0).then_some(width);
                     changed = true;
                 }

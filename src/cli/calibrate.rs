@@ -43,7 +43,7 @@ struct ChartArgs {
     /// Width of the pens that have none, mm.
     #[arg(long, default_value_t = chart::DEFAULT_PEN_MM)]
     pen_mm: f64,
-    /// Paper: a4, a3, a5, letter, legal, tabloid or WxHmm.
+    /// Paper: a1 to a6, letter, legal, tabloid or WxHmm.
     #[arg(long, default_value = "a4")]
     paper: Paper,
     /// Margin, mm.

@@ -34,7 +34,7 @@ pub enum Policy {
     /// f(i, j) = max(r(i), r(j)). Radius in the key's high bits, Greater wins.
     Bigger,
     /// f(i, j) = min(r(i), r(j)). Radius in the key's high bits, Less wins.
-    /// The default ([`DEFAULT_POLICY`]).
+    /// The default.
     #[default]
     Smaller,
 }

@@ -284,7 +284,7 @@ pub struct Job {
     /// SVG page width in millimetres (height follows the aspect) [default: px].
     #[cfg_attr(feature = "cli", arg(long, conflicts_with = "paper"))]
     pub width_mm: Option<f64>,
-    /// Paper for the SVG: a4, a3, a5, letter, legal, tabloid or WxHmm. The
+    /// Paper for the SVG: a1 to a6, letter, legal, tabloid or WxHmm. The
     /// drawing fits inside the margins, centred, keeping its aspect; the
     /// SVG is the whole sheet, in mm.
     #[cfg_attr(feature = "cli", arg(long))]

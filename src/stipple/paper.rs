@@ -59,7 +59,7 @@ impl FromStr for Paper {
         }
         let bad = || {
             Error::InvalidParameter(format!(
-                "paper '{s}' is not a4, a3, a5, letter, legal, tabloid or WxHmm (e.g. 300x200mm)"
+                "paper '{s}' is not a1 to a6, letter, legal, tabloid or WxHmm (e.g. 300x200mm)"
             ))
         };
         let dims = t.strip_suffix("mm").unwrap_or(&t);
