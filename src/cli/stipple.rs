@@ -152,6 +152,12 @@ pub fn run(a: &StippleArgs) -> Result<()> {
             drawing.range.max,
             t0.elapsed().as_secs_f64()
         );
+        let stages: Vec<String> = drawing
+            .stages
+            .iter()
+            .map(|(name, s)| format!("{name} {s:.3} s"))
+            .collect();
+        eprintln!("stages: {}", stages.join(", "));
     }
     Ok(())
 }

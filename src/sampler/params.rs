@@ -217,9 +217,17 @@ impl RadiusMap {
     /// classes' holes); min and max ignore the zeros. The height may pass
     /// [`fixed::MAX_SIDE`]: classes stack their maps.
     pub(crate) fn stacked(width: u32, height: u32, radii: Vec<u32>) -> Self {
-        let real = || radii.iter().copied().filter(|&r| r > 0);
-        let min = real().min().unwrap_or(MIN_RADIUS_FX);
-        let max = real().max().unwrap_or(MIN_RADIUS_FX);
+        use rayon::prelude::*;
+        let (min, max) = radii
+            .par_iter()
+            .filter(|&&r| r > 0)
+            .fold(|| (u32::MAX, 0), |(lo, hi), &r| (lo.min(r), hi.max(r)))
+            .reduce(|| (u32::MAX, 0), |a, b| (a.0.min(b.0), a.1.max(b.1)));
+        let (min, max) = if max == 0 {
+            (MIN_RADIUS_FX, MIN_RADIUS_FX)
+        } else {
+            (min, max)
+        };
         Self {
             width,
             height,

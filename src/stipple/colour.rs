@@ -236,6 +236,9 @@ struct Density {
     expected: Vec<Vec<f64>>,
 }
 
+/// Steps of [`Density`]'s table of the expected count over the map's value.
+const DENSITY_STEPS: usize = 4096;
+
 /// The counting window's half-side in sample radii.
 const WINDOW: f32 = 3.0;
 /// The side in px of the cells the counts are kept in (windows are tens of
@@ -267,13 +270,23 @@ impl Density {
         let expected = maps
             .par_iter()
             .map(|m| {
-                let radii = m.map.radii(m.mapping, range);
+                // The expected count per pixel is a function of its value:
+                // tabulated once, as the radii are.
+                let radius = crate::importance::ImportanceMap::radius_fn(m.mapping, range);
+                let per_px: Vec<f64> = (0..=DENSITY_STEPS)
+                    .map(|i| {
+                        let r = f64::from(radius(i as f32 / DENSITY_STEPS as f32));
+                        ink::density(r) * crate::sampler::RSA_DENSITY
+                            / (std::f64::consts::PI * r * r / 4.0)
+                    })
+                    .collect();
+                let values = m.map.values();
                 let mut per_cell = vec![0f64; cols * rows];
-                for (i, &r) in radii.iter().enumerate() {
-                    let r = f64::from(r);
-                    per_cell[cell_of(i % w, i / w)] += ink::density(r)
-                        * crate::sampler::RSA_DENSITY
-                        / (std::f64::consts::PI * r * r / 4.0);
+                for (i, &v) in values.iter().enumerate() {
+                    let x = v.clamp(0.0, 1.0) * DENSITY_STEPS as f32;
+                    let j = (x as usize).min(DENSITY_STEPS - 1);
+                    let f = f64::from(x - j as f32);
+                    per_cell[cell_of(i % w, i / w)] += per_px[j] + f * (per_px[j + 1] - per_px[j]);
                 }
                 summed(cols, rows, |c| per_cell[c])
             })

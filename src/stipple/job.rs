@@ -385,6 +385,9 @@ pub struct Stipple {
     pub tour: Option<tsp::Tour>,
     /// Seconds spent loading, sampling and relaxing.
     pub seconds: (f64, f64, f64),
+    /// Seconds in each stage of [`Job::draw`], in order: prepare (the
+    /// picture's loading not included), sample, relax, order and size.
+    pub stages: Vec<(&'static str, f64)>,
     /// The pens of a colour drawing (each point's class is its pen).
     pub pens: Option<PenSet>,
 }
@@ -661,11 +664,13 @@ impl Job {
         let t_relax = t0.elapsed().as_secs_f64() - t_load - t_sample;
         // Order.
         let (points, tour) = self.ordered(&set.points, maps.len());
+        let t_order = t0.elapsed().as_secs_f64() - t_load - t_sample - t_relax;
         // Size.
         let calibrated = match &separated {
             Some(s) => self.colour_sizes(s, &points, range, domain)?,
             None => maps[0].dot_radii(&points, range),
         };
+        let t_size = t0.elapsed().as_secs_f64() - t_load - t_sample - t_relax - t_order;
         let mut drawing = Stipple {
             dots: Vec::new(),
             points,
@@ -677,6 +682,13 @@ impl Job {
             short_of: fitted.short_of,
             tour,
             seconds: (t_load, t_sample, t_relax),
+            stages: vec![
+                ("prepare", t_load),
+                ("sample", t_sample),
+                ("relax", t_relax),
+                ("order", t_order),
+                ("size", t_size),
+            ],
             pens: separated.and(self.pens.clone()),
         };
         drawing.dots = self.dots(&drawing);
