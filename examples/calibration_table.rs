@@ -6,8 +6,9 @@
 //! `cargo run --release --example calibration_table`
 
 use pixelpie::colour::{Lab, PenSet, delta_e00};
+use pixelpie::job::Job;
+use pixelpie::stipple::Paper;
 use pixelpie::stipple::calibrate::{Chart, ChartSpec, ScanOptions, fit, simulate};
-use pixelpie::stipple::{Job, Paper};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let a4: Paper = "a4".parse()?;
@@ -61,7 +62,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ("uncalibrated", &plain, 1.5),
         ("calibrated (dot_gain = 1.5)", &calibrated, 1.5),
     ] {
-        let e = simulate::ramp_error(job, gain)?;
+        let e = pixelpie::job::ramp_error(job, gain)?;
         println!("| {name} | {:.3} | {:.3} |", e.worst, e.mean);
     }
     Ok(())

@@ -20,8 +20,8 @@ use pixelpie::analyze::fidelity::{Grey, compare};
 use pixelpie::colour::{PenSet, RenderModel, Separation};
 use pixelpie::importance::ink::K_MAX;
 use pixelpie::importance::{ColourMap, ImportanceMap, linear_to_srgb, srgb_to_linear};
+use pixelpie::job::Job;
 use pixelpie::sampler::cpu;
-use pixelpie::stipple::Job;
 
 fn channels(img: &image::RgbImage) -> Rgb {
     let (w, h) = img.dimensions();
@@ -124,9 +124,7 @@ fn main() -> Result<()> {
         job.points = Some(points);
         job.pens = Some(pens.clone());
         let t = Instant::now();
-        let drawing = job.draw(pixelpie::stipple::Picture::Colour(&picture), sample, |_| {
-            true
-        })?;
+        let drawing = job.draw(pixelpie::job::Picture::Colour(&picture), sample, |_| true)?;
         let seconds = t.elapsed().as_secs_f64();
         let domain = drawing.domain;
         let img = job.picture(&drawing, (w, h))?;

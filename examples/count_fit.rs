@@ -7,7 +7,7 @@
 //!
 //! `cargo run --release --example count_fit -- PHOTOS`
 use pixelpie::importance::{ImportanceMap, ink};
-use pixelpie::stipple::Job;
+use pixelpie::job::Job;
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     for img in &args {

@@ -5,8 +5,8 @@
 //!
 //! `cargo run --release --example policy_speed -- [IMAGE] [SIDE] [MIN] [MAX] [REPS] [POLICIES…]`
 use pixelpie::importance::ImportanceMap;
+use pixelpie::job::{Radii, SampleJob};
 use pixelpie::sampler::{Control, Policy, cpu};
-use pixelpie::stipple::{Radii, SampleJob};
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();

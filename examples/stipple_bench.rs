@@ -185,9 +185,10 @@ fn pixelpie_row(
         cutoff: None,
     };
     let base = Params::new(map.width(), map.height()).with_policy(Policy::Smaller);
-    let fitted = prepared.sample(&base, Some(n), |p| -> pixelpie::Result<_> {
-        Ok(cpu::sample(p, Default::default())?)
-    })?;
+    let fitted =
+        pixelpie::job::count::sample_map(&prepared, &base, Some(n), |p| -> pixelpie::Result<_> {
+            Ok(cpu::sample(p, Default::default())?)
+        })?;
     let mut points: Vec<Point> = fitted.set.points;
     if relax_steps > 0 {
         let options = relax::RelaxOptions {

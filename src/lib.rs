@@ -3,7 +3,10 @@
 //!
 //! * [`sampler`]: the headless core, its semantics and the CPU reference backend;
 //! * [`backend`]: backend selection;
-//! * [`io`]: file formats; [`count`]: point-count targeting.
+//! * [`job`]: the drawing and point-set jobs, one staged run each, and the
+//!   point-count fit ([`job::count`]);
+//! * [`stipple`]: dots, their formats (SVG, PNG), relaxation, TSP, paper and plots;
+//! * [`io`]: file formats.
 //!
 //! # Example
 //!
@@ -37,12 +40,12 @@ pub mod analyze;
 pub mod app;
 pub mod backend;
 pub mod colour;
-pub mod count;
 mod error;
 #[cfg(feature = "gpu")]
 pub mod gpu;
 pub mod importance;
 pub mod io;
+pub mod job;
 pub mod sampler;
 pub mod stipple;
 mod text;

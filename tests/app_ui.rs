@@ -273,7 +273,7 @@ fn exports_use_the_dot_colour_and_the_png_scale() {
     // Bug: with red dots on screen the SVG said fill="black" and the PNG
     // was grey; the PNG had no size control.
     let (dir, _, mut h) = ready(160, 120);
-    h.state_mut().settings.job.ink = pixelpie::stipple::Ink([220, 30, 30]);
+    h.state_mut().settings.job.ink = pixelpie::job::Ink([220, 30, 30]);
     h.state_mut().settings.job.scale = 0.5;
     h.state_mut().export_path = dir.path().join("out").display().to_string();
     h.get_by_label("SVG").click();
@@ -705,9 +705,9 @@ fn the_app_draws_and_exports_what_the_cli_does() {
         let st = &mut h.state_mut().settings;
         st.points = 3000;
         let job = &mut st.job;
-        job.dot = Some(pixelpie::stipple::DotMode::Fixed);
+        job.dot = Some(pixelpie::job::DotMode::Fixed);
         job.relax = 2;
-        job.order = pixelpie::stipple::Order::Tsp;
+        job.order = pixelpie::job::Order::Tsp;
         job.width_mm = Some(150.0);
         job.pen_mm = Some(0.4);
         job.ink = "#1f77b4".parse().unwrap();
@@ -851,9 +851,9 @@ fn errors_and_modes_leave_the_controls_in_place_and_the_view_refits() {
     assert_eq!(h.get_by_label("CSV").rect(), csv, "the export row moved");
     // Each dot mode shows the same rows: nothing below them jumps.
     for mode in [
-        pixelpie::stipple::DotMode::Proportional,
-        pixelpie::stipple::DotMode::Fixed,
-        pixelpie::stipple::DotMode::Sized,
+        pixelpie::job::DotMode::Proportional,
+        pixelpie::job::DotMode::Fixed,
+        pixelpie::job::DotMode::Sized,
     ] {
         h.state_mut().settings.job.dot = Some(mode);
         h.run_steps(2);

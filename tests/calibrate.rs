@@ -8,8 +8,9 @@ use std::path::Path;
 use std::process::Command;
 
 use pixelpie::colour::{Lab, PenSet, delta_e00};
+use pixelpie::job::Job;
+use pixelpie::stipple::Paper;
 use pixelpie::stipple::calibrate::{self, Chart, ChartSpec, ScanOptions, simulate};
-use pixelpie::stipple::{Job, Paper};
 
 fn chart(pens: &PenSet, seed: u64) -> Chart {
     let a4: Paper = "a4".parse().unwrap();
@@ -189,8 +190,8 @@ fn a_ramp_plotted_with_gain_is_true_only_when_calibrated() {
     plain.points = Some(20_000);
     let mut calibrated = plain.clone();
     calibrated.pens = Some(pens);
-    let before = simulate::ramp_error(&plain, gain).unwrap();
-    let after = simulate::ramp_error(&calibrated, gain).unwrap();
+    let before = pixelpie::job::ramp_error(&plain, gain).unwrap();
+    let after = pixelpie::job::ramp_error(&calibrated, gain).unwrap();
     eprintln!(
         "plotted at gain {gain}: uncalibrated worst {:.3} mean {:.3}; calibrated worst {:.3} mean {:.3}",
         before.worst, before.mean, after.worst, after.mean
@@ -202,6 +203,6 @@ fn a_ramp_plotted_with_gain_is_true_only_when_calibrated() {
         before.worst
     );
     // The same job on paper that does not spread is the screen's drawing.
-    let screen = simulate::ramp_error(&plain, 1.0).unwrap();
+    let screen = pixelpie::job::ramp_error(&plain, 1.0).unwrap();
     assert!(screen.worst <= 0.05, "{:.3}", screen.worst);
 }

@@ -13,8 +13,8 @@ use image::{ImageBuffer, Rgb, Rgba};
 use pixelpie::analyze::fidelity::{Grey, blur};
 use pixelpie::colour::{Lab, PenSet, delta_e00};
 use pixelpie::importance::Tones;
+use pixelpie::job::{Job, Stipple};
 use pixelpie::sampler::cpu;
-use pixelpie::stipple::{Job, Stipple};
 
 /// Six in-gamut colours of the CMYK pens, 8-bit sRGB.
 const PATCHES: [[u8; 3]; 6] = [
@@ -418,7 +418,7 @@ fn colour_takes_every_grey_control() {
         light(&d0)
     );
     // Fixed dots: one radius per pen, as in grey; sized dots: many.
-    let fixed = cmyk(&|j| j.dot = Some(pixelpie::stipple::DotMode::Fixed));
+    let fixed = cmyk(&|j| j.dot = Some(pixelpie::job::DotMode::Fixed));
     let df = run(&fixed, &photo);
     for (pen, (n, radii)) in per_pen(&fixed, &df).into_iter().enumerate() {
         assert!(

@@ -20,8 +20,8 @@ use std::sync::Arc;
 
 use common::smooth_radii;
 use pixelpie::colour::PenSet;
+use pixelpie::job::{Job, Order, Stipple};
 use pixelpie::sampler::{ClassRadii, Control, Params, Point, Policy, RadiusMap, SampleSet, cpu};
-use pixelpie::stipple::{Job, Order, Stipple};
 
 /// (case, points, hash): the pinned outputs. Update as the module doc says.
 #[rustfmt::skip]

@@ -5,7 +5,7 @@
 use std::path::Path;
 
 use pixelpie::importance::ImportanceMap;
-use pixelpie::stipple::{Job, MAX_DOMAIN_PIXELS};
+use pixelpie::job::{Job, MAX_DOMAIN_PIXELS};
 
 fn asset(name: &str) -> ImportanceMap {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))

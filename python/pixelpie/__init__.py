@@ -150,7 +150,7 @@ def stipple(
     array whose fourth column is each dot's pen (its index in the pens).
 
     ``options`` are the command line's, with underscores, and the same
-    defaults (the library's drawing job, ``pixelpie::stipple::Job``, holds
+    defaults (the library's drawing job, ``pixelpie::job::Job``, holds
     them all): ``points`` (default 10 000 unless ``min_radius`` or
     ``dot_radius`` is given), ``width``, ``height``, ``dot`` (``"sized"``:
     small dots in light areas, the default; ``"fixed"``: all alike;

@@ -19,8 +19,8 @@ use pyo3::prelude::*;
 use pixelpie::analyze::{CoverRadius, Domain};
 use pixelpie::backend::{self, BackendChoice};
 use pixelpie::importance::{self, ImportanceMap, ImportanceOptions, Tones};
+use pixelpie::job::{Format, Job, Radii, SampleJob};
 use pixelpie::sampler::{self, Control, Progress};
-use pixelpie::stipple::{Format, Job, Radii, SampleJob};
 
 /// The Python exception for a library error.
 fn py_err(e: &pixelpie::Error) -> PyErr {

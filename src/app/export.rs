@@ -5,8 +5,9 @@ use egui::Color32;
 
 use super::PixelPieApp;
 use super::panel::fixed_row;
+use crate::job::Order;
+use crate::stipple::DotSize;
 use crate::stipple::svg::DotPath;
-use crate::stipple::{DotSize, Order};
 
 /// Dots narrower than this, in mm, do not print (a pen or a printer's
 /// dot is wider).

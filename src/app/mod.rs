@@ -301,7 +301,7 @@ impl PixelPieApp {
                 return;
             }
         };
-        let ext = match crate::stipple::Format::from_path(&path) {
+        let ext = match crate::job::Format::from_path(&path) {
             Ok(_) => path
                 .extension()
                 .map_or_else(String::new, |e| e.to_string_lossy().into_owned()),

@@ -8,8 +8,8 @@ use super::PixelPieApp;
 use super::settings::Background;
 use crate::backend::BackendChoice;
 use crate::importance::{MappingKind, Tones};
+use crate::job::DotMode;
 use crate::sampler::Policy;
-use crate::stipple::DotMode;
 
 impl PixelPieApp {
     /// The side panel's controls, one function per section.

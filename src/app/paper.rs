@@ -6,7 +6,8 @@
 use egui::{Rect, Vec2};
 
 use super::PixelPieApp;
-use crate::stipple::{Job, Paper, Placement};
+use crate::job::Job;
+use crate::stipple::{Paper, Placement};
 
 /// The sheets offered, as shown and as the job names them.
 const SHEETS: [(&str, &str); 6] = [

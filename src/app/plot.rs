@@ -8,7 +8,7 @@ use std::sync::mpsc::{Receiver, TryRecvError, channel};
 use std::time::Instant;
 
 use super::{DEBOUNCE, PixelPieApp};
-use crate::stipple::Job;
+use crate::job::Job;
 use crate::stipple::plot::{PenPlot, PlotSpeeds};
 
 /// An estimate: each pen's plot, or why there is none.

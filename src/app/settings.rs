@@ -7,8 +7,8 @@ use std::path::PathBuf;
 use serde::{Deserialize, Serialize};
 
 use crate::backend::BackendChoice;
+use crate::job::{DEFAULT_POINTS, Job};
 use crate::stipple::svg::DotPath;
-use crate::stipple::{DEFAULT_POINTS, Job};
 
 /// What is drawn behind the dots.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]

@@ -1,6 +1,6 @@
 //! The drawing job off the UI thread: the latest job wins, an older one in
 //! flight is cancelled, and the GPU sampler shares egui's device. The job
-//! is the library's ([`crate::stipple::Job`]), the same that `pixelpie
+//! is the library's ([`crate::job::Job`]), the same that `pixelpie
 //! stipple` runs, so the app draws what the CLI draws.
 
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -14,8 +14,8 @@ use super::settings::Settings;
 use crate::backend::BackendChoice;
 use crate::gpu::GpuSampler;
 use crate::importance::{ColourMap, ImportanceMap};
+use crate::job::Stipple;
 use crate::sampler::{self, Control, Params, Progress, SampleSet};
-use crate::stipple::Stipple;
 
 /// A sampling request.
 pub struct Job {
@@ -266,7 +266,7 @@ fn compute(
     let mut note = None;
     let run = s.job();
     let drawing = run.draw(
-        crate::stipple::Picture::Both(&job.map, &job.colour),
+        crate::job::Picture::Both(&job.map, &job.colour),
         |params| Ok(sample(params, s.backend, gpu, ctl, &mut note)?),
         |done| {
             relaxed(done);

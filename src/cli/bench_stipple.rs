@@ -12,8 +12,8 @@ use std::time::Instant;
 use anyhow::{Context, Result, bail};
 
 use pixelpie::importance::ink;
+use pixelpie::job::{Job, default_domain};
 use pixelpie::sampler::RSA_DENSITY;
-use pixelpie::stipple::{Job, default_domain};
 
 /// The environment variable that makes `pixelpie` print its peak memory
 /// (`peak-rss-kb: N`, from /proc/self/status) on stderr as it exits.

@@ -12,8 +12,8 @@ use pixelpie::backend::{self, BackendChoice, Notice};
 use pixelpie::gpu::S1Path;
 use pixelpie::importance::{ImportanceMap, ImportanceOptions};
 use pixelpie::io;
+use pixelpie::job::{Radii, SampleJob};
 use pixelpie::sampler::{self, Control, Params, Policy, Progress, SampleSet, SamplerOptions};
-use pixelpie::stipple::{Radii, SampleJob};
 
 /// Arguments of `pixelpie sample`.
 #[derive(Args, Debug, Serialize)]

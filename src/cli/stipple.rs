@@ -10,8 +10,8 @@ use anyhow::Result;
 use clap::Args;
 
 use pixelpie::io;
+use pixelpie::job::{Format, Job};
 use pixelpie::stipple::plot::PlotSpeeds;
-use pixelpie::stipple::{Format, Job};
 
 use super::sample::{RunArgs, progress_bar, run_with_progress};
 

@@ -1,14 +1,14 @@
 //! Sampling an importance map: its radii at a scale, the white cutoff, and
-//! point-count targeting over the scale. Shared by `stipple`, `sample
-//! --importance` and the app, which differ only in how they run the sampler.
+//! the count a run at a scale is predicted to give (one map, or several
+//! maps sampled together as classes). The count fit itself, which runs the
+//! sampler, is the job's ([`crate::job::count`]).
 
 use std::sync::Arc;
 
 use rayon::prelude::*;
 
-use super::{Error, ImportanceMap, Mapping, RadiusRange};
-use crate::count;
-use crate::sampler::{ClassRadii, Params, RadiusMap, SampleSet};
+use super::{ImportanceMap, Mapping, RadiusRange};
+use crate::sampler::{ClassRadii, Params, RadiusMap};
 
 /// An adjusted importance map with its mapping, radius range and cutoff.
 pub struct Prepared {
@@ -20,19 +20,6 @@ pub struct Prepared {
     pub range: RadiusRange,
     /// The white cutoff.
     pub cutoff: Option<f32>,
-}
-
-/// The result of [`Prepared::sample`].
-pub struct Fitted {
-    /// The run, its points after the white cutoff.
-    pub set: SampleSet,
-    /// The radius range used.
-    pub range: RadiusRange,
-    /// Sampler runs made.
-    pub runs: usize,
-    /// The count asked for, when the domain could not hold it at radii of
-    /// at least 1 px (the sampler's floor).
-    pub short_of: Option<usize>,
 }
 
 impl Prepared {
@@ -63,38 +50,11 @@ impl Prepared {
         Ok(base.clone().with_radius_map(Arc::new(m)))
     }
 
-    /// Samples the map with `run`, fitting the radius scale to `points` (±3%)
-    /// when given. The scale never takes the smallest radius below 1 px.
-    /// The statistics count the points that survive the cutoff.
-    pub fn sample<E: From<crate::sampler::Error> + From<Error>>(
-        &self,
-        base: &Params,
-        points: Option<usize>,
-        mut run: impl FnMut(&Params) -> Result<SampleSet, E>,
-    ) -> Result<Fitted, E> {
-        let mut cut_run = move |scale: f64| -> Result<SampleSet, E> {
-            let set = run(&self.params(base, scale)?)?;
-            let kept = self.map.cut(&set.points, self.cutoff);
-            Ok(set.with_points(kept))
-        };
-        let Some(n) = points else {
-            return Ok(Fitted {
-                set: cut_run(1.0)?,
-                range: self.range,
-                runs: 1,
-                short_of: None,
-            });
-        };
+    /// [`Self::predicted_points`] as a function of the scale, its table
+    /// made once.
+    pub fn predictor(&self) -> impl Fn(f64) -> f64 + '_ {
         let knots = self.knots();
-        let floor = 1.0 / f64::from(self.range.min);
-        let Some(scale) = predicted_scale(|s| knots.predicted(self, s), n, floor) else {
-            return Err(Error::InvalidParameter(
-                "the white cutoff leaves no pixel to place dots on".into(),
-            )
-            .into());
-        };
-        let predicted = scale * scale * n as f64;
-        fit_count(n, predicted, self.range, cut_run)
+        move |scale| knots.predicted(self, scale)
     }
 
     /// The count a run at radius `scale` is predicted to give: the RSA
@@ -201,25 +161,6 @@ pub const COUNT_BIAS: f64 = 1.015;
 /// within 3% (astronaut at 5K: +3.1%, a second run).
 pub const CLASS_COUNT_BIAS: f64 = 1.09;
 
-/// The radius scale at which `predict(scale)` is `n` points (six fixed-point
-/// steps from the count at scale 1), never below `floor`; `None` when
-/// nothing is predicted at scale 1.
-fn predicted_scale(predict: impl Fn(f64) -> f64, n: usize, floor: f64) -> Option<f64> {
-    let expected = predict(1.0);
-    if expected <= 0.0 {
-        return None;
-    }
-    let mut scale = (expected / n as f64).sqrt().max(floor);
-    for _ in 0..6 {
-        let predicted = predict(scale);
-        if predicted <= 0.0 {
-            break;
-        }
-        scale = (scale * (predicted / n as f64).sqrt()).max(floor);
-    }
-    Some(scale)
-}
-
 /// Bins of [`UnionRadii`]' histogram over log R.
 const UNION_BINS: usize = 2048;
 /// The histogram's smallest and largest radius, px.
@@ -264,31 +205,6 @@ impl UnionRadii {
             .sum();
         sum * self.scale * CLASS_COUNT_BIAS
     }
-}
-
-/// Fits the radius scale of `range` to `n` points (±3%) from the `expected`
-/// count at scale 1, sampling with `run(scale)`; the scale never takes the
-/// smallest radius below 1 px.
-fn fit_count<E: From<crate::sampler::Error> + From<Error>>(
-    n: usize,
-    expected: f64,
-    range: RadiusRange,
-    mut run: impl FnMut(f64) -> Result<SampleSet, E>,
-) -> Result<Fitted, E> {
-    let floor = 1.0 / f64::from(range.min);
-    let initial = (expected / n as f64).sqrt().max(floor);
-    let (scale, set, runs) = count::fit_scale(n, initial, |s| -> Result<_, E> {
-        let set = run(s.max(floor))?;
-        Ok((set.points.len(), set))
-    })?;
-    let got = set.points.len() as f64;
-    let short = (got - n as f64).abs() > count::COUNT_TOLERANCE * n as f64;
-    Ok(Fitted {
-        set,
-        range: range.scaled(scale.max(floor)),
-        runs,
-        short_of: short.then_some(n),
-    })
 }
 
 /// The sampling of several importance maps at once, one class each
@@ -336,6 +252,14 @@ impl Classes<'_> {
             },
         )?;
         Ok(base.clone().with_classes(Arc::new(classes)))
+    }
+
+    /// The count a run of the classes at radius `scale` is predicted to
+    /// give ([`UnionRadii`]), as a function of the scale, its table made
+    /// once.
+    pub fn predictor(&self) -> impl Fn(f64) -> f64 + '_ {
+        let union = self.union_radii();
+        move |scale| union.predicted(scale)
     }
 
     /// The union's radius R = 1/√(Σ 1/r_k²) at scale 1 (the cross radius
@@ -393,32 +317,5 @@ impl Classes<'_> {
             bins,
             scale: (w * h) as f64 / (h.div_ceil(step) * w.div_ceil(step)) as f64,
         }
-    }
-
-    /// Samples the classes with `run`, fitting the common radius scale to
-    /// `points` in all (±3%) when given, as [`Prepared::sample`] does.
-    pub fn sample<E: From<crate::sampler::Error> + From<Error>>(
-        &self,
-        base: &Params,
-        points: Option<usize>,
-        mut run: impl FnMut(&Params) -> Result<SampleSet, E>,
-    ) -> Result<Fitted, E> {
-        let range = self.maps[0].range;
-        let Some(n) = points else {
-            return Ok(Fitted {
-                set: run(&self.params(base, 1.0)?)?,
-                range,
-                runs: 1,
-                short_of: None,
-            });
-        };
-        let union = self.union_radii();
-        let predict = |scale: f64| union.predicted(scale);
-        let floor = 1.0 / f64::from(range.min);
-        let Some(scale) = predicted_scale(predict, n, floor) else {
-            return Err(Error::InvalidParameter("the picture needs no ink".into()).into());
-        };
-        let expected = scale * scale * n as f64;
-        fit_count(n, expected, range, |s| run(&self.params(base, s)?))
     }
 }

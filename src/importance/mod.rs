@@ -35,7 +35,7 @@ mod options;
 use std::path::{Path, PathBuf};
 
 pub use colour::ColourMap;
-pub use fit::{Classes, Fitted, Prepared};
+pub use fit::{Classes, Prepared};
 pub use load::{Luminance, Range, linear_to_srgb, load, load_bytes, srgb_to_linear};
 pub use mapping::{Mapping, RadiusRange};
 pub use options::{DEFAULT_RADIUS_RATIO, ImportanceOptions, MappingKind};

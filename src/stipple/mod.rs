@@ -6,23 +6,15 @@
 //! in [`crate::sampler`].
 
 pub mod calibrate;
-mod colour;
-mod job;
 pub mod paper;
 pub mod plot;
 pub mod raster;
 pub mod read;
 pub mod relax;
-mod sample_job;
 pub mod svg;
 pub mod tsp;
 
-pub use job::{
-    DEFAULT_DOT_RATIO, DEFAULT_POINTS, DotMode, Format, Ink, Job, MAX_DOMAIN_PIXELS,
-    MIN_DOMAIN_SIDE, Order, Picture, Stipple, default_domain,
-};
 pub use paper::{Paper, Placement};
-pub use sample_job::{Radii, SampleJob, Sampled};
 
 use crate::importance::{Prepared, RadiusRange};
 use crate::sampler::Point;

@@ -11,7 +11,7 @@
 //!    perspective, measures each patch and fits each pen's dot gain and
 //!    ink colour, and writes the pen file that `--pens` reads;
 //! 4. `pixelpie stipple --pens pens.toml` draws each dot smaller by its
-//!    pen's gain ([`crate::stipple::Job::dot_gain`]), so that the plotted
+//!    pen's gain ([`crate::job::Job::dot_gain`]), so that the plotted
 //!    tones come out right.
 //!
 //! [`simulate`] makes synthetic plots and scans with known gains and inks:

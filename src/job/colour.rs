@@ -7,8 +7,8 @@
 
 use std::path::Path;
 
-use super::job::{Format, Job, Stipple};
-use super::{Dot, svg};
+use super::{Format, Job, Stipple};
+use crate::stipple::{Dot, svg};
 use rayon::prelude::*;
 
 use crate::colour::pens::MAX_PENS;
@@ -50,9 +50,10 @@ impl Job {
         count_target: bool,
     ) -> crate::Result<Separated> {
         let Some(model) = self.render_model() else {
-            return Err(
-                super::Error::InvalidParameter("a colour drawing needs --pens".into()).into(),
-            );
+            return Err(crate::stipple::Error::InvalidParameter(
+                "a colour drawing needs --pens".into(),
+            )
+            .into());
         };
         let (width, height) = domain;
         let imp = &self.importance;
@@ -139,7 +140,7 @@ impl Job {
                 map.dot_radius(p, range) * dot_factor(ink, f64::from(p.radius), r_eff)
             })
             .collect();
-        if matches!(self.dot_size(), super::DotSize::Calibrated(_)) {
+        if matches!(self.dot_size(), crate::stipple::DotSize::Calibrated(_)) {
             Correction::new(
                 &separated.picture,
                 &separated.separation,
@@ -176,7 +177,9 @@ impl Job {
         path: &Path,
     ) -> crate::Result<()> {
         let Some(pens) = &drawing.pens else {
-            return Err(super::Error::InvalidParameter("not a colour drawing".into()).into());
+            return Err(
+                crate::stipple::Error::InvalidParameter("not a colour drawing".into()).into(),
+            );
         };
         let layers = self.pen_dots(drawing);
         let dots = layers.iter().map(Vec::len).sum::<usize>();
@@ -200,12 +203,13 @@ impl Job {
             Format::Png => {
                 let papers = layers
                     .iter()
-                    .map(|d| super::raster::render(d, drawing.domain, self.scale))
+                    .map(|d| crate::stipple::raster::render(d, drawing.domain, self.scale))
                     .collect::<Result<Vec<_>, _>>()?;
                 let linear = self.importance.tones == Tones::Linear;
-                let img = super::raster::composite(&papers, &RenderModel::new(pens, linear))?;
+                let img =
+                    crate::stipple::raster::composite(&papers, &RenderModel::new(pens, linear))?;
                 crate::io::write_atomic(path, |w| {
-                    Ok(super::raster::write_png_rgb(w, &img, dots)?)
+                    Ok(crate::stipple::raster::write_png_rgb(w, &img, dots)?)
                 })?;
             }
             Format::Csv | Format::Json => {
@@ -483,7 +487,7 @@ impl Correction {
                             radius: r * self.scale,
                         })
                         .collect();
-                    super::raster::render(&dots, self.size, 1.0)
+                    crate::stipple::raster::render(&dots, self.size, 1.0)
                 })
                 .collect::<Result<Vec<_>, _>>()?;
             // What the drawing shows, in the model's space, averaged over
@@ -658,10 +662,10 @@ impl Job {
         let layers = self
             .pen_dots(drawing)
             .iter()
-            .map(|layer| super::raster::render_view(layer, view, size))
+            .map(|layer| crate::stipple::raster::render_view(layer, view, size))
             .collect::<Result<Vec<_>, _>>()?;
         let linear = self.importance.tones == Tones::Linear;
-        Ok(super::raster::composite(
+        Ok(crate::stipple::raster::composite(
             &layers,
             &RenderModel::new(&pens, linear),
         )?)

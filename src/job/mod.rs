@@ -16,15 +16,24 @@ use std::str::FromStr;
 
 use serde::{Deserialize, Serialize};
 
-use super::paper::{DEFAULT_MARGIN_MM, Paper, Placement};
-use super::svg::DotPath;
-use super::{Dot, DotSize, Error, relax, svg, tsp};
+mod colour;
+pub mod count;
+mod plot;
+mod ramp;
+mod sample;
+
+pub use ramp::{RampError, ramp_error};
+pub use sample::{Radii, SampleJob, Sampled};
+
 use crate::colour::PenSet;
 use crate::importance::{
     Classes, ColourMap, DEFAULT_RADIUS_RATIO, ImportanceMap, ImportanceOptions, Mapping, Prepared,
     RadiusRange, fit_size,
 };
 use crate::sampler::{DEFAULT_POLICY, Params, Point, Policy, SampleSet, SamplerOptions};
+use crate::stipple::paper::{DEFAULT_MARGIN_MM, Paper, Placement};
+use crate::stipple::svg::DotPath;
+use crate::stipple::{Dot, DotSize, Error, relax, svg, tsp};
 
 /// A picture to draw, in memory: grey, colour, or both (the app keeps
 /// both). A grey job draws the grey (a colour picture's luminance when
@@ -179,7 +188,7 @@ impl FromStr for Ink {
     type Err = Error;
 
     /// ```
-    /// use pixelpie::stipple::Ink;
+    /// use pixelpie::job::Ink;
     /// assert_eq!("#d62728".parse::<Ink>().unwrap(), Ink([0xd6, 0x27, 0x28]));
     /// assert_eq!("black".parse::<Ink>().unwrap(), Ink::BLACK);
     /// assert!("#12345".parse::<Ink>().is_err());
@@ -397,7 +406,7 @@ pub struct Stipple {
 /// [`MAX_DOMAIN_PIXELS`] pixels.
 ///
 /// ```
-/// use pixelpie::stipple::default_domain;
+/// use pixelpie::job::default_domain;
 /// assert_eq!(default_domain(600, 400, 10_000), (1024, 683));
 /// assert_eq!(default_domain(600, 400, 100_000), (3163, 2109));
 /// let (w, h) = default_domain(600, 400, 1_000_000);
@@ -646,9 +655,9 @@ impl Job {
             .sampler
             .apply(Params::new(domain.0, domain.1).with_policy(self.policy));
         let fitted = if separated.is_some() {
-            Classes { maps }.sample(&base, points, sample)?
+            count::sample_classes(&Classes { maps }, &base, points, sample)?
         } else {
-            maps[0].sample(&base, points, sample)?
+            count::sample_map(&maps[0], &base, points, sample)?
         };
         let (mut set, range) = (fitted.set, fitted.range);
         let t_sample = t0.elapsed().as_secs_f64() - t_load;
@@ -658,7 +667,7 @@ impl Job {
                 iterations: self.relax,
                 periodic: self.sampler.periodic,
             };
-            let moved = super::relax_points(maps, range, &set.points, options, relaxed)?;
+            let moved = crate::stipple::relax_points(maps, range, &set.points, options, relaxed)?;
             set = set.with_points(moved);
         }
         let t_relax = t0.elapsed().as_secs_f64() - t_load - t_sample;
@@ -913,13 +922,18 @@ impl Job {
             }
             Format::Png => {
                 let dots = self.dots(drawing);
-                let img = super::raster::render(&dots, domain, self.scale)?;
+                let img = crate::stipple::raster::render(&dots, domain, self.scale)?;
                 let ink = self.ink_rgb();
                 crate::io::write_atomic(path, |w| {
                     if ink == Ink::BLACK.0 {
-                        Ok(super::raster::write_png(w, &img, dots.len())?)
+                        Ok(crate::stipple::raster::write_png(w, &img, dots.len())?)
                     } else {
-                        Ok(super::raster::write_png_ink(w, &img, ink, dots.len())?)
+                        Ok(crate::stipple::raster::write_png_ink(
+                            w,
+                            &img,
+                            ink,
+                            dots.len(),
+                        )?)
                     }
                 })?;
             }

@@ -6,11 +6,11 @@
 
 use std::sync::Arc;
 
-use super::Error;
 use crate::importance::{ImportanceMap, ImportanceOptions, Mapping, fit_size};
 use crate::sampler::{
     DEFAULT_MAX_ITERATIONS, DEFAULT_POLICY, Params, Policy, RadiusMap, SampleSet, SamplerOptions,
 };
+use crate::stipple::Error;
 
 /// Where a point set's radii come from.
 #[derive(Clone, Debug)]
@@ -162,7 +162,7 @@ impl SampleJob {
                 (1.0, Box::new(make))
             }
         };
-        let (set, runs) = crate::count::sample_scaled(start, self.points, make, &mut sample)?;
+        let (set, runs) = super::count::sample_scaled(start, self.points, make, &mut sample)?;
         Ok(Sampled {
             set,
             runs,
@@ -184,7 +184,7 @@ impl SampleJob {
             self.points.is_some(),
         )?;
         let base = self.base(prepared.map.width(), prepared.map.height());
-        let fitted = prepared.sample(&base, self.points, sample)?;
+        let fitted = super::count::sample_map(&prepared, &base, self.points, sample)?;
         Ok(Sampled {
             set: fitted.set,
             runs: fitted.runs,

@@ -1,0 +1,190 @@
+//! Point-count targeting, written once for every job: finds the radius
+//! scale that yields about N points, for a uniform radius or a radius map
+//! ([`sample_scaled`], `pixelpie sample`), a picture ([`sample_map`]) and the
+//! pens of a colour drawing ([`sample_classes`]).
+//!
+//! The count of a maximal set goes as 1/r², so each run corrects the scale by
+//! sqrt(count / target), starting from the RSA density estimate.
+
+use crate::importance::{Classes, Error as ImportanceError, Prepared, RadiusRange};
+use crate::sampler::{Error, Params, SampleSet};
+
+/// The relative tolerance that `--points` promises.
+pub const COUNT_TOLERANCE: f64 = 0.03;
+/// The most sampler runs a search makes.
+pub const MAX_RUNS: usize = 8;
+
+/// Searches the scale `s` (radii multiply by `s`) for which `run(s)` returns
+/// about `target` points, starting at `initial`. Returns the best scale, its
+/// result and the number of runs made.
+pub(crate) fn fit_scale<T, E: From<Error>>(
+    target: usize,
+    initial: f64,
+    mut run: impl FnMut(f64) -> Result<(usize, T), E>,
+) -> Result<(f64, T, usize), E> {
+    if target == 0 {
+        return Err(Error::InvalidParameter("the point count must be positive".into()).into());
+    }
+    let target_f = target as f64;
+    let mut scale = initial;
+    let mut best: Option<(f64, f64, T)> = None;
+    let mut runs = 0;
+    while runs < MAX_RUNS {
+        runs += 1;
+        let (count, out) = run(scale)?;
+        let err = (count as f64 - target_f).abs() / target_f;
+        let next = scale * (count.max(1) as f64 / target_f).sqrt();
+        if best.as_ref().is_none_or(|b| err < b.1) {
+            best = Some((scale, err, out));
+        }
+        if err <= COUNT_TOLERANCE || next == scale {
+            break;
+        }
+        scale = next;
+    }
+    let Some((scale, _, out)) = best else {
+        return Err(Error::InvalidParameter("no sampler run was made".into()).into());
+    };
+    Ok((scale, out, runs))
+}
+
+/// Samples the parameters `make(scale)` with `run`: at `start` (a radius, or
+/// 1 for a radius map's own scale), or, with `target`, at the scale that
+/// gives about that many points, found by [`fit_scale`] from the RSA
+/// estimate at scale 1. Returns the set and the number of runs. The CLI's
+/// `sample --points` and the Python package's `sample(points=…)`.
+pub fn sample_scaled<E: From<Error>>(
+    start: f64,
+    target: Option<usize>,
+    make: impl Fn(f64) -> Result<Params, E>,
+    mut run: impl FnMut(&Params) -> Result<SampleSet, E>,
+) -> Result<(SampleSet, usize), E> {
+    let Some(n) = target else {
+        return Ok((run(&make(start)?)?, 1));
+    };
+    let expected = make(1.0)?.plan()?.expected_points();
+    let initial = (expected / n.max(1) as f64).sqrt();
+    let (_, set, runs) = fit_scale(n, initial, |s| -> Result<_, E> {
+        let set = run(&make(s)?)?;
+        Ok((set.points.len(), set))
+    })?;
+    Ok((set, runs))
+}
+
+/// The result of [`sample_map`] and [`sample_classes`].
+pub struct Fitted {
+    /// The run, its points after the white cutoff.
+    pub set: SampleSet,
+    /// The radius range used.
+    pub range: RadiusRange,
+    /// Sampler runs made.
+    pub runs: usize,
+    /// The count asked for, when the domain could not hold it at radii of
+    /// at least 1 px (the sampler's floor).
+    pub short_of: Option<usize>,
+}
+
+/// Samples `map` with `run`, fitting the radius scale to `points` (±3%)
+/// when given, from the map's predicted count
+/// ([`Prepared::predicted_points`]). The scale never takes the smallest
+/// radius below 1 px. The statistics count the points that survive the
+/// cutoff.
+pub fn sample_map<E: From<Error> + From<ImportanceError>>(
+    map: &Prepared,
+    base: &Params,
+    points: Option<usize>,
+    mut run: impl FnMut(&Params) -> Result<SampleSet, E>,
+) -> Result<Fitted, E> {
+    let mut cut_run = move |scale: f64| -> Result<SampleSet, E> {
+        let set = run(&map.params(base, scale)?)?;
+        let kept = map.map.cut(&set.points, map.cutoff);
+        Ok(set.with_points(kept))
+    };
+    let Some(n) = points else {
+        return Ok(Fitted {
+            set: cut_run(1.0)?,
+            range: map.range,
+            runs: 1,
+            short_of: None,
+        });
+    };
+    let floor = 1.0 / f64::from(map.range.min);
+    let Some(scale) = predicted_scale(map.predictor(), n, floor) else {
+        return Err(ImportanceError::InvalidParameter(
+            "the white cutoff leaves no pixel to place dots on".into(),
+        )
+        .into());
+    };
+    fit_count(n, scale * scale * n as f64, map.range, cut_run)
+}
+
+/// Samples `classes` (the pens of a colour drawing) with `run`, fitting
+/// their common radius scale to `points` in all (±3%) when given, from
+/// their predicted count ([`Classes::predictor`]), as [`sample_map`] does.
+pub fn sample_classes<E: From<Error> + From<ImportanceError>>(
+    classes: &Classes<'_>,
+    base: &Params,
+    points: Option<usize>,
+    mut run: impl FnMut(&Params) -> Result<SampleSet, E>,
+) -> Result<Fitted, E> {
+    let range = classes.maps[0].range;
+    let Some(n) = points else {
+        return Ok(Fitted {
+            set: run(&classes.params(base, 1.0)?)?,
+            range,
+            runs: 1,
+            short_of: None,
+        });
+    };
+    let floor = 1.0 / f64::from(range.min);
+    let Some(scale) = predicted_scale(classes.predictor(), n, floor) else {
+        return Err(ImportanceError::InvalidParameter("the picture needs no ink".into()).into());
+    };
+    fit_count(n, scale * scale * n as f64, range, |s| {
+        run(&classes.params(base, s)?)
+    })
+}
+
+/// The radius scale at which `predict(scale)` is `n` points (six fixed-point
+/// steps from the count at scale 1), never below `floor`; `None` when
+/// nothing is predicted at scale 1.
+fn predicted_scale(predict: impl Fn(f64) -> f64, n: usize, floor: f64) -> Option<f64> {
+    let expected = predict(1.0);
+    if expected <= 0.0 {
+        return None;
+    }
+    let mut scale = (expected / n as f64).sqrt().max(floor);
+    for _ in 0..6 {
+        let predicted = predict(scale);
+        if predicted <= 0.0 {
+            break;
+        }
+        scale = (scale * (predicted / n as f64).sqrt()).max(floor);
+    }
+    Some(scale)
+}
+
+/// Fits the radius scale of `range` to `n` points (±3%) from the `expected`
+/// count at scale 1, sampling with `run(scale)`; the scale never takes the
+/// smallest radius below 1 px.
+fn fit_count<E: From<Error>>(
+    n: usize,
+    expected: f64,
+    range: RadiusRange,
+    mut run: impl FnMut(f64) -> Result<SampleSet, E>,
+) -> Result<Fitted, E> {
+    let floor = 1.0 / f64::from(range.min);
+    let initial = (expected / n as f64).sqrt().max(floor);
+    let (scale, set, runs) = fit_scale(n, initial, |s| -> Result<_, E> {
+        let set = run(s.max(floor))?;
+        Ok((set.points.len(), set))
+    })?;
+    let got = set.points.len() as f64;
+    let short = (got - n as f64).abs() > COUNT_TOLERANCE * n as f64;
+    Ok(Fitted {
+        set,
+        range: range.scaled(scale.max(floor)),
+        runs,
+        short_of: short.then_some(n),
+    })
+}
