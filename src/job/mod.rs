@@ -1,71 +1,41 @@
-//! The drawing job, from a picture to a drawing: every option of
-//! `pixelpie stipple` (with the `cli` feature, its arguments), their
-//! defaults and validation, the default domain, the map's preparation,
-//! sampling to a dot count, relaxation, the drawing order, dot sizes, and
-//! the SVG, PNG, CSV or JSON output.
+//! The pipeline: the drawing job ([`Job`], `pixelpie stipple`) and the
+//! point-set job ([`SampleJob`], `pixelpie sample`), their options,
+//! defaults and validation, the point-count fit ([`count`], written once),
+//! and one staged run for grey and colour drawings ([`Job::draw`]: prepare
+//! → sample → relax → order → size, in `run.rs`; the colour stages in
+//! `colour.rs`), then the SVG, PNG, CSV or JSON output through
+//! [`crate::stipple`]'s writers.
 //!
-//! Every front end runs this one [`Job`]: the CLI parses it from its
-//! arguments, the Python package deserializes it from keyword arguments,
-//! and the app's settings hold one (plus what only the view needs). The
-//! same job therefore gives the same drawing and the same files, byte for
-//! byte, from all three.
+//! Every front end runs these jobs: the CLI parses them from its arguments,
+//! the Python package deserializes them from keyword arguments, and the
+//! app's settings hold a [`Job`] (plus what only the view needs). The same
+//! job therefore gives the same drawing and the same files, byte for byte,
+//! from all three. Nothing below it (the sampler, maps, colour science,
+//! the formats) imports it.
 
-use std::borrow::Cow;
 use std::path::Path;
-use std::str::FromStr;
 
 use serde::{Deserialize, Serialize};
 
 mod colour;
 pub mod count;
+mod options;
 mod plot;
 mod ramp;
+mod run;
 mod sample;
 
+pub use options::{DotMode, Format, Ink, Order};
 pub use ramp::{RampError, ramp_error};
+pub use run::{Picture, Stipple};
 pub use sample::{Radii, SampleJob, Sampled};
 
 use crate::colour::PenSet;
-use crate::importance::{
-    Classes, ColourMap, DEFAULT_RADIUS_RATIO, ImportanceMap, ImportanceOptions, Mapping, Prepared,
-    RadiusRange, fit_size,
-};
-use crate::sampler::{DEFAULT_POLICY, Params, Point, Policy, SampleSet, SamplerOptions};
+use crate::importance::{DEFAULT_RADIUS_RATIO, ImportanceOptions, Mapping, RadiusRange, fit_size};
+use crate::sampler::{DEFAULT_POLICY, Policy, SamplerOptions};
 use crate::stipple::paper::{DEFAULT_MARGIN_MM, Paper, Placement};
 use crate::stipple::svg::DotPath;
-use crate::stipple::{Dot, DotSize, Error, relax, svg, tsp};
-
-/// A picture to draw, in memory: grey, colour, or both (the app keeps
-/// both). A grey job draws the grey (a colour picture's luminance when
-/// only colour is given); a colour job the colour (a grey picture's grey
-/// as colour when only grey is given).
-#[derive(Clone, Copy, Debug)]
-pub enum Picture<'a> {
-    /// A grey picture.
-    Grey(&'a ImportanceMap),
-    /// A colour picture.
-    Colour(&'a ColourMap),
-    /// The same picture loaded both ways.
-    Both(&'a ImportanceMap, &'a ColourMap),
-}
-
-impl<'a> Picture<'a> {
-    /// The grey picture.
-    fn grey(self) -> Cow<'a, ImportanceMap> {
-        match self {
-            Self::Grey(m) | Self::Both(m, _) => Cow::Borrowed(m),
-            Self::Colour(c) => Cow::Owned(c.luminance()),
-        }
-    }
-
-    /// The colour picture.
-    fn colour(self) -> Cow<'a, ColourMap> {
-        match self {
-            Self::Colour(c) | Self::Both(_, c) => Cow::Borrowed(c),
-            Self::Grey(m) => Cow::Owned(m.colours()),
-        }
-    }
-}
+use crate::stipple::{Dot, DotSize, Error, svg};
 
 /// The default number of dots.
 pub const DEFAULT_POINTS: usize = 10_000;
@@ -81,156 +51,6 @@ pub const MIN_DOMAIN_SIDE: u32 = 1024;
 /// (the smallest sample radius stays near 3 px, where the ink curve is
 /// measured).
 pub const MAX_DOMAIN_PIXELS: u64 = 4096 * 4096;
-
-/// Dot sizing (the CLI's `--dot`, the app's Dots control).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, serde::Deserialize)]
-#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
-#[serde(rename_all = "lowercase")]
-pub enum DotMode {
-    /// All dots the same size (calibrated).
-    Fixed,
-    /// Dots sized by tone, small in light areas (calibrated).
-    #[default]
-    Sized,
-    /// Dot radius proportional to the sample's radius (does not reproduce tones).
-    Proportional,
-}
-
-impl DotMode {
-    /// The calibrated tone mapping for these dots: sized dots with the
-    /// lightest dots `ratio` of the darkest's, else equal dots.
-    #[must_use]
-    pub fn mapping(self, ratio: f32) -> Mapping {
-        match self {
-            Self::Sized => Mapping::ToneSized(ratio),
-            Self::Fixed | Self::Proportional => Mapping::Tone,
-        }
-    }
-
-    /// How the dots are drawn: `factor` × the calibrated radius, or × the
-    /// sample's radius for proportional dots.
-    #[must_use]
-    pub fn size(self, factor: f32) -> DotSize {
-        match self {
-            Self::Fixed | Self::Sized => DotSize::Calibrated(factor),
-            Self::Proportional => DotSize::Proportional(factor),
-        }
-    }
-
-    /// The default factor of [`Self::size`]: 1 reproduces the tones; 0.5
-    /// makes the closest proportional dots touch.
-    #[must_use]
-    pub fn default_factor(self) -> f32 {
-        match self {
-            Self::Fixed | Self::Sized => 1.0,
-            Self::Proportional => 0.5,
-        }
-    }
-}
-
-/// Drawing order.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
-#[serde(rename_all = "lowercase")]
-pub enum Order {
-    /// The sampler's acceptance order.
-    #[default]
-    None,
-    /// Nearest-neighbour tour improved by 2-opt.
-    Tsp,
-}
-
-/// A drawing's file format, by extension (case-insensitive).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Format {
-    /// SVG: circles, or pen paths with `--pen-mm`.
-    Svg,
-    /// An anti-aliased PNG in the ink's colour.
-    Png,
-    /// The dots' sample points as `x,y,radius` rows, in drawing order.
-    Csv,
-    /// The job and the dots' sample points, in drawing order.
-    Json,
-}
-
-impl Format {
-    /// The format of `path`'s extension.
-    pub fn from_path(path: &Path) -> Result<Self, Error> {
-        match path
-            .extension()
-            .and_then(|e| e.to_str())
-            .map(str::to_ascii_lowercase)
-            .as_deref()
-        {
-            Some("svg") => Ok(Self::Svg),
-            Some("png") => Ok(Self::Png),
-            Some("csv") => Ok(Self::Csv),
-            Some("json") => Ok(Self::Json),
-            _ => Err(Error::InvalidParameter(format!(
-                "unknown output extension of '{}': use .svg, .png, .csv or .json",
-                path.display()
-            ))),
-        }
-    }
-}
-
-/// An ink colour, sRGB: `black` or `#rrggbb` on the command line and in
-/// files.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub struct Ink(pub [u8; 3]);
-
-impl Ink {
-    /// Black, the default ink.
-    pub const BLACK: Self = Self([0, 0, 0]);
-}
-
-impl FromStr for Ink {
-    type Err = Error;
-
-    /// ```
-    /// use pixelpie::job::Ink;
-    /// assert_eq!("#d62728".parse::<Ink>().unwrap(), Ink([0xd6, 0x27, 0x28]));
-    /// assert_eq!("black".parse::<Ink>().unwrap(), Ink::BLACK);
-    /// assert!("#12345".parse::<Ink>().is_err());
-    /// ```
-    fn from_str(s: &str) -> Result<Self, Error> {
-        let t = s.trim();
-        if t.eq_ignore_ascii_case("black") {
-            return Ok(Self::BLACK);
-        }
-        let hex = t.strip_prefix('#').unwrap_or(t);
-        let byte = |i: usize| {
-            hex.get(i..i + 2)
-                .and_then(|h| u8::from_str_radix(h, 16).ok())
-        };
-        match (hex.len(), byte(0), byte(2), byte(4)) {
-            (6, Some(r), Some(g), Some(b)) => Ok(Self([r, g, b])),
-            _ => Err(Error::InvalidParameter(format!(
-                "ink '{s}' is not a colour: use black or #rrggbb"
-            ))),
-        }
-    }
-}
-
-impl std::fmt::Display for Ink {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let [r, g, b] = self.0;
-        write!(f, "#{r:02x}{g:02x}{b:02x}")
-    }
-}
-
-impl Serialize for Ink {
-    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        s.collect_str(self)
-    }
-}
-
-impl<'de> Deserialize<'de> for Ink {
-    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        let s = String::deserialize(d)?;
-        s.parse().map_err(serde::de::Error::custom)
-    }
-}
 
 /// The drawing job: how a picture becomes a stipple drawing, and how the
 /// drawing is written. Its fields are the options of `pixelpie stipple`,
@@ -365,40 +185,6 @@ impl Default for Job {
             sampler: SamplerOptions::default(),
         }
     }
-}
-
-/// A finished drawing: its dots in drawing order, and how it was made.
-#[derive(Clone, Debug)]
-#[non_exhaustive]
-pub struct Stipple {
-    /// The dots, in drawing order.
-    pub dots: Vec<Dot>,
-    /// The sample points under the dots, in drawing order.
-    pub points: Vec<Point>,
-    /// Each point's calibrated dot radius (its tone's), in drawing order:
-    /// what [`Job::dots`] scales.
-    pub calibrated: Vec<f32>,
-    /// The sampler's run (its points after the white cutoff and relaxation,
-    /// in acceptance order).
-    pub set: SampleSet,
-    /// The domain in pixels.
-    pub domain: (u32, u32),
-    /// The sample radius range used.
-    pub range: RadiusRange,
-    /// Sampler runs made to reach the dot count.
-    pub runs: usize,
-    /// The count asked for, when the domain could not hold it at radii of
-    /// at least 1 px.
-    pub short_of: Option<usize>,
-    /// The pen-plotter tour, with `Order::Tsp`.
-    pub tour: Option<tsp::Tour>,
-    /// Seconds spent loading, sampling and relaxing.
-    pub seconds: (f64, f64, f64),
-    /// Seconds in each stage of [`Job::draw`], in order: prepare (the
-    /// picture's loading not included), sample, relax, order and size.
-    pub stages: Vec<(&'static str, f64)>,
-    /// The pens of a colour drawing (each point's class is its pen).
-    pub pens: Option<PenSet>,
 }
 
 /// The default domain: the image scaled so its longer side is
@@ -576,168 +362,6 @@ impl Job {
         } else {
             DotMode::Sized
         })
-    }
-
-    /// Draws `image` (a file) with `sample` running the sampler; `relaxed`
-    /// hears each relaxation step done and returns false to stop.
-    pub fn run(
-        &self,
-        image: &Path,
-        sample: impl FnMut(&Params) -> crate::Result<SampleSet>,
-        relaxed: impl FnMut(u32) -> bool,
-    ) -> crate::Result<Stipple> {
-        let t0 = std::time::Instant::now();
-        let (grey, colour);
-        let picture = if self.colour() {
-            colour = ColourMap::open(image, self.importance.hdr_white)?;
-            Picture::Colour(&colour)
-        } else {
-            grey = ImportanceMap::open(image, self.importance.hdr_white)?;
-            Picture::Grey(&grey)
-        };
-        let opened = t0.elapsed().as_secs_f64();
-        let mut drawing = self.draw(picture, sample, relaxed)?;
-        drawing.seconds.0 += opened;
-        Ok(drawing)
-    }
-
-    /// [`Self::draw`] of a grey picture.
-    pub fn run_map(
-        &self,
-        map: &ImportanceMap,
-        sample: impl FnMut(&Params) -> crate::Result<SampleSet>,
-        relaxed: impl FnMut(u32) -> bool,
-    ) -> crate::Result<Stipple> {
-        self.draw(Picture::Grey(map), sample, relaxed)
-    }
-
-    /// The one staged run of every drawing, grey or colour, of a picture in
-    /// memory (borrowed: the app keeps its picture across jobs): prepare
-    /// (one map per pen; a grey drawing is one pen) → sample → relax →
-    /// order → size. The writers are [`Self::write`]. `sample` runs the
-    /// sampler; `relaxed` hears each relaxation step done and returns false
-    /// to stop.
-    pub fn draw(
-        &self,
-        picture: Picture<'_>,
-        sample: impl FnMut(&Params) -> crate::Result<SampleSet>,
-        relaxed: impl FnMut(u32) -> bool,
-    ) -> crate::Result<Stipple> {
-        let t0 = std::time::Instant::now();
-        self.check()?;
-        let (points, count_target) = self.count();
-        // Prepare.
-        let (separated, grey) = if self.colour() {
-            let colour = picture.colour();
-            let domain = self.domain_for((colour.width(), colour.height()), points);
-            (Some(self.separate(&colour, domain, count_target)?), None)
-        } else {
-            let map = picture.grey();
-            let mut prepared = self.importance.prepare_map(
-                &map,
-                |w, h| self.domain_for((w, h), points),
-                self.dot_mode().mapping(self.dot_ratio),
-                count_target,
-            )?;
-            let domain = (prepared.map.width(), prepared.map.height());
-            prepared.range = self.dot_range(prepared.range, domain)?;
-            (None, Some(prepared))
-        };
-        let maps: &[Prepared] = match (&separated, &grey) {
-            (Some(s), _) => &s.maps,
-            (None, Some(g)) => std::slice::from_ref(g),
-            (None, None) => unreachable!("a drawing prepares a grey or a colour picture"),
-        };
-        let domain = (maps[0].map.width(), maps[0].map.height());
-        let t_load = t0.elapsed().as_secs_f64();
-        // Sample.
-        let base = self
-            .sampler
-            .apply(Params::new(domain.0, domain.1).with_policy(self.policy));
-        let fitted = if separated.is_some() {
-            count::sample_classes(&Classes { maps }, &base, points, sample)?
-        } else {
-            count::sample_map(&maps[0], &base, points, sample)?
-        };
-        let (mut set, range) = (fitted.set, fitted.range);
-        let t_sample = t0.elapsed().as_secs_f64() - t_load;
-        // Relax.
-        if self.relax > 0 {
-            let options = relax::RelaxOptions {
-                iterations: self.relax,
-                periodic: self.sampler.periodic,
-            };
-            let moved = crate::stipple::relax_points(maps, range, &set.points, options, relaxed)?;
-            set = set.with_points(moved);
-        }
-        let t_relax = t0.elapsed().as_secs_f64() - t_load - t_sample;
-        // Order.
-        let (points, tour) = self.ordered(&set.points, maps.len());
-        let t_order = t0.elapsed().as_secs_f64() - t_load - t_sample - t_relax;
-        // Size.
-        let calibrated = match &separated {
-            Some(s) => self.colour_sizes(s, &points, range, domain)?,
-            None => maps[0].dot_radii(&points, range),
-        };
-        let t_size = t0.elapsed().as_secs_f64() - t_load - t_sample - t_relax - t_order;
-        let mut drawing = Stipple {
-            dots: Vec::new(),
-            points,
-            calibrated,
-            set,
-            domain,
-            range,
-            runs: fitted.runs,
-            short_of: fitted.short_of,
-            tour,
-            seconds: (t_load, t_sample, t_relax),
-            stages: vec![
-                ("prepare", t_load),
-                ("sample", t_sample),
-                ("relax", t_relax),
-                ("order", t_order),
-                ("size", t_size),
-            ],
-            pens: separated.and(self.pens.clone()),
-        };
-        drawing.dots = self.dots(&drawing);
-        Ok(drawing)
-    }
-
-    /// The order stage: the points pen by pen in the pens' order, each
-    /// pen's in the sampler's order or, with `--order tsp`, along its own
-    /// tour (the tours joined, pen after pen).
-    fn ordered(&self, points: &[Point], pens: usize) -> (Vec<Point>, Option<tsp::Tour>) {
-        let mut by_pen: Vec<Vec<Point>> = vec![Vec::new(); pens.max(1)];
-        for p in points {
-            if let Some(pen) = by_pen.get_mut(p.class as usize) {
-                pen.push(*p);
-            }
-        }
-        if self.order == Order::None {
-            return (by_pen.concat(), None);
-        }
-        let mut all = tsp::Tour {
-            order: Vec::with_capacity(points.len()),
-            nearest_neighbour_length: 0.0,
-            length: 0.0,
-            moves: 0,
-        };
-        let mut ordered = Vec::with_capacity(points.len());
-        for pen_points in by_pen {
-            let xy: Vec<[f64; 2]> = pen_points
-                .iter()
-                .map(|p| [f64::from(p.x), f64::from(p.y)])
-                .collect();
-            let t = tsp::plan(&xy, tsp::TspOptions::default());
-            let base = ordered.len();
-            ordered.extend(t.order.iter().map(|&i| pen_points[i]));
-            all.order.extend(t.order.iter().map(|&i| base + i));
-            all.nearest_neighbour_length += t.nearest_neighbour_length;
-            all.length += t.length;
-            all.moves += t.moves;
-        }
-        (ordered, Some(all))
     }
 
     /// Whether the dots' own radius or the pen sets the sample radii (else

@@ -1,0 +1,160 @@
+//! The job's option types: dot sizing, drawing order, output format and
+//! ink colour, each with its command-line and file spelling.
+
+use std::path::Path;
+use std::str::FromStr;
+
+use serde::{Deserialize, Serialize};
+
+use crate::importance::Mapping;
+use crate::stipple::{DotSize, Error};
+
+/// Dot sizing (the CLI's `--dot`, the app's Dots control).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
+#[serde(rename_all = "lowercase")]
+pub enum DotMode {
+    /// All dots the same size (calibrated).
+    Fixed,
+    /// Dots sized by tone, small in light areas (calibrated).
+    #[default]
+    Sized,
+    /// Dot radius proportional to the sample's radius (does not reproduce tones).
+    Proportional,
+}
+
+impl DotMode {
+    /// The calibrated tone mapping for these dots: sized dots with the
+    /// lightest dots `ratio` of the darkest's, else equal dots.
+    #[must_use]
+    pub fn mapping(self, ratio: f32) -> Mapping {
+        match self {
+            Self::Sized => Mapping::ToneSized(ratio),
+            Self::Fixed | Self::Proportional => Mapping::Tone,
+        }
+    }
+
+    /// How the dots are drawn: `factor` × the calibrated radius, or × the
+    /// sample's radius for proportional dots.
+    #[must_use]
+    pub fn size(self, factor: f32) -> DotSize {
+        match self {
+            Self::Fixed | Self::Sized => DotSize::Calibrated(factor),
+            Self::Proportional => DotSize::Proportional(factor),
+        }
+    }
+
+    /// The default factor of [`Self::size`]: 1 reproduces the tones; 0.5
+    /// makes the closest proportional dots touch.
+    #[must_use]
+    pub fn default_factor(self) -> f32 {
+        match self {
+            Self::Fixed | Self::Sized => 1.0,
+            Self::Proportional => 0.5,
+        }
+    }
+}
+
+/// Drawing order.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
+#[serde(rename_all = "lowercase")]
+pub enum Order {
+    /// The sampler's acceptance order.
+    #[default]
+    None,
+    /// Nearest-neighbour tour improved by 2-opt.
+    Tsp,
+}
+
+/// A drawing's file format, by extension (case-insensitive).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// SVG: circles, or pen paths with `--pen-mm`.
+    Svg,
+    /// An anti-aliased PNG in the ink's colour.
+    Png,
+    /// The dots' sample points as `x,y,radius` rows, in drawing order.
+    Csv,
+    /// The job and the dots' sample points, in drawing order.
+    Json,
+}
+
+impl Format {
+    /// The format of `path`'s extension.
+    pub fn from_path(path: &Path) -> Result<Self, Error> {
+        match path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase)
+            .as_deref()
+        {
+            Some("svg") => Ok(Self::Svg),
+            Some("png") => Ok(Self::Png),
+            Some("csv") => Ok(Self::Csv),
+            Some("json") => Ok(Self::Json),
+            _ => Err(Error::InvalidParameter(format!(
+                "unknown output extension of '{}': use .svg, .png, .csv or .json",
+                path.display()
+            ))),
+        }
+    }
+}
+
+/// An ink colour, sRGB: `black` or `#rrggbb` on the command line and in
+/// files.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct Ink(pub [u8; 3]);
+
+impl Ink {
+    /// Black, the default ink.
+    pub const BLACK: Self = Self([0, 0, 0]);
+}
+
+impl FromStr for Ink {
+    type Err = Error;
+
+    /// ```
+    /// use pixelpie::job::Ink;
+    /// assert_eq!("#d62728".parse::<Ink>().unwrap(), Ink([0xd6, 0x27, 0x28]));
+    /// assert_eq!("black".parse::<Ink>().unwrap(), Ink::BLACK);
+    /// assert!("#12345".parse::<Ink>().is_err());
+    /// ```
+    fn from_str(s: &str) -> Result<Self, Error> {
+        let t = s.trim();
+        if t.eq_ignore_ascii_case("black") {
+            return Ok(Self::BLACK);
+        }
+        let hex = t.strip_prefix('#').unwrap_or(t);
+        let byte = |i: usize| {
+            hex.get(i..i + 2)
+                .and_then(|h| u8::from_str_radix(h, 16).ok())
+        };
+        match (hex.len(), byte(0), byte(2), byte(4)) {
+            (6, Some(r), Some(g), Some(b)) => Ok(Self([r, g, b])),
+            _ => Err(Error::InvalidParameter(format!(
+                "ink '{s}' is not a colour: use black or #rrggbb"
+            ))),
+        }
+    }
+}
+
+impl std::fmt::Display for Ink {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let [r, g, b] = self.0;
+        write!(f, "#{r:02x}{g:02x}{b:02x}")
+    }
+}
+
+impl Serialize for Ink {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(self)
+    }
+}
+
+impl<'de> Deserialize<'de> for Ink {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let s = String::deserialize(d)?;
+        s.parse().map_err(serde::de::Error::custom)
+    }
+}

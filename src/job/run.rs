@@ -1,0 +1,243 @@
+//! The one staged run of every drawing, grey or colour: prepare (one map
+//! per pen; a grey drawing is one pen) → sample → relax → order → size.
+//! The CLI, the app and the Python package all call [`Job::draw`] (through
+//! [`Job::run`] for a file).
+
+use std::borrow::Cow;
+use std::path::Path;
+
+use super::{Job, Order, count};
+use crate::colour::PenSet;
+use crate::importance::{Classes, ColourMap, ImportanceMap, Prepared, RadiusRange};
+use crate::sampler::{Params, Point, SampleSet};
+use crate::stipple::{Dot, relax, tsp};
+
+/// A picture to draw, in memory: grey, colour, or both (the app keeps
+/// both). A grey job draws the grey (a colour picture's luminance when
+/// only colour is given); a colour job the colour (a grey picture's grey
+/// as colour when only grey is given).
+#[derive(Clone, Copy, Debug)]
+pub enum Picture<'a> {
+    /// A grey picture.
+    Grey(&'a ImportanceMap),
+    /// A colour picture.
+    Colour(&'a ColourMap),
+    /// The same picture loaded both ways.
+    Both(&'a ImportanceMap, &'a ColourMap),
+}
+
+impl<'a> Picture<'a> {
+    /// The grey picture.
+    fn grey(self) -> Cow<'a, ImportanceMap> {
+        match self {
+            Self::Grey(m) | Self::Both(m, _) => Cow::Borrowed(m),
+            Self::Colour(c) => Cow::Owned(c.luminance()),
+        }
+    }
+
+    /// The colour picture.
+    fn colour(self) -> Cow<'a, ColourMap> {
+        match self {
+            Self::Colour(c) | Self::Both(_, c) => Cow::Borrowed(c),
+            Self::Grey(m) => Cow::Owned(m.colours()),
+        }
+    }
+}
+
+/// A finished drawing: its dots in drawing order, and how it was made.
+#[derive(Clone, Debug)]
+#[non_exhaustive]
+pub struct Stipple {
+    /// The dots, in drawing order.
+    pub dots: Vec<Dot>,
+    /// The sample points under the dots, in drawing order.
+    pub points: Vec<Point>,
+    /// Each point's calibrated dot radius (its tone's), in drawing order:
+    /// what [`Job::dots`] scales.
+    pub calibrated: Vec<f32>,
+    /// The sampler's run (its points after the white cutoff and relaxation,
+    /// in acceptance order).
+    pub set: SampleSet,
+    /// The domain in pixels.
+    pub domain: (u32, u32),
+    /// The sample radius range used.
+    pub range: RadiusRange,
+    /// Sampler runs made to reach the dot count.
+    pub runs: usize,
+    /// The count asked for, when the domain could not hold it at radii of
+    /// at least 1 px.
+    pub short_of: Option<usize>,
+    /// The pen-plotter tour, with `Order::Tsp`.
+    pub tour: Option<tsp::Tour>,
+    /// Seconds spent loading, sampling and relaxing.
+    pub seconds: (f64, f64, f64),
+    /// Seconds in each stage of [`Job::draw`], in order: prepare (the
+    /// picture's loading not included), sample, relax, order and size.
+    pub stages: Vec<(&'static str, f64)>,
+    /// The pens of a colour drawing (each point's class is its pen).
+    pub pens: Option<PenSet>,
+}
+
+impl Job {
+    /// Draws `image` (a file) with `sample` running the sampler; `relaxed`
+    /// hears each relaxation step done and returns false to stop.
+    pub fn run(
+        &self,
+        image: &Path,
+        sample: impl FnMut(&Params) -> crate::Result<SampleSet>,
+        relaxed: impl FnMut(u32) -> bool,
+    ) -> crate::Result<Stipple> {
+        let t0 = std::time::Instant::now();
+        let (grey, colour);
+        let picture = if self.colour() {
+            colour = ColourMap::open(image, self.importance.hdr_white)?;
+            Picture::Colour(&colour)
+        } else {
+            grey = ImportanceMap::open(image, self.importance.hdr_white)?;
+            Picture::Grey(&grey)
+        };
+        let opened = t0.elapsed().as_secs_f64();
+        let mut drawing = self.draw(picture, sample, relaxed)?;
+        drawing.seconds.0 += opened;
+        Ok(drawing)
+    }
+
+    /// [`Self::draw`] of a grey picture.
+    pub fn run_map(
+        &self,
+        map: &ImportanceMap,
+        sample: impl FnMut(&Params) -> crate::Result<SampleSet>,
+        relaxed: impl FnMut(u32) -> bool,
+    ) -> crate::Result<Stipple> {
+        self.draw(Picture::Grey(map), sample, relaxed)
+    }
+
+    /// The one staged run of every drawing, grey or colour, of a picture in
+    /// memory (borrowed: the app keeps its picture across jobs): prepare
+    /// (one map per pen; a grey drawing is one pen) → sample → relax →
+    /// order → size. The writers are [`Self::write`]. `sample` runs the
+    /// sampler; `relaxed` hears each relaxation step done and returns false
+    /// to stop.
+    pub fn draw(
+        &self,
+        picture: Picture<'_>,
+        sample: impl FnMut(&Params) -> crate::Result<SampleSet>,
+        relaxed: impl FnMut(u32) -> bool,
+    ) -> crate::Result<Stipple> {
+        let t0 = std::time::Instant::now();
+        self.check()?;
+        let (points, count_target) = self.count();
+        // Prepare.
+        let (separated, grey) = if self.colour() {
+            let colour = picture.colour();
+            let domain = self.domain_for((colour.width(), colour.height()), points);
+            (Some(self.separate(&colour, domain, count_target)?), None)
+        } else {
+            let map = picture.grey();
+            let mut prepared = self.importance.prepare_map(
+                &map,
+                |w, h| self.domain_for((w, h), points),
+                self.dot_mode().mapping(self.dot_ratio),
+                count_target,
+            )?;
+            let domain = (prepared.map.width(), prepared.map.height());
+            prepared.range = self.dot_range(prepared.range, domain)?;
+            (None, Some(prepared))
+        };
+        let maps: &[Prepared] = match (&separated, &grey) {
+            (Some(s), _) => &s.maps,
+            (None, Some(g)) => std::slice::from_ref(g),
+            (None, None) => unreachable!("a drawing prepares a grey or a colour picture"),
+        };
+        let domain = (maps[0].map.width(), maps[0].map.height());
+        let t_load = t0.elapsed().as_secs_f64();
+        // Sample.
+        let base = self
+            .sampler
+            .apply(Params::new(domain.0, domain.1).with_policy(self.policy));
+        let fitted = if separated.is_some() {
+            count::sample_classes(&Classes { maps }, &base, points, sample)?
+        } else {
+            count::sample_map(&maps[0], &base, points, sample)?
+        };
+        let (mut set, range) = (fitted.set, fitted.range);
+        let t_sample = t0.elapsed().as_secs_f64() - t_load;
+        // Relax.
+        if self.relax > 0 {
+            let options = relax::RelaxOptions {
+                iterations: self.relax,
+                periodic: self.sampler.periodic,
+            };
+            let moved = crate::stipple::relax_points(maps, range, &set.points, options, relaxed)?;
+            set = set.with_points(moved);
+        }
+        let t_relax = t0.elapsed().as_secs_f64() - t_load - t_sample;
+        // Order.
+        let (points, tour) = self.ordered(&set.points, maps.len());
+        let t_order = t0.elapsed().as_secs_f64() - t_load - t_sample - t_relax;
+        // Size.
+        let calibrated = match &separated {
+            Some(s) => self.colour_sizes(s, &points, range, domain)?,
+            None => maps[0].dot_radii(&points, range),
+        };
+        let t_size = t0.elapsed().as_secs_f64() - t_load - t_sample - t_relax - t_order;
+        let mut drawing = Stipple {
+            dots: Vec::new(),
+            points,
+            calibrated,
+            set,
+            domain,
+            range,
+            runs: fitted.runs,
+            short_of: fitted.short_of,
+            tour,
+            seconds: (t_load, t_sample, t_relax),
+            stages: vec![
+                ("prepare", t_load),
+                ("sample", t_sample),
+                ("relax", t_relax),
+                ("order", t_order),
+                ("size", t_size),
+            ],
+            pens: separated.and(self.pens.clone()),
+        };
+        drawing.dots = self.dots(&drawing);
+        Ok(drawing)
+    }
+
+    /// The order stage: the points pen by pen in the pens' order, each
+    /// pen's in the sampler's order or, with `--order tsp`, along its own
+    /// tour (the tours joined, pen after pen).
+    fn ordered(&self, points: &[Point], pens: usize) -> (Vec<Point>, Option<tsp::Tour>) {
+        let mut by_pen: Vec<Vec<Point>> = vec![Vec::new(); pens.max(1)];
+        for p in points {
+            if let Some(pen) = by_pen.get_mut(p.class as usize) {
+                pen.push(*p);
+            }
+        }
+        if self.order == Order::None {
+            return (by_pen.concat(), None);
+        }
+        let mut all = tsp::Tour {
+            order: Vec::with_capacity(points.len()),
+            nearest_neighbour_length: 0.0,
+            length: 0.0,
+            moves: 0,
+        };
+        let mut ordered = Vec::with_capacity(points.len());
+        for pen_points in by_pen {
+            let xy: Vec<[f64; 2]> = pen_points
+                .iter()
+                .map(|p| [f64::from(p.x), f64::from(p.y)])
+                .collect();
+            let t = tsp::plan(&xy, tsp::TspOptions::default());
+            let base = ordered.len();
+            ordered.extend(t.order.iter().map(|&i| pen_points[i]));
+            all.order.extend(t.order.iter().map(|&i| base + i));
+            all.nearest_neighbour_length += t.nearest_neighbour_length;
+            all.length += t.length;
+            all.moves += t.moves;
+        }
+        (ordered, Some(all))
+    }
+}
