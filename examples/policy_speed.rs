@@ -17,14 +17,13 @@ fn main() {
     let reps: u32 = args.get(4).map_or(3, |s| s.parse().unwrap());
     // The radius map that `pixelpie sample --importance IMG --width SIDE
     // --height SIDE --min-radius MIN --max-radius MAX` samples.
-    let mut job = SampleJob::new(Radii::Picture(
-        ImportanceMap::open(std::path::Path::new(img), None).unwrap(),
-    ));
+    let radii = Radii::Picture(ImportanceMap::open(std::path::Path::new(img), None).unwrap());
+    let mut job = SampleJob::default();
     (job.width, job.height) = (Some(side), Some(side));
-    job.importance.min_radius = Some(r0);
-    job.importance.max_radius = Some(r1);
+    job.importance_options.min_radius = Some(r0);
+    job.importance_options.max_radius = Some(r1);
     let mut base = None;
-    job.run(|p| {
+    job.run(&radii, |p| {
         base = Some(p.clone());
         Ok(cpu::sample(p, Control::default())?)
     })

@@ -11,22 +11,36 @@ __version__: str
 PathLike = Union[str, os.PathLike[str]]
 Progress = Callable[[int, int, int, int], Any]
 
+def sample_options() -> Dict[str, Any]:
+    """The options ``sample`` takes, with their defaults."""
+
 def sample(
-    width: int,
-    height: int,
+    width: Optional[int] = ...,
+    height: Optional[int] = ...,
     *,
+    radius_map: Union[PathLike, npt.ArrayLike, None] = ...,
+    importance: Union[PathLike, npt.ArrayLike, None] = ...,
+    backend: str = ...,
+    progress: Optional[Progress] = ...,
     radius: Optional[float] = ...,
     points: Optional[int] = ...,
-    radius_map: Optional[npt.ArrayLike] = ...,
-    importance: Union[PathLike, npt.ArrayLike, None] = ...,
-    policy: str = ...,
-    seed: int = ...,
-    subpixel_bits: int = ...,
-    periodic: bool = ...,
-    exact: bool = ...,
-    backend: str = ...,
+    policy: Optional[str] = ...,
+    seed: Optional[int] = ...,
+    subpixel_bits: Optional[int] = ...,
+    periodic: Optional[bool] = ...,
+    exact: Optional[bool] = ...,
+    batch: Optional[int] = ...,
     max_iterations: Optional[int] = ...,
-    progress: Optional[Progress] = ...,
+    tones: Optional[str] = ...,
+    mapping: Optional[str] = ...,
+    min_radius: Optional[float] = ...,
+    max_radius: Optional[float] = ...,
+    gamma: Optional[float] = ...,
+    black_level: Optional[float] = ...,
+    white_level: Optional[float] = ...,
+    invert: Optional[bool] = ...,
+    white_cutoff: Optional[float] = ...,
+    hdr_white: Optional[float] = ...,
 ) -> Tuple[npt.NDArray[np.float32], Dict[str, Any]]:
     """A maximal Poisson-disk set: (N, 3) float32 x, y, radius, and the stats."""
 
@@ -34,11 +48,12 @@ def stipple_options() -> Dict[str, Any]:
     """The options ``stipple`` takes, with their defaults."""
 
 def stipple(
-    image: PathLike,
+    image: Union[PathLike, npt.ArrayLike, Any],
     output: Optional[PathLike] = ...,
     *,
     backend: str = ...,
     progress: Optional[Progress] = ...,
+    svg: bool = ...,
     points: Optional[int] = ...,
     width: Optional[int] = ...,
     height: Optional[int] = ...,
@@ -50,7 +65,11 @@ def stipple(
     order: Optional[str] = ...,
     scale: Optional[float] = ...,
     width_mm: Optional[float] = ...,
+    paper: Optional[str] = ...,
+    margin: Optional[float] = ...,
+    landscape: Optional[bool] = ...,
     pen_mm: Optional[float] = ...,
+    dot_path: Optional[str] = ...,
     ink: Optional[str] = ...,
     policy: Optional[str] = ...,
     seed: Optional[int] = ...,
@@ -68,9 +87,10 @@ def stipple(
     white_cutoff: Optional[float] = ...,
     hdr_white: Optional[float] = ...,
     pens: Optional[Union[str, Sequence[str], os.PathLike[str]]] = ...,
-) -> npt.NDArray[np.float32]:
-    """A stipple drawing of ``image``, written to ``output``; its dots (x, y,
-    radius), with ``pens`` also each dot's pen."""
+) -> Any:
+    """A stipple drawing of ``image`` (a path, an array or a PIL image),
+    written to ``output``; its dots (x, y, radius), with ``pens`` also each
+    dot's pen; with ``svg=True`` the SVG's text."""
 
 def analyze(
     points: npt.ArrayLike,

@@ -12,14 +12,16 @@ use std::path::PathBuf;
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
+use numpy::{
+    PyArray1, PyArrayMethods, PyReadonlyArray2, PyReadonlyArrayDyn, PyUntypedArrayMethods,
+};
 use pyo3::exceptions::{PyKeyboardInterrupt, PyOSError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 
 use pixelpie::analyze::{CoverRadius, Domain};
 use pixelpie::backend::{self, BackendChoice};
-use pixelpie::importance::{self, ImportanceMap, ImportanceOptions, Tones};
-use pixelpie::job::{Format, Job, Radii, SampleJob};
+use pixelpie::importance::{self, ColourMap, ImportanceMap, Tones};
+use pixelpie::job::{Format, Job, Picture, Radii, SampleJob};
 use pixelpie::sampler::{self, Control, Progress};
 
 /// The Python exception for a library error.
@@ -114,134 +116,129 @@ fn grid(a: &PyReadonlyArray2<'_, f32>, what: &str) -> PyResult<(u32, u32, Vec<f3
     Ok((w32, h32, values))
 }
 
-/// The native `sample`; see `pixelpie.sample`.
+/// The native `sample`; see `pixelpie.sample`. `options` is a JSON object
+/// of [`SampleJob`]'s options; an array in `radius_map` or
+/// `importance_values` takes the place of a file.
 #[pyfunction]
-#[pyo3(signature = (width, height, radius, points, radius_map, importance_path, importance_values, policy_name, seed, subpixel_bits, periodic, exact, backend_name, max_iterations, progress))]
-#[expect(
-    clippy::too_many_arguments,
-    reason = "Python's keyword arguments, one by one"
-)]
+#[pyo3(signature = (options, radius_map, importance_values, backend_name, progress))]
 fn sample<'py>(
     py: Python<'py>,
-    width: u32,
-    height: u32,
-    radius: Option<f32>,
-    points: Option<usize>,
+    options: &str,
     radius_map: Option<PyReadonlyArray2<'py, f32>>,
-    importance_path: Option<PathBuf>,
     importance_values: Option<PyReadonlyArray2<'py, f32>>,
-    policy_name: &str,
-    seed: u64,
-    subpixel_bits: u32,
-    periodic: bool,
-    exact: bool,
     backend_name: &str,
-    max_iterations: Option<u32>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
+    let mut job: SampleJob = from_options(options, "sample", &sample_options()?)?;
     let choice: BackendChoice = named(backend_name, "backend")?;
-    if usize::from(radius_map.is_some())
-        + usize::from(importance_path.is_some())
-        + usize::from(importance_values.is_some())
-        > 1
-    {
-        return Err(bad("give at most one of radius_map and importance"));
-    }
-    // Python's idiom: `radius` is the black pixels' radius with an
-    // importance map; an array is the grey to reproduce, as it is.
-    let mut importance = ImportanceOptions::default();
     let radii = if let Some(a) = &radius_map {
-        if radius.is_some() {
-            return Err(bad(
-                "radius and radius_map exclude each other (points scales the map)",
-            ));
+        if job.importance.is_some() || importance_values.is_some() {
+            return Err(bad("give a radius map or an importance map, not both"));
         }
-        let (w, h, radii) = grid(a, "radius_map")?;
-        if (w, h) != (width, height) {
-            return Err(bad(format!(
-                "radius_map has shape ({h}, {w}); the {width}x{height} domain needs ({height}, {width})"
-            )));
-        }
+        let (width, height, radii) = grid(a, "radius_map")?;
         Radii::Map {
-            width: w,
-            height: h,
+            width,
+            height,
             radii,
         }
-    } else if let Some(path) = &importance_path {
-        importance.min_radius = radius;
-        Radii::Picture(ImportanceMap::open(path, None).map_err(|e| py_err(&e.into()))?)
     } else if let Some(a) = &importance_values {
-        importance.min_radius = radius;
-        importance.tones = Tones::Linear;
+        // An array is the grey to reproduce, as it is: linear unless the
+        // options say otherwise.
+        let given: serde_json::Value =
+            serde_json::from_str(options).map_err(|e| bad(format!("options: {e}")))?;
+        if given.get("tones").is_none() {
+            job.importance_options.tones = Tones::Linear;
+        }
         let (w, h, values) = grid(a, "importance")?;
         Radii::Picture(ImportanceMap::from_values(w, h, values).map_err(|e| py_err(&e.into()))?)
     } else {
-        Radii::Uniform(radius)
+        job.radii().map_err(|e| py_err(&e))?
     };
-    if matches!(radii, Radii::Picture(_)) && radius.is_none() && points.is_none() {
-        return Err(bad(
-            "give points or radius (the black pixels' radius) with an importance map",
-        ));
-    }
-    let mut job = SampleJob::new(radii);
-    job.width = Some(width);
-    job.height = Some(height);
-    job.points = points;
-    job.importance = importance;
-    job.policy = named(policy_name, "policy")?;
-    job.sampler.seed = seed;
-    job.sampler.subpixel_bits = subpixel_bits;
-    job.sampler.periodic = periodic;
-    job.sampler.exact = exact;
-    if let Some(m) = max_iterations {
-        job.max_iterations = m;
-    }
-    job.check().map_err(|e| py_err(&e.into()))?;
+    job.check(&radii).map_err(|e| py_err(&e.into()))?;
     let set = cancellable(py, progress, move |ctl| {
         Ok(job
-            .run(|p| Ok(backend::sample(p, choice, ctl, &mut |_| {})?))?
+            .run(&radii, |p| {
+                Ok(backend::sample(p, choice, ctl, &mut |_| {})?)
+            })?
             .set)
     })?;
     let rows = set.points.iter().map(|p| [p.x, p.y, p.radius]);
     Ok((points_array(py, rows)?, to_python(py, &set.report())?))
 }
 
-/// The job of `options`, a JSON object of keyword arguments under the
-/// library's own names ([`Job`]'s fields, as `pixelpie stipple` spells them
-/// with underscores); a name that is not an option is refused.
-fn job_from(options: &str) -> PyResult<Job> {
+/// The point-set job's options and their defaults, as JSON (the names
+/// `sample` takes).
+#[pyfunction]
+fn sample_defaults() -> PyResult<String> {
+    serde_json::to_string(&sample_options()?).map_err(|e| PyRuntimeError::new_err(e.to_string()))
+}
+
+/// Every option of [`SampleJob`] with its default, `null` where the job
+/// picks.
+fn sample_options() -> PyResult<serde_json::Value> {
+    let mut v =
+        shortest(&SampleJob::default()).map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    if let serde_json::Value::Object(m) = &mut v {
+        for name in ["radius_map", "importance"] {
+            m.entry(name).or_insert(serde_json::Value::Null);
+        }
+    }
+    Ok(v)
+}
+
+/// `value` as JSON, its `f32` numbers written as the shortest decimals that
+/// read back as them (0.3, not 0.30000001192092896).
+fn shortest(value: &impl serde::Serialize) -> serde_json::Result<serde_json::Value> {
+    serde_json::from_str(&serde_json::to_string(value)?)
+}
+
+/// A job of type `T` from `options`, a JSON object of keyword arguments
+/// under the library's own names (`known`: every option with its default);
+/// a name that is not an option, or a value of the wrong type or range, is
+/// refused with the option's name (`ValueError`).
+fn from_options<T: serde::de::DeserializeOwned>(
+    options: &str,
+    function: &str,
+    known: &serde_json::Value,
+) -> PyResult<T> {
     let given: serde_json::Map<String, serde_json::Value> =
         serde_json::from_str(options).map_err(|e| bad(format!("options: {e}")))?;
-    let known = match job_options() {
-        Ok(serde_json::Value::Object(m)) => m,
-        _ => {
-            return Err(PyRuntimeError::new_err(
-                "the job's options are not an object",
-            ));
-        }
+    let serde_json::Value::Object(known) = known else {
+        return Err(PyRuntimeError::new_err(
+            "the job's options are not an object",
+        ));
     };
     if let Some(name) = given.keys().find(|k| !known.contains_key(k.as_str())) {
         let mut names: Vec<&str> = known.keys().map(String::as_str).collect();
         names.sort_unstable();
         return Err(bad(format!(
-            "stipple() got an unexpected option '{name}'; the options are: {}",
+            "{function}() got an unexpected option '{name}'; the options are: {}",
             names.join(", ")
         )));
     }
-    let job: Job = match serde_json::from_value(serde_json::Value::Object(given.clone())) {
-        Ok(job) => job,
+    match serde_json::from_value(serde_json::Value::Object(given.clone())) {
+        Ok(job) => Ok(job),
         Err(e) => {
             // Name the option at fault: the first that fails on its own.
             let culprit = given.iter().find(|(k, v)| {
                 let one = serde_json::Map::from_iter([((*k).clone(), (*v).clone())]);
-                serde_json::from_value::<Job>(serde_json::Value::Object(one)).is_err()
+                serde_json::from_value::<T>(serde_json::Value::Object(one)).is_err()
             });
-            return Err(bad(match culprit {
-                Some((name, _)) => format!("{name}: {e}"),
-                None => e.to_string(),
-            }));
+            let text = e.to_string();
+            Err(bad(match culprit {
+                Some((name, _)) if !text.starts_with(&format!("{name}:")) => {
+                    format!("{name}: {text}")
+                }
+                _ => text,
+            }))
         }
-    };
+    }
+}
+
+/// The drawing job of `options` ([`from_options`]), checked.
+fn job_from(options: &str) -> PyResult<Job> {
+    let known = job_options().map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    let job: Job = from_options(options, "stipple", &known)?;
     job.check().map_err(|e| py_err(&e.into()))?;
     Ok(job)
 }
@@ -259,7 +256,7 @@ fn stipple_defaults() -> PyResult<String> {
 /// they hold their defaults).
 fn job_options() -> serde_json::Result<serde_json::Value> {
     let job = Job::default();
-    let mut v = serde_json::to_value(&job)?;
+    let mut v = shortest(&job)?;
     if let serde_json::Value::Object(m) = &mut v {
         for (name, default) in [
             ("pens", serde_json::Value::Null),
@@ -274,15 +271,61 @@ fn job_options() -> serde_json::Result<serde_json::Value> {
     Ok(v)
 }
 
-/// The native `stipple`; see `pixelpie.stipple`.
+/// A picture array as the bytes of a 16-bit PNG, so that it takes the
+/// file loader's one path (sRGB decoding, alpha over white): (H, W) grey,
+/// (H, W, 2) grey and alpha, (H, W, 3) RGB or (H, W, 4) RGBA, sRGB-encoded
+/// 16-bit values.
+fn encoded_png(a: &PyReadonlyArrayDyn<'_, u16>) -> PyResult<Vec<u8>> {
+    use image::ImageEncoder;
+    let shape = a.shape().to_vec();
+    let (h, w, c) = match shape[..] {
+        [h, w] => (h, w, 1),
+        [h, w, c] if (1..=4).contains(&c) => (h, w, c),
+        _ => {
+            return Err(bad(format!(
+                "a picture array must be (H, W) or (H, W, 1 to 4 channels), not {shape:?}"
+            )));
+        }
+    };
+    let (Ok(w), Ok(h)) = (u32::try_from(w), u32::try_from(h)) else {
+        return Err(bad(format!("a picture of shape {shape:?} is too large")));
+    };
+    if w == 0 || h == 0 {
+        return Err(bad(format!(
+            "the picture array of shape {shape:?} is empty"
+        )));
+    }
+    let values: Vec<u8> = a.as_array().iter().flat_map(|v| v.to_ne_bytes()).collect();
+    let colour = match c {
+        1 => image::ExtendedColorType::L16,
+        2 => image::ExtendedColorType::La16,
+        3 => image::ExtendedColorType::Rgb16,
+        _ => image::ExtendedColorType::Rgba16,
+    };
+    let mut out = Vec::new();
+    image::codecs::png::PngEncoder::new(&mut out)
+        .write_image(&values, w, h, colour)
+        .map_err(|e| bad(format!("picture array: {e}")))?;
+    Ok(out)
+}
+
+/// The native `stipple`; see `pixelpie.stipple`. The picture is a file
+/// (`image`) or an array (`pixels`); with `want_svg` the SVG comes back as
+/// text instead of the dots.
 #[pyfunction(name = "stipple")]
-#[pyo3(signature = (image, output, options, backend_name, progress))]
+#[pyo3(signature = (image, pixels, output, options, backend_name, want_svg, progress))]
+#[expect(
+    clippy::too_many_arguments,
+    reason = "the Python function's arguments, one by one"
+)]
 fn stipple_py<'py>(
     py: Python<'py>,
-    image: PathBuf,
+    image: Option<PathBuf>,
+    pixels: Option<PyReadonlyArrayDyn<'py, u16>>,
     output: Option<PathBuf>,
     options: &str,
     backend_name: &str,
+    want_svg: bool,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let job = job_from(options)?;
@@ -291,14 +334,49 @@ fn stipple_py<'py>(
         let format = Format::from_path(out).map_err(|e| py_err(&e.into()))?;
         job.validate(format).map_err(|e| py_err(&e.into()))?;
     }
-    let drawing = cancellable(py, progress, |ctl| {
-        let drawing = job.run_on(&image, choice, ctl, &mut |_| {})?;
+    let encoded = match &pixels {
+        Some(a) => Some(encoded_png(a)?),
+        None => None,
+    };
+    let (drawing, svg) = cancellable(py, progress, |ctl| {
+        let sample = |params: &pixelpie::sampler::Params| {
+            Ok(backend::sample(params, choice, ctl, &mut |_| {})?)
+        };
+        let drawing = match (&encoded, &image) {
+            (Some(bytes), _) => {
+                let name = std::path::Path::new("<array>");
+                let hdr = job.importance.hdr_white;
+                if job.colour() {
+                    let c = ColourMap::from_encoded(bytes, name, hdr)?;
+                    job.draw(Picture::Colour(&c), sample, |_| ctl.check().is_ok())?
+                } else {
+                    let m = ImportanceMap::from_encoded(bytes, name, hdr)?;
+                    job.draw(Picture::Grey(&m), sample, |_| ctl.check().is_ok())?
+                }
+            }
+            (None, Some(path)) => job.run_on(path, choice, ctl, &mut |_| {})?,
+            (None, None) => {
+                return Err(pixelpie::stipple::Error::InvalidParameter(
+                    "give a picture: a path, an array or a PIL image".into(),
+                )
+                .into());
+            }
+        };
         ctl.check()?;
         if let Some(out) = &output {
             job.write(&drawing, out)?;
         }
-        Ok(drawing)
+        let svg = if want_svg {
+            Some(job.svg(&drawing)?)
+        } else {
+            None
+        };
+        Ok((drawing, svg))
     })?;
+    if let Some(svg) = svg {
+        let text = String::from_utf8(svg).map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+        return Ok(pyo3::types::PyString::new(py, &text).into_any());
+    }
     if drawing.pens.is_none() {
         return points_array(py, drawing.dots.iter().map(|d| [d.x, d.y, d.radius]));
     }
@@ -334,6 +412,30 @@ fn analyze_py<'py>(
     let a = points.as_array();
     let xy: Vec<[f64; 2]> = a.rows().into_iter().map(|r| [r[0], r[1]]).collect();
     let radii: Option<Vec<f64>> = (shape[1] >= 3).then(|| a.column(2).to_vec());
+    // The CLI's rules: every coordinate a finite number, every radius a
+    // positive one, and a domain of positive size.
+    if let Some(i) = xy
+        .iter()
+        .position(|p| !(p[0].is_finite() && p[1].is_finite()))
+    {
+        return Err(bad(format!(
+            "point {i} ({}, {}) is not a finite position",
+            xy[i][0], xy[i][1]
+        )));
+    }
+    if let Some(r) = &radii
+        && let Some(i) = r.iter().position(|r| !(r.is_finite() && *r > 0.0))
+    {
+        return Err(bad(format!(
+            "point {i}'s radius {} must be a positive number",
+            r[i]
+        )));
+    }
+    if !(width.is_finite() && height.is_finite() && width > 0.0 && height > 0.0) {
+        return Err(bad(format!(
+            "the domain {width}x{height} must have a positive size"
+        )));
+    }
     if let Some(r) = radius
         && !(r.is_finite() && r > 0.0)
     {
@@ -362,6 +464,7 @@ fn _pixelpie(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(sample, m)?)?;
     m.add_function(wrap_pyfunction!(stipple_py, m)?)?;
     m.add_function(wrap_pyfunction!(stipple_defaults, m)?)?;
+    m.add_function(wrap_pyfunction!(sample_defaults, m)?)?;
     m.add_function(wrap_pyfunction!(analyze_py, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

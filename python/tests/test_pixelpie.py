@@ -81,7 +81,7 @@ def test_importance_points_are_the_clis(tmp_path, policy):
 
 def test_importance_with_a_min_radius_is_the_clis(tmp_path):
     image = ASSETS / "default.png"
-    pts, _ = pixelpie.sample(400, 300, importance=str(image), radius=1.5, policy="bigger")
+    pts, _ = pixelpie.sample(400, 300, importance=str(image), min_radius=1.5, policy="bigger")
     want = cli_points(
         tmp_path,
         "--width", "400", "--height", "300", "--importance", str(image),
@@ -309,9 +309,11 @@ def test_a_capped_run_is_reported_not_maximal():
     (dict(radius=3.0, backend="tpu"), "backend"),
     (dict(radius=3.0, subpixel_bits=9), "sub-pixel"),
     (dict(points=0), "point count"),
-    (dict(radius_map=np.full((10, 10), 2.0)), "shape"),
+    (dict(radius_map=np.full((10, 10), 2.0)), "radius map"),
     (dict(radius_map=np.full((50, 40), np.nan)), "radius"),
-    (dict(radius_map=np.full((50, 40), 2.0), radius=2.0), "exclude"),
+    (dict(radius_map=np.full((50, 40), 2.0), radius=2.0), "uniform"),
+    (dict(importance=np.full((50, 40), 0.5), radius=2.0), "min_radius"),
+    (dict(importance=np.full((40, 50), 0.5), points=100), "transpose"),
     (dict(importance=np.full((5, 5), 1.5), points=10), "outside [0, 1]"),
     (dict(importance=np.full((5, 5), 0.5)), "importance"),
     (dict(importance=np.zeros(5), points=10), "2-D"),
@@ -461,3 +463,101 @@ def test_the_gil_is_released_while_sampling():
     t.join()
     counts.append(n)
     assert counts[0] > 1000, counts
+
+
+# --- one definition of the options -------------------------------------------
+
+
+def _stub_parameters(name):
+    """The parameter names of function ``name`` in the type stubs."""
+    import ast
+
+    stubs = Path(pixelpie.__file__).with_name("__init__.pyi")
+    tree = ast.parse(stubs.read_text())
+    for node in tree.body:
+        if isinstance(node, ast.FunctionDef) and node.name == name:
+            a = node.args
+            return {x.arg for x in a.args + a.kwonlyargs}
+    raise AssertionError(f"{name} is not in the stubs")
+
+
+@pytest.mark.parametrize("function,options", [
+    ("stipple", pixelpie.stipple_options),
+    ("sample", pixelpie.sample_options),
+])
+def test_the_stubs_cover_every_option_of_the_job(function, options):
+    missing = set(options()) - _stub_parameters(function)
+    assert not missing, f"{function}'s stubs lack {sorted(missing)}"
+
+
+def test_sample_reads_its_defaults_from_the_library():
+    d = pixelpie.sample_options()
+    assert d["policy"] == "smaller" and d["subpixel_bits"] == 3
+    assert pixelpie.stipple_options()["dot_ratio"] == 0.3
+
+
+@pytest.mark.parametrize("call,error", [
+    (lambda: pixelpie.sample(-1, 10, radius=2.0), ValueError),
+    (lambda: pixelpie.sample(100.7, 100, radius=2.0), TypeError),
+    (lambda: pixelpie.sample("100", 100, radius=2.0), TypeError),
+    (lambda: pixelpie.sample(100, 100, points=-5), ValueError),
+    (lambda: pixelpie.sample(100, 100, radius=2.0, seed=-1), ValueError),
+    (lambda: pixelpie.sample(100, 100, points=50.5), TypeError),
+    (lambda: pixelpie.stipple(ASSETS / "default.png", points=-5), ValueError),
+    (lambda: pixelpie.stipple(ASSETS / "default.png", width=100.7), TypeError),
+    (lambda: pixelpie.stipple(ASSETS / "default.png", pens="nonsense"), ValueError),
+    (lambda: pixelpie.analyze(np.array([[1.0, np.nan]]), 10, 10), ValueError),
+    (lambda: pixelpie.analyze(np.array([[1.0, np.inf], [2.0, 2.0]]), 10, 10), ValueError),
+    (lambda: pixelpie.analyze(np.array([[1.0, 1.0, np.nan]]), 10, 10), ValueError),
+])
+def test_bad_values_and_types_raise_value_or_type_error(call, error):
+    with pytest.raises(error) as e:
+        call()
+    assert "\n" not in str(e.value)
+    assert "pens: pens:" not in str(e.value)
+
+
+def test_analyze_names_continuous_maximality_apart_from_the_runs():
+    pts, stats = pixelpie.sample(128, 128, radius=4.0, seed=1)
+    report = pixelpie.analyze(pts, 128, 128)
+    assert stats["maximal"] is True
+    assert "maximal" not in report and "continuous_maximal" in report
+
+
+def test_stipple_takes_an_array_and_returns_the_svg(tmp_path):
+    grey = np.tile(np.linspace(0.0, 1.0, 200, dtype=np.float32), (120, 1))
+    dots = pixelpie.stipple(grey, points=800, seed=2)
+    # Dark on the left: more ink there than on the right (domain pixels).
+    x = dots[:, 0] / dots[:, 0].max()
+    ink = dots[:, 2] ** 2
+    assert ink[x < 0.3].sum() > 2 * ink[x > 0.7].sum()
+    # The same picture as uint8 and as float gives the same drawing when
+    # the values are the same 8-bit levels.
+    levels = np.round(grey * 255).astype(np.uint8)
+    a = pixelpie.stipple(levels, points=800, seed=2)
+    b = pixelpie.stipple(levels.astype(np.float32) / 255.0, points=800, seed=2)
+    assert np.array_equal(a, b)
+    # Colour arrays draw with pens.
+    rgb = np.zeros((80, 100, 3), dtype=np.uint8)
+    rgb[:, :50] = (200, 30, 30)
+    rgb[:, 50:] = (30, 30, 200)
+    cdots = pixelpie.stipple(rgb, points=600, pens="cmyk")
+    assert cdots.shape[1] == 4 and len(set(cdots[:, 3].tolist())) >= 2
+    # The SVG in memory is the file's text.
+    out = tmp_path / "d.svg"
+    text = pixelpie.stipple(ASSETS / "default.png", out, points=500, svg=True)
+    assert isinstance(text, str) and text == out.read_text()
+    with pytest.raises(ValueError):
+        pixelpie.stipple(np.zeros((0, 5)), points=10)
+    with pytest.raises(TypeError):
+        pixelpie.stipple(np.zeros((5, 5), dtype=np.complex64), points=10)
+
+
+def test_stipple_of_a_pil_image_is_the_files_drawing():
+    from PIL import Image
+
+    path = ASSETS / "default.png"
+    with Image.open(path) as img:
+        from_pil = pixelpie.stipple(img, points=1500, seed=4)
+    from_file = pixelpie.stipple(path, points=1500, seed=4)
+    assert np.array_equal(from_pil, from_file)

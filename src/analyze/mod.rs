@@ -113,8 +113,9 @@ pub struct Report {
     /// mirrored, or wrapped when periodic): its radius and centre.
     pub largest_gap: Option<gaps::Gap>,
     /// Whether the disks cover every point of the closed domain, not only
-    /// pixel centres; `None` without a radius.
-    pub maximal: Option<bool>,
+    /// pixel centres (maximality in the continuous sense; a sampler run's
+    /// `maximal` is that no pixel is left empty); `None` without a radius.
+    pub continuous_maximal: Option<bool>,
     /// Standard deviation of the 360-bin Delaunay-neighbour angle histogram.
     pub angle_std: Option<f64>,
     /// Delaunay edges the histogram counts (each in both directions).
@@ -156,7 +157,7 @@ pub fn report(
         None => (None, None),
     };
     let largest_gap = gaps::largest_gap(points, domain);
-    let maximal = match radius {
+    let continuous_maximal = match radius {
         Some(r) => Some(gaps::uncovered_cells(points, r, domain)? == 0),
         None => None,
     };
@@ -170,7 +171,7 @@ pub fn report(
         uncovered_pixels,
         density,
         largest_gap,
-        maximal,
+        continuous_maximal,
         angle_std,
         angle_edges: angles.len() / 2,
     })

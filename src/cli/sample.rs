@@ -10,48 +10,17 @@ use serde::Serialize;
 
 use pixelpie::backend::{self, BackendChoice, Notice};
 use pixelpie::gpu::S1Path;
-use pixelpie::importance::{ImportanceMap, ImportanceOptions};
 use pixelpie::io;
-use pixelpie::job::{Radii, SampleJob};
-use pixelpie::sampler::{self, Control, Params, Policy, Progress, SampleSet, SamplerOptions};
+use pixelpie::job::SampleJob;
+use pixelpie::sampler::{self, Control, Params, Progress, SampleSet};
 
-/// Arguments of `pixelpie sample`.
+/// Arguments of `pixelpie sample`: the library's point-set job, where the
+/// points go, and how the run goes.
 #[derive(Args, Debug, Serialize)]
 pub struct SampleArgs {
-    /// Domain width in pixels (default: the radius or importance map's).
-    #[arg(long)]
-    width: Option<u32>,
-    /// Domain height in pixels (default: the radius or importance map's).
-    #[arg(long)]
-    height: Option<u32>,
-    /// Disk radius in pixels.
-    #[arg(long, conflicts_with_all = ["points", "radius_map", "importance"])]
-    radius: Option<f32>,
-    /// Target point count (±3%): picks the radius, or scales the radius map.
-    #[arg(long)]
-    points: Option<usize>,
-    /// Single-channel float OpenEXR of radii in pixels.
-    #[arg(long, conflicts_with = "importance")]
-    radius_map: Option<PathBuf>,
-    /// Importance map (PNG, JPEG, TIFF, BMP, WebP, OpenEXR): dark pixels get
-    /// small radii. Resized to --width/--height when given.
-    #[arg(long)]
-    importance: Option<PathBuf>,
     #[command(flatten)]
     #[serde(flatten)]
-    importance_opts: ImportanceOptions,
-    /// Disk policy for varying radii (paper §3.4).
-    #[arg(long, value_enum, default_value_t = sampler::DEFAULT_POLICY)]
-    policy: Policy,
-    #[command(flatten)]
-    #[serde(flatten)]
-    sampler: SamplerOptions,
-    /// Darts per iteration (default: half the expected count).
-    #[arg(long)]
-    batch: Option<u32>,
-    /// Cap on iterations; a capped run is reported as not maximal.
-    #[arg(long, default_value_t = sampler::DEFAULT_MAX_ITERATIONS)]
-    max_iterations: u32,
+    job: SampleJob,
     /// Output file: .csv or .json.
     #[arg(long, short)]
     output: PathBuf,
@@ -179,30 +148,23 @@ pub fn run(a: &SampleArgs) -> Result<()> {
         check_json_path(s)?;
     }
     a.run.apply_gpu_path();
-    let radii = match (&a.importance, &a.radius_map) {
-        (Some(path), _) => Radii::Picture(ImportanceMap::open(path, a.importance_opts.hdr_white)?),
-        (None, Some(path)) => {
-            let (width, height, radii) = io::read_radius_map(path)?;
-            Radii::Map {
-                width,
-                height,
-                radii,
-            }
+    let job = &a.job;
+    let radii = match job.radii() {
+        Err(e) => {
+            return Err(match &job.radius_map {
+                Some(path) => {
+                    anyhow::Error::new(e).context(format!("radius map '{}'", path.display()))
+                }
+                None => e.into(),
+            });
         }
-        (None, None) => Radii::Uniform(a.radius),
+        Ok(r) => r,
     };
-    let mut job = SampleJob::new(radii);
-    job.width = a.width;
-    job.height = a.height;
-    job.points = a.points;
-    job.importance = a.importance_opts.clone();
-    job.policy = a.policy;
-    job.sampler = a.sampler.clone();
-    job.batch = a.batch;
-    job.max_iterations = a.max_iterations;
     let bar = progress_bar(a.run.quiet);
-    let done = job.run(|p| Ok(run_with_progress(p, a.run.backend, &bar, a.run.verbose)?));
-    let done = match (&a.radius_map, done) {
+    let done = job.run(&radii, |p| {
+        Ok(run_with_progress(p, a.run.backend, &bar, a.run.verbose)?)
+    });
+    let done = match (&job.radius_map, done) {
         (Some(path), Err(e)) => {
             return Err(anyhow::Error::new(e).context(format!("radius map '{}'", path.display())));
         }
@@ -210,7 +172,7 @@ pub fn run(a: &SampleArgs) -> Result<()> {
     };
     bar.finish_and_clear();
     let got = done.set.points.len();
-    if let (Some(n), true) = (a.points, a.run.verbose) {
+    if let (Some(n), true) = (job.points, a.run.verbose) {
         eprintln!("count target {n}: {got} points after {} runs", done.runs);
     }
     if let Some(n) = done.short_of
@@ -235,7 +197,7 @@ fn write_outputs(a: &SampleArgs, set: &SampleSet) -> Result<()> {
         })?;
     }
     if !set.maximal() && !a.run.quiet {
-        if set.stats.exact && set.iterations() < a.max_iterations {
+        if set.stats.exact && set.iterations() < a.job.max_iterations {
             eprintln!(
                 "warning: {} voids finer than the position grid remain; the set is not maximal",
                 set.stats.empty_left

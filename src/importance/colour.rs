@@ -43,6 +43,42 @@ impl ColourMap {
         // The grey loader checks the file (empty, damaged, NaN) and finds
         // the white point; the colours are decoded next to it.
         let lum = load(path)?;
+        let exr = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
+        let rgb = if exr {
+            exr_rgb(path, &lum)?
+        } else {
+            raster_rgb(super::load::decode_file(path)?, lum.range)
+        };
+        Self::over_white(&lum, rgb, hdr_white)
+    }
+
+    /// [`Self::open`] of an image file held in memory (PNG, JPEG, TIFF, BMP,
+    /// WebP); `name` names it in errors.
+    pub fn from_encoded(bytes: &[u8], name: &Path, hdr_white: Option<f32>) -> Result<Self> {
+        let lum = super::load::load_bytes(bytes, name)?;
+        let img = image::ImageReader::new(std::io::Cursor::new(bytes))
+            .with_guessed_format()
+            .ok()
+            .and_then(|r| r.decode().ok())
+            .ok_or_else(|| Error::Decode {
+                path: name.to_owned(),
+                message: "cannot decode the picture".into(),
+            })?;
+        let rgb = raster_rgb(img, lum.range);
+        Self::over_white(&lum, rgb, hdr_white)
+    }
+
+    /// The decoded colours divided by the white point and composited over
+    /// white paper: straight alpha for raster images, premultiplied for EXR
+    /// (OpenEXR's convention).
+    fn over_white(
+        lum: &super::Luminance,
+        mut rgb: Vec<[f32; 3]>,
+        hdr_white: Option<f32>,
+    ) -> Result<Self> {
         let white = match (lum.range, hdr_white) {
             (Range::Unit, _) => 1.0,
             (Range::Float, Some(w)) if w.is_finite() && w > 0.0 => w,
@@ -53,18 +89,6 @@ impl ColourMap {
             }
             (Range::Float, None) => lum.white_point(),
         };
-        let exr = path
-            .extension()
-            .and_then(|e| e.to_str())
-            .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
-        let (w, h) = (lum.width, lum.height);
-        let mut rgb = if exr {
-            exr_rgb(path, &lum)?
-        } else {
-            raster_rgb(path, lum.range)?
-        };
-        // Over white paper: straight alpha for raster images, premultiplied
-        // for EXR (OpenEXR's convention).
         for (i, c) in rgb.iter_mut().enumerate() {
             let a = lum.alpha.as_ref().map_or(1.0, |a| a[i]);
             for v in c.iter_mut() {
@@ -77,7 +101,7 @@ impl ColourMap {
                 *v = over.clamp(0.0, 1.0);
             }
         }
-        Self::from_linear(w, h, rgb)
+        Self::from_linear(lum.width, lum.height, rgb)
     }
 
     /// Width in pixels.
@@ -215,19 +239,17 @@ impl ImportanceMap {
 
 /// The linear RGB of a raster image file (not yet divided by the white
 /// point), with its alpha left to the caller.
-fn raster_rgb(path: &Path, range: Range) -> Result<Vec<[f32; 3]>> {
-    let img = super::load::decode_file(path)?;
+fn raster_rgb(img: image::DynamicImage, range: Range) -> Vec<[f32; 3]> {
     if range == Range::Float {
-        return Ok(img.to_rgb32f().pixels().map(|p| p.0).collect());
+        return img.to_rgb32f().pixels().map(|p| p.0).collect();
     }
     let lut: Vec<f32> = (0..=u16::MAX)
         .map(|v| crate::colour::srgb_to_linear(f32::from(v) / 65535.0))
         .collect();
-    Ok(img
-        .to_rgb16()
+    img.to_rgb16()
         .pixels()
         .map(|p| p.0.map(|v| lut[usize::from(v)]))
-        .collect())
+        .collect()
 }
 
 /// The linear RGB of an EXR: its R, G and B channels, or its luminance.

@@ -167,6 +167,35 @@ impl Job {
         Ok(calibrated)
     }
 
+    /// Writes the SVG of a colour drawing to `out`: one Inkscape layer per
+    /// pen, in the pens' order.
+    pub(crate) fn write_colour_svg(
+        &self,
+        drawing: &Stipple,
+        out: &mut dyn std::io::Write,
+    ) -> crate::Result<()> {
+        let Some(pens) = &drawing.pens else {
+            return Err(
+                crate::stipple::Error::InvalidParameter("not a colour drawing".into()).into(),
+            );
+        };
+        let layers = self.pen_dots(drawing);
+        let opts = self.svg_options(drawing.domain)?;
+        let svg_layers: Vec<svg::Layer<'_>> = pens
+            .pens()
+            .iter()
+            .zip(&layers)
+            .map(|(p, d)| svg::Layer {
+                name: &p.name,
+                ink: p.colour,
+                pen_mm: p.width_mm,
+                dots: d,
+            })
+            .collect();
+        svg::write_layers(out, &svg_layers, &opts)?;
+        Ok(())
+    }
+
     /// Writes a colour drawing (its `pens` set) in `format` to `path`: one
     /// layer per pen in SVG, the composite in PNG, a pen column in CSV and
     /// JSON.
@@ -185,20 +214,8 @@ impl Job {
         let dots = layers.iter().map(Vec::len).sum::<usize>();
         match format {
             Format::Svg => {
-                let domain = drawing.domain;
-                let opts = self.svg_options(domain)?;
-                let svg_layers: Vec<svg::Layer<'_>> = pens
-                    .pens()
-                    .iter()
-                    .zip(&layers)
-                    .map(|(p, d)| svg::Layer {
-                        name: &p.name,
-                        ink: p.colour,
-                        pen_mm: p.width_mm,
-                        dots: d,
-                    })
-                    .collect();
-                crate::io::write_atomic(path, |w| Ok(svg::write_layers(w, &svg_layers, &opts)?))?;
+                let text = self.svg(drawing)?;
+                crate::io::write_atomic(path, |w| Ok(w.write_all(&text)?))?;
             }
             Format::Png => {
                 let papers = layers

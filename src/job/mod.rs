@@ -525,6 +525,20 @@ impl Job {
         )
     }
 
+    /// The SVG of `drawing` as this job writes it: circles, or pen paths
+    /// with `pen_mm`; one Inkscape layer per pen in colour.
+    pub fn svg(&self, drawing: &Stipple) -> crate::Result<Vec<u8>> {
+        let mut out = Vec::new();
+        if drawing.pens.is_some() {
+            self.write_colour_svg(drawing, &mut out)?;
+        } else {
+            let dots = self.dots(drawing);
+            let opts = self.svg_options(drawing.domain)?;
+            svg::write(&mut out, &dots, &opts)?;
+        }
+        Ok(out)
+    }
+
     /// Writes `drawing` to `path` atomically, in the format of its
     /// extension: the dots as this job draws them ([`Self::dots`]) as SVG
     /// (circles, or pen paths with `pen_mm`) or PNG (at `scale`, in the
@@ -540,9 +554,8 @@ impl Job {
         let domain = drawing.domain;
         match format {
             Format::Svg => {
-                let dots = self.dots(drawing);
-                let opts = self.svg_options(domain)?;
-                crate::io::write_atomic(path, |w| Ok(svg::write(w, &dots, &opts)?))?;
+                let text = self.svg(drawing)?;
+                crate::io::write_atomic(path, |w| Ok(w.write_all(&text)?))?;
             }
             Format::Png => {
                 let dots = self.dots(drawing);

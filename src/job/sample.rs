@@ -4,7 +4,10 @@
 //! it, so that the same job gives the same points from either, and its
 //! rules (what excludes what, the domain, the count fit) are written once.
 
+use std::path::PathBuf;
 use std::sync::Arc;
+
+use serde::{Deserialize, Serialize};
 
 use crate::importance::{ImportanceMap, ImportanceOptions, Mapping, fit_size};
 use crate::sampler::{
@@ -12,12 +15,13 @@ use crate::sampler::{
 };
 use crate::stipple::Error;
 
-/// Where a point set's radii come from.
+/// Where a point set's radii come from, in memory.
 #[derive(Clone, Debug)]
 #[non_exhaustive]
 pub enum Radii {
-    /// One radius for every disk, in pixels; `None` finds it for the count.
-    Uniform(Option<f32>),
+    /// One radius for every disk: the job's `radius`, or the one found for
+    /// its count.
+    Uniform,
     /// A radius per pixel, row-major, `width`×`height`; a count scales it.
     Map {
         /// The map's width (the domain's).
@@ -32,30 +36,76 @@ pub enum Radii {
     Picture(ImportanceMap),
 }
 
-/// A point-set job: where the radii come from, the domain, the count, the
-/// policy and the sampler's options. [`SampleJob::new`] holds the defaults.
-#[derive(Clone, Debug)]
+/// A point-set job: the options of `pixelpie sample` (with the `cli`
+/// feature, its arguments) and the keyword arguments of Python's
+/// `pixelpie.sample`, under the same names, with their defaults
+/// ([`SampleJob::default`]) and what excludes what ([`SampleJob::check`]),
+/// written once. Where the radii come from is given to [`SampleJob::run`]
+/// ([`Radii`]: the files named here, or arrays in memory).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::Args))]
+#[serde(default)]
 #[non_exhaustive]
 pub struct SampleJob {
-    /// Where the radii come from.
-    pub radii: Radii,
-    /// Domain width in pixels (default: the map's or the picture's).
+    /// Domain width in pixels [default: the radius or importance map's].
+    #[cfg_attr(feature = "cli", arg(long))]
     pub width: Option<u32>,
-    /// Domain height in pixels (default: the map's or the picture's).
+    /// Domain height in pixels [default: the radius or importance map's].
+    #[cfg_attr(feature = "cli", arg(long))]
     pub height: Option<u32>,
-    /// About this many points (±3%): finds the radius, or scales the map.
+    /// Disk radius in pixels, for a uniform set (with an importance map,
+    /// --min-radius is the black pixels' radius).
+    #[cfg_attr(feature = "cli", arg(long))]
+    pub radius: Option<f32>,
+    /// Target point count (±3%): picks the radius, or scales the radius or
+    /// importance map's radii.
+    #[cfg_attr(feature = "cli", arg(long))]
     pub points: Option<usize>,
+    /// Single-channel float OpenEXR of radii in pixels.
+    #[cfg_attr(feature = "cli", arg(long))]
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub radius_map: Option<PathBuf>,
+    /// Importance map (PNG, JPEG, TIFF, BMP, WebP, OpenEXR): dark pixels get
+    /// small radii. Resized to --width/--height when given.
+    #[cfg_attr(feature = "cli", arg(long))]
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub importance: Option<PathBuf>,
     /// How a picture becomes radii (its `min_radius` is the black pixels'
     /// radius).
-    pub importance: ImportanceOptions,
-    /// The disk policy.
+    #[cfg_attr(feature = "cli", command(flatten))]
+    #[serde(flatten)]
+    pub importance_options: ImportanceOptions,
+    /// Disk policy for varying radii (paper §3.4).
+    #[cfg_attr(feature = "cli", arg(long, value_enum, default_value_t = DEFAULT_POLICY))]
     pub policy: Policy,
     /// Seed, sub-pixel darts, periodic domain, exact mode.
+    #[cfg_attr(feature = "cli", command(flatten))]
+    #[serde(flatten)]
     pub sampler: SamplerOptions,
-    /// Darts per iteration (default: half the expected count).
+    /// Darts per iteration [default: half the expected count].
+    #[cfg_attr(feature = "cli", arg(long))]
     pub batch: Option<u32>,
-    /// Cap on iterations; a capped set is not maximal.
+    /// Cap on iterations; a capped run is reported as not maximal.
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = DEFAULT_MAX_ITERATIONS))]
     pub max_iterations: u32,
+}
+
+impl Default for SampleJob {
+    fn default() -> Self {
+        Self {
+            width: None,
+            height: None,
+            radius: None,
+            points: None,
+            radius_map: None,
+            importance: None,
+            importance_options: ImportanceOptions::default(),
+            policy: DEFAULT_POLICY,
+            sampler: SamplerOptions::default(),
+            batch: None,
+            max_iterations: DEFAULT_MAX_ITERATIONS,
+        }
+    }
 }
 
 /// A finished point-set job.
@@ -72,53 +122,92 @@ pub struct Sampled {
 }
 
 impl SampleJob {
-    /// A job for `radii`, with every default: the domain of the map or
-    /// picture, no count, the default policy and sampler options.
-    #[must_use]
-    pub fn new(radii: Radii) -> Self {
-        Self {
-            radii,
-            width: None,
-            height: None,
-            points: None,
-            importance: ImportanceOptions::default(),
-            policy: DEFAULT_POLICY,
-            sampler: SamplerOptions::default(),
-            batch: None,
-            max_iterations: DEFAULT_MAX_ITERATIONS,
-        }
-    }
-
-    /// Checks what excludes what, and that a uniform job has a domain.
-    pub fn check(&self) -> Result<(), Error> {
+    /// Checks what excludes what, for radii from `radii` (a map or picture
+    /// in memory, else the files this job names), and that a uniform job
+    /// has a domain.
+    pub fn check(&self, radii: &Radii) -> Result<(), Error> {
         let bad = |m: String| Err(Error::InvalidParameter(m));
-        match &self.radii {
-            Radii::Uniform(r) => {
-                if r.is_some() && self.points.is_some() {
-                    return bad("give radius or points, not both".into());
-                }
-                if r.is_none() && self.points.is_none() {
-                    return bad("give radius, points, a radius map or an importance map".into());
-                }
-                if self.width.is_none() || self.height.is_none() {
-                    return bad(
-                        "width and height are needed without a radius or importance map".into(),
-                    );
-                }
+        if self.radius_map.is_some() && self.importance.is_some() {
+            return bad("give a radius map or an importance map, not both".into());
+        }
+        let uniform = matches!(radii, Radii::Uniform)
+            && self.radius_map.is_none()
+            && self.importance.is_none();
+        if let Some(r) = self.radius
+            && !(r.is_finite() && r > 0.0)
+        {
+            return bad(format!("radius {r} must be a positive number"));
+        }
+        if self.points == Some(0) {
+            return bad("the point count must be positive".into());
+        }
+        if !uniform {
+            if self.radius.is_some() {
+                return bad(
+                    "radius gives a uniform set: a radius map holds the radii (points scales \
+                     it), and with an importance map min_radius is the black pixels' radius"
+                        .into(),
+                );
             }
-            Radii::Map { width, height, .. } => {
-                let (w, h) = (*width, *height);
-                if self.width.is_some_and(|x| x != w) || self.height.is_some_and(|x| x != h) {
-                    return bad(format!(
-                        "the radius map is {w}x{h}, not the {}x{} domain asked for",
-                        self.width.unwrap_or(w),
-                        self.height.unwrap_or(h)
-                    ));
-                }
+        } else {
+            if self.radius.is_some() && self.points.is_some() {
+                return bad("give radius or points, not both".into());
             }
-            Radii::Picture(_) => {}
+            if self.radius.is_none() && self.points.is_none() {
+                return bad("give radius, points, a radius map or an importance map".into());
+            }
+            if self.width.is_none() || self.height.is_none() {
+                return bad(
+                    "width and height are needed without a radius or importance map".into(),
+                );
+            }
+        }
+        if let Radii::Map { width, height, .. } = radii {
+            let (w, h) = (*width, *height);
+            if self.width.is_some_and(|x| x != w) || self.height.is_some_and(|x| x != h) {
+                return bad(format!(
+                    "the radius map is {w}x{h}, not the {}x{} domain asked for",
+                    self.width.unwrap_or(w),
+                    self.height.unwrap_or(h)
+                ));
+            }
+        }
+        if let Radii::Picture(map) = radii
+            && let (Some(w), Some(h)) = (self.width, self.height)
+            && w != h
+            && (map.width(), map.height()) == (h, w)
+        {
+            // Both sides given and the picture is the domain turned: an
+            // array in (width, height) order is the usual mistake, and
+            // resizing it would stretch it silently.
+            return bad(format!(
+                "the importance map is {}x{}, the {w}x{h} domain turned: a picture array \
+                 is (height, width); transpose it, or give one of width and height",
+                map.width(),
+                map.height()
+            ));
         }
         Ok(())
+    }
+
+    /// The radii this job's files give: its radius map or importance map,
+    /// read, or a uniform radius.
+    pub fn radii(&self) -> crate::Result<Radii> {
+        Ok(match (&self.importance, &self.radius_map) {
+            (Some(path), _) => Radii::Picture(ImportanceMap::open(
+                path,
+                self.importance_options.hdr_white,
+            )?),
+            (None, Some(path)) => {
+                let (width, height, radii) = crate::io::read_radius_map(path)?;
+                Radii::Map {
+                    width,
+                    height,
+                    radii,
+                }
+            }
+            (None, None) => Radii::Uniform,
+        })
     }
 
     /// The parameters every run shares on a `width`×`height` domain.
@@ -134,19 +223,20 @@ impl SampleJob {
         }
     }
 
-    /// Runs the job with `sample` running the sampler (a backend).
+    /// Runs the job on `radii` ([`Self::radii`] for its own files) with
+    /// `sample` running the sampler (a backend).
     pub fn run(
         &self,
+        radii: &Radii,
         mut sample: impl FnMut(&Params) -> crate::Result<SampleSet>,
     ) -> crate::Result<Sampled> {
-        self.check()?;
-        let (start, make): (f64, Box<dyn Fn(f64) -> crate::Result<Params> + '_>) = match &self.radii
-        {
+        self.check(radii)?;
+        let (start, make): (f64, Box<dyn Fn(f64) -> crate::Result<Params> + '_>) = match radii {
             Radii::Picture(map) => return self.run_picture(map, sample),
-            Radii::Uniform(r) => {
+            Radii::Uniform => {
                 let base = self.base(self.width.unwrap_or(1), self.height.unwrap_or(1));
                 let make = move |s: f64| Ok(base.clone().with_radius(s as f32));
-                (f64::from(r.unwrap_or(1.0)), Box::new(make))
+                (f64::from(self.radius.unwrap_or(1.0)), Box::new(make))
             }
             Radii::Map {
                 width,
@@ -177,7 +267,7 @@ impl SampleJob {
         map: &ImportanceMap,
         sample: impl FnMut(&Params) -> crate::Result<SampleSet>,
     ) -> crate::Result<Sampled> {
-        let prepared = self.importance.prepare_map(
+        let prepared = self.importance_options.prepare_map(
             map,
             |w, h| fit_size((w, h), self.width, self.height),
             Mapping::Linear,
