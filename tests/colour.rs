@@ -515,3 +515,50 @@ fn plot_stats_count_each_pens_dots_lifts_and_time() {
     ]);
     assert!(!o.status.success());
 }
+
+#[test]
+fn the_run_reports_every_stage_and_the_sizing_parts() {
+    let photo = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/rocket.jpg");
+    let mut job = cmyk(1500);
+    job.relax = 1;
+    let mut seen = Vec::new();
+    job.run(
+        &photo,
+        |p| Ok(cpu::sample(p, Default::default())?),
+        |step| {
+            seen.push(step);
+            true
+        },
+    )
+    .unwrap();
+    use pixelpie::job::Step::{Relaxed, Stage};
+    let stages: Vec<&str> = seen
+        .iter()
+        .filter_map(|s| match s {
+            Stage(n) => Some(*n),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(
+        stages,
+        [
+            "prepare",
+            "sample",
+            "relax",
+            "order",
+            "size",
+            "size: density",
+            "size: correction 1 of 3",
+            "size: correction 2 of 3",
+            "size: correction 3 of 3"
+        ]
+    );
+    assert!(seen.contains(&Relaxed(1)));
+    // Saying stop at a stage cancels the run.
+    let stopped = job.run(
+        &photo,
+        |p| Ok(cpu::sample(p, Default::default())?),
+        |step| step != Stage("order"),
+    );
+    assert!(stopped.is_err());
+}

@@ -81,6 +81,8 @@ pub struct PixelPieApp {
     last_key: Option<settings::SamplingKey>,
     progress: Option<Progress>,
     relaxed: Option<u32>,
+    /// The stage the running job is in, as its run last reported it.
+    stage: Option<&'static str>,
     dots_generation: u64,
     dot_instances: Arc<Vec<dots::DotInstance>>,
     /// Why the last pen edit was refused (duplicate colours).
@@ -155,6 +157,7 @@ impl PixelPieApp {
             last_key: None,
             progress: None,
             relaxed: None,
+            stage: None,
             dots_generation: 0,
             dot_instances: Arc::new(Vec::new()),
             pen_layers: Vec::new(),
@@ -325,6 +328,7 @@ impl PixelPieApp {
         self.done_job = self.next_job;
         self.progress = None;
         self.relaxed = None;
+        self.stage = None;
         self.source = Some(source);
         self.open_error = None;
         self.outcome = None;
@@ -362,6 +366,7 @@ impl PixelPieApp {
         self.done_job = self.next_job;
         self.progress = None;
         self.relaxed = None;
+        self.stage = None;
         if let Some(o) = &self.outcome {
             let drawn = &o.settings;
             let s = &mut self.settings;
@@ -385,6 +390,7 @@ impl PixelPieApp {
         self.next_job += 1;
         self.progress = None;
         self.relaxed = None;
+        self.stage = None;
         self.job_started = Some(Instant::now());
         self.worker.submit(Job {
             id: self.next_job,
@@ -401,6 +407,8 @@ impl PixelPieApp {
                 Reply::Progress(..) => {}
                 Reply::Relaxed(id, done) if id == self.next_job => self.relaxed = Some(done),
                 Reply::Relaxed(..) => {}
+                Reply::Stage(id, name) if id == self.next_job => self.stage = Some(name),
+                Reply::Stage(..) => {}
                 Reply::Done(id, result) => {
                     self.done_job = self.done_job.max(id);
                     if id != self.next_job {

@@ -118,6 +118,18 @@ impl PixelPieApp {
         let elapsed = self.job_started.map_or(String::new(), |t| {
             format!(", {:.1} s", t.elapsed().as_secs_f64())
         });
+        // After sampling, the stage says what the job is doing.
+        let later = self
+            .stage
+            .filter(|s| !matches!(*s, "prepare" | "sample" | "relax"));
+        if let Some(stage) = later {
+            let what = match stage {
+                "order" => "ordering the dots".to_owned(),
+                "size" => "sizing the dots".to_owned(),
+                s => format!("sizing the dots ({})", s.trim_start_matches("size: ")),
+            };
+            return Some(format!("{what}{elapsed}"));
+        }
         Some(match (&self.progress, self.relaxed) {
             (_, Some(done)) => {
                 format!(

@@ -14,7 +14,7 @@ use super::settings::Settings;
 use crate::backend::BackendChoice;
 use crate::gpu::GpuSampler;
 use crate::importance::{ColourMap, ImportanceMap};
-use crate::job::Stipple;
+use crate::job::{Step, Stipple};
 use crate::sampler::{self, Control, Params, Progress, SampleSet};
 
 /// A sampling request.
@@ -111,6 +111,9 @@ pub enum Reply {
     Progress(u64, Progress),
     /// This many relaxation steps are done.
     Relaxed(u64, u32),
+    /// A stage of the drawing begins (after sampling: relax, order, size
+    /// and its parts).
+    Stage(u64, &'static str),
     /// A job ended.
     Done(u64, Box<Result<Outcome, String>>),
 }
@@ -237,11 +240,14 @@ fn run(
             let _ = replies.send(Reply::Progress(id, p));
         };
         let ctl = Control::new().with_progress(&progress).with_cancel(&cancel);
-        let relaxed = |done: u32| {
-            let _ = replies.send(Reply::Relaxed(id, done));
+        let step = |step: Step| {
+            let _ = replies.send(match step {
+                Step::Relaxed(done) => Reply::Relaxed(id, done),
+                Step::Stage(name) => Reply::Stage(id, name),
+            });
         };
         let start = std::time::Instant::now();
-        let result = match compute(&job, &gpu, ctl, &relaxed) {
+        let result = match compute(&job, &gpu, ctl, &step) {
             Err(crate::Error::Sampler(sampler::Error::Cancelled)) => continue,
             _ if cancel.load(Ordering::Relaxed) => continue,
             Ok(mut o) => {
@@ -260,7 +266,7 @@ fn compute(
     job: &Job,
     gpu: &Mutex<Option<GpuState>>,
     ctl: Control<'_>,
-    relaxed: &dyn Fn(u32),
+    step: &dyn Fn(Step),
 ) -> crate::Result<Outcome> {
     let s = &job.settings;
     let mut note = None;
@@ -268,8 +274,8 @@ fn compute(
     let drawing = run.draw(
         crate::job::Picture::Both(&job.map, &job.colour),
         |params| Ok(sample(params, s.backend, gpu, ctl, &mut note)?),
-        |done| {
-            relaxed(done);
+        |s| {
+            step(s);
             ctl.check().is_ok()
         },
     )?;

@@ -10,7 +10,7 @@ use anyhow::Result;
 use clap::Args;
 
 use pixelpie::io;
-use pixelpie::job::{Format, Job};
+use pixelpie::job::{Format, Job, Step};
 use pixelpie::stipple::plot::PlotSpeeds;
 
 use super::sample::{RunArgs, progress_bar, run_with_progress};
@@ -65,6 +65,11 @@ pub fn run(a: &StippleArgs) -> Result<()> {
     let t0 = Instant::now();
     let bar = progress_bar(a.run.quiet);
     let relax_bar = progress_bar(a.run.quiet || o.relax == 0);
+    let stage_bar = progress_bar(a.run.quiet);
+    stage_bar.set_style(
+        indicatif::ProgressStyle::with_template("{spinner} {msg} ({elapsed})")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_spinner()),
+    );
     relax_bar.set_length(u64::from(o.relax));
     relax_bar.set_style(
         indicatif::ProgressStyle::with_template("{spinner} relaxing [{bar:30}] {pos}/{len}")
@@ -80,14 +85,29 @@ pub fn run(a: &StippleArgs) -> Result<()> {
                 a.run.verbose,
             )?)
         },
-        |done| {
-            bar.finish_and_clear();
-            relax_bar.set_position(u64::from(done));
+        |step| {
+            match step {
+                Step::Relaxed(done) => {
+                    relax_bar.set_position(u64::from(done));
+                }
+                // After sampling, a spinner names the stage, and ticks.
+                Step::Stage("prepare" | "sample") => {}
+                Step::Stage(name) => {
+                    bar.finish_and_clear();
+                    if name != "relax" {
+                        relax_bar.finish_and_clear();
+                        stage_bar.set_message(name);
+                        stage_bar.enable_steady_tick(std::time::Duration::from_millis(250));
+                    }
+                }
+                _ => {}
+            }
             true
         },
     )?;
     bar.finish_and_clear();
     relax_bar.finish_and_clear();
+    stage_bar.finish_and_clear();
     let got = drawing.set.points.len();
     if a.run.verbose {
         eprintln!("{got} points after {} runs", drawing.runs);

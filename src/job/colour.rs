@@ -117,6 +117,7 @@ impl Job {
         points: &[Point],
         range: RadiusRange,
         domain: (u32, u32),
+        stage: &mut dyn FnMut(&'static str) -> crate::Result<()>,
     ) -> crate::Result<Vec<f32>> {
         let maps = &separated.maps;
         if maps.first().is_some_and(|m| m.mapping == Mapping::Linear) {
@@ -125,6 +126,7 @@ impl Job {
                 .map(|p| maps[p.class as usize].dot_radius(p, range))
                 .collect());
         }
+        stage("size: density")?;
         let density = Density::new(points, maps, range, domain);
         let inks: Vec<f64> = points
             .iter()
@@ -147,7 +149,7 @@ impl Job {
                 domain,
                 points.len(),
             )?
-            .apply(points, &inks, &spacing, &mut calibrated, maps.len())?;
+            .apply(points, &inks, &spacing, &mut calibrated, maps.len(), stage)?;
         }
         if self.dot_mode() == super::DotMode::Fixed {
             let mut sums = vec![(0f64, 0usize); maps.len()];
@@ -406,6 +408,12 @@ const DAMPING: f64 = 0.7;
 const ERROR_BLUR: f64 = 1.0;
 /// Rounds of [`Correction`].
 const CORRECTIONS: usize = 3;
+/// Each round's name in the run's progress.
+const ROUNDS: [&str; CORRECTIONS] = [
+    "size: correction 1 of 3",
+    "size: correction 2 of 3",
+    "size: correction 3 of 3",
+];
 /// The render grid's longer side, at most.
 const CORRECTION_SIDE: u32 = 1024;
 /// The work grid's cells are blocks of render pixels at most σ / this wide.
@@ -484,13 +492,15 @@ impl Correction {
         spacing: &[f64],
         calibrated: &mut [f32],
         pens: usize,
+        stage: &mut dyn FnMut(&'static str) -> crate::Result<()>,
     ) -> crate::Result<()> {
         use crate::analyze::fidelity::{Grey, blur};
         let (w, h) = self.size;
         let (ww, wh) = self.work;
         let block = self.block;
         let mut assumed = inks.to_vec();
-        for _ in 0..CORRECTIONS {
+        for round in ROUNDS.iter().take(CORRECTIONS) {
+            stage(round)?;
             let layers = (0..pens as u32)
                 .into_par_iter()
                 .map(|k| {

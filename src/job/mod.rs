@@ -27,7 +27,7 @@ mod sample;
 
 pub use options::{DotMode, Format, Ink, Order};
 pub use ramp::{RampError, ramp_error};
-pub use run::{Picture, Stipple};
+pub use run::{Picture, Step, Stipple};
 pub use sample::{Radii, SampleJob, Sampled};
 
 use crate::colour::PenSet;

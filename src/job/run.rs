@@ -79,13 +79,14 @@ pub struct Stipple {
 }
 
 impl Job {
-    /// Draws `image` (a file) with `sample` running the sampler; `relaxed`
-    /// hears each relaxation step done and returns false to stop.
+    /// Draws `image` (a file) with `sample` running the sampler; `progress`
+    /// hears each stage begin and each relaxation step done, and returns
+    /// false to stop.
     pub fn run(
         &self,
         image: &Path,
         sample: impl FnMut(&Params) -> crate::Result<SampleSet>,
-        relaxed: impl FnMut(u32) -> bool,
+        progress: impl FnMut(Step) -> bool,
     ) -> crate::Result<Stipple> {
         let t0 = std::time::Instant::now();
         let (grey, colour);
@@ -97,7 +98,7 @@ impl Job {
             Picture::Grey(&grey)
         };
         let opened = t0.elapsed().as_secs_f64();
-        let mut drawing = self.draw(picture, sample, relaxed)?;
+        let mut drawing = self.draw(picture, sample, progress)?;
         drawing.seconds.0 += opened;
         Ok(drawing)
     }
@@ -107,27 +108,29 @@ impl Job {
         &self,
         map: &ImportanceMap,
         sample: impl FnMut(&Params) -> crate::Result<SampleSet>,
-        relaxed: impl FnMut(u32) -> bool,
+        progress: impl FnMut(Step) -> bool,
     ) -> crate::Result<Stipple> {
-        self.draw(Picture::Grey(map), sample, relaxed)
+        self.draw(Picture::Grey(map), sample, progress)
     }
 
     /// The one staged run of every drawing, grey or colour, of a picture in
     /// memory (borrowed: the app keeps its picture across jobs): prepare
     /// (one map per pen; a grey drawing is one pen) → sample → relax →
     /// order → size. The writers are [`Self::write`]. `sample` runs the
-    /// sampler; `relaxed` hears each relaxation step done and returns false
-    /// to stop.
+    /// sampler; `progress` hears each stage begin ([`Step::Stage`], within
+    /// the long ones each part) and each relaxation step done, and returns
+    /// false to stop (a stage: the run ends as cancelled; relaxation: it
+    /// stops where it is).
     pub fn draw(
         &self,
         picture: Picture<'_>,
         sample: impl FnMut(&Params) -> crate::Result<SampleSet>,
-        relaxed: impl FnMut(u32) -> bool,
+        mut progress: impl FnMut(Step) -> bool,
     ) -> crate::Result<Stipple> {
         let t0 = std::time::Instant::now();
         self.check()?;
         let (points, count_target) = self.count();
-        // Prepare.
+        stage(&mut progress, "prepare")?;
         let (separated, grey) = if self.colour() {
             let colour = picture.colour();
             let domain = self.domain_for((colour.width(), colour.height()), points);
@@ -151,7 +154,7 @@ impl Job {
         };
         let domain = (maps[0].map.width(), maps[0].map.height());
         let t_load = t0.elapsed().as_secs_f64();
-        // Sample.
+        stage(&mut progress, "sample")?;
         let base = self
             .sampler
             .apply(Params::new(domain.0, domain.1).with_policy(self.policy));
@@ -162,22 +165,26 @@ impl Job {
         };
         let (mut set, range) = (fitted.set, fitted.range);
         let t_sample = t0.elapsed().as_secs_f64() - t_load;
-        // Relax.
         if self.relax > 0 {
+            stage(&mut progress, "relax")?;
             let options = relax::RelaxOptions {
                 iterations: self.relax,
                 periodic: self.sampler.periodic,
             };
-            let moved = crate::stipple::relax_points(maps, range, &set.points, options, relaxed)?;
+            let moved = crate::stipple::relax_points(maps, range, &set.points, options, |n| {
+                progress(Step::Relaxed(n))
+            })?;
             set = set.with_points(moved);
         }
         let t_relax = t0.elapsed().as_secs_f64() - t_load - t_sample;
-        // Order.
+        stage(&mut progress, "order")?;
         let (points, tour) = self.ordered(&set.points, maps.len());
         let t_order = t0.elapsed().as_secs_f64() - t_load - t_sample - t_relax;
-        // Size.
+        stage(&mut progress, "size")?;
         let calibrated = match &separated {
-            Some(s) => self.colour_sizes(s, &points, range, domain)?,
+            Some(s) => self.colour_sizes(s, &points, range, domain, &mut |name| {
+                stage(&mut progress, name)
+            })?,
             None => maps[0].dot_radii(&points, range),
         };
         let t_size = t0.elapsed().as_secs_f64() - t_load - t_sample - t_relax - t_order;
@@ -239,5 +246,27 @@ impl Job {
             all.moves += t.moves;
         }
         (ordered, Some(all))
+    }
+}
+
+/// What a drawing's run reports as it goes ([`Job::draw`]'s `progress`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum Step {
+    /// A stage begins: `prepare`, `sample`, `relax`, `order` or `size`, and
+    /// within a colour drawing's sizing each part (`size: density`, `size:
+    /// correction 1 of 3`, …), so that long work reports at least once a
+    /// second.
+    Stage(&'static str),
+    /// Relaxation steps done so far.
+    Relaxed(u32),
+}
+
+/// Reports stage `name`; an `Err` (cancelled) when `progress` says stop.
+fn stage(progress: &mut impl FnMut(Step) -> bool, name: &'static str) -> crate::Result<()> {
+    if progress(Step::Stage(name)) {
+        Ok(())
+    } else {
+        Err(crate::sampler::Error::Cancelled.into())
     }
 }
