@@ -570,7 +570,7 @@ impl<'a> ExactGpuStepper<'a> {
         self.queue.submit([encoder.finish()]);
         let bytes = util::read_back(self.device, &staging, 4 * u64::from(words))?;
         let gpu: Vec<u32> = bytemuck::pod_collect_to_vec(&bytes);
-        let mut map = crate::sampler::cpu::cover::new_map(self.plan.pixels());
+        let mut map = crate::sampler::coverage::new_map(self.plan.pixels());
         for (i, word) in map.iter_mut().enumerate() {
             let lo = u64::from(gpu.get(2 * i).copied().unwrap_or(0));
             let hi = u64::from(gpu.get(2 * i + 1).copied().unwrap_or(0));

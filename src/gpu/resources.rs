@@ -638,7 +638,7 @@ pub struct RadiusTexture {
     /// Its view, for bind groups.
     pub view: wgpu::TextureView,
     /// The largest radius within reach of each 8×8 block of each layer
-    /// (`cpu::cover::Blocks`): what limits cover's reach under Current and
+    /// (`sampler::coverage::Blocks`): what limits cover's reach under Current and
     /// Bigger. One word without a map.
     pub near: wgpu::Buffer,
     has_map: bool,
@@ -673,7 +673,7 @@ impl RadiusTexture {
         });
         let view = texture.create_view(&Default::default());
         let blocks = if has_map {
-            crate::sampler::cpu::cover::Blocks::count(plan)
+            crate::sampler::coverage::Blocks::count(plan)
         } else {
             1
         };
@@ -725,7 +725,7 @@ impl RadiusTexture {
     /// the pixel pass's cover reads (exact mode's does not).
     pub fn upload_near(&self, queue: &wgpu::Queue, plan: &Plan) {
         if matches!(plan.policy, Policy::Current | Policy::Bigger)
-            && let Some(blocks) = crate::sampler::cpu::cover::Blocks::new(plan)
+            && let Some(blocks) = crate::sampler::coverage::Blocks::new(plan)
         {
             queue.write_buffer(&self.near, 0, bytemuck::cast_slice(blocks.near_all()));
         }

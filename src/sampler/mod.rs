@@ -49,6 +49,7 @@
 //! continuous domain. It runs on the CPU.
 
 pub mod classes;
+pub mod coverage;
 pub mod cpu;
 // Exact mode's and the fixed-point rules are the contract's own; the tests
 // read them, users need not.

@@ -10,7 +10,7 @@
 
 use rayon::prelude::*;
 
-use super::cover::{BAND_ROWS, is_covered};
+use crate::sampler::coverage::{BAND_ROWS, is_covered};
 
 /// The pixels still empty, in ascending order.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -75,7 +75,7 @@ impl EmptyList {
         Some(&pieces[b][(i - self.starts[b]) as usize])
     }
 
-    /// Removes the pixels that the coverage map ([`super::cover::new_map`])
+    /// Removes the pixels that the coverage map ([`crate::sampler::coverage::new_map`])
     /// marks, keeping the order.
     pub fn compact(&mut self, coverage: &[u64]) {
         let band = self.band as usize;
@@ -154,7 +154,7 @@ mod tests {
         let (w, h) = (7u32, 3 * BAND_ROWS + 5);
         let n = w * h;
         let mut list = EmptyList::all(n, w);
-        let mut coverage = crate::sampler::cpu::cover::new_map(n);
+        let mut coverage = crate::sampler::coverage::new_map(n);
         let mut want: Vec<u32> = (0..n).collect();
         for round in 0..4u32 {
             for p in 0..n {

@@ -16,24 +16,9 @@ use std::time::Instant;
 use compact::EmptyList;
 
 use super::run::{self, StageTimes, Step, Stepper};
-use super::{Control, Dart, Params, Plan, Result, SampleSet, Stats};
+use super::{Control, Dart, Params, Plan, Result, SampleSet, Stats, coverage};
 
-/// Asks the cache for the line holding `at`: a hint that changes no result.
-#[inline]
-pub(crate) fn prefetch<T>(at: &T) {
-    #[cfg(target_arch = "x86_64")]
-    #[expect(
-        unsafe_code,
-        reason = "_mm_prefetch takes a raw pointer; a prefetch never faults, and this one is of a live reference"
-    )]
-    // SAFETY: `at` is a valid reference; prefetching reads nothing back.
-    unsafe {
-        use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
-        _mm_prefetch::<_MM_HINT_T0>(std::ptr::from_ref(at).cast());
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = at;
-}
+pub(crate) use super::coverage::prefetch;
 
 /// Runs the sampler on the CPU (the exact mode's refinement included).
 ///
@@ -68,7 +53,7 @@ pub struct CpuStepper<'p> {
     grid: throw::DartGrid,
     culler: cull::Culler,
     /// The radius map's blocks, for coverage under a policy that reads it.
-    blocks: Option<cover::Blocks>,
+    blocks: Option<coverage::Blocks>,
     peak_bytes: usize,
 }
 
@@ -87,7 +72,7 @@ impl<'p> CpuStepper<'p> {
             survivors: Vec::new(),
             grid: throw::DartGrid::default(),
             culler: cull::Culler::default(),
-            blocks: cover::Blocks::new(plan),
+            blocks: coverage::Blocks::new(plan),
             peak_bytes: 0,
         }
     }
@@ -97,7 +82,7 @@ impl<'p> CpuStepper<'p> {
 /// slot empty, but for the slots of a class with no radius at their pixel.
 pub(crate) fn initial(plan: &Plan) -> (Vec<u64>, EmptyList) {
     let slots = plan.slots();
-    let mut coverage = cover::new_map(slots);
+    let mut coverage = coverage::new_map(slots);
     let mut empty = EmptyList::all(slots, plan.width);
     if plan.holes
         && let Some(map) = &plan.map
@@ -153,7 +138,7 @@ impl Stepper for CpuStepper<'_> {
 
     fn bytes(&self) -> usize {
         let map_bytes = self.plan.map.as_ref().map_or(0, |m| 4 * m.radii_fx().len());
-        let blocks = self.blocks.as_ref().map_or(0, cover::Blocks::bytes);
+        let blocks = self.blocks.as_ref().map_or(0, coverage::Blocks::bytes);
         8 * self.coverage.len() + map_bytes + blocks + self.peak_bytes
     }
 }

@@ -308,7 +308,7 @@ mod tests {
                 .plan()
                 .unwrap();
             let mut empty = EmptyList::all(w * h, w);
-            let mut coverage = super::super::cover::new_map(w * h);
+            let mut coverage = crate::sampler::coverage::new_map(w * h);
             for p in (0..w * h).filter(|p| p % 3 == 0 || p % 7 == 1) {
                 coverage[(p / 64) as usize] |= 1 << (p % 64);
             }

@@ -73,8 +73,8 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
+use super::coverage::{BAND_ROWS, fill_span, for_each_band, isqrt, new_map};
 use super::cpu::compact::EmptyList;
-use super::cpu::cover::{BAND_ROWS, fill_span, for_each_band, isqrt, new_map};
 use super::fixed::{self, RADIUS_FRAC_BITS, axis_delta, iteration_key};
 use super::run::{StageTimes, Step, Stepper};
 use super::{Plan, Point, Policy, Result};
@@ -737,7 +737,7 @@ impl Stepper for ExactStepper<'_> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::cpu::cover::is_covered;
+    use super::super::coverage::is_covered;
     use super::*;
 
     #[test]
