@@ -136,8 +136,7 @@ impl Knots {
             .filter(|(_, w)| **w > 0)
             .map(|(i, &w)| {
                 let r = f64::from(map.mapping.radius(i as f32 / KNOTS as f32, range));
-                let density = crate::sampler::RSA_DENSITY / (std::f64::consts::PI * r * r / 4.0)
-                    * super::ink::density(r);
+                let density = super::ink::rsa_per_pixel(r) * super::ink::density(r);
                 density * (w as f64 / KNOT_ONE)
             })
             .sum();
@@ -198,9 +197,7 @@ impl UnionRadii {
             .filter(|(_, n)| **n > 0)
             .map(|(i, &n)| {
                 let r = (Self::radius(i) * scale).max(1.0);
-                crate::sampler::RSA_DENSITY / (std::f64::consts::PI * r * r / 4.0)
-                    * super::ink::density(0.5 * r)
-                    * n as f64
+                super::ink::rsa_per_pixel(r) * super::ink::density(0.5 * r) * n as f64
             })
             .sum();
         sum * self.scale * CLASS_COUNT_BIAS

@@ -38,6 +38,13 @@ pub const DENSITY: [f64; RADII.len()] = [
     0.6744, 0.7783, 0.8185, 0.8796, 0.9021, 0.9338, 0.9449, 0.9630, 0.9764, 0.9885, 0.9910,
 ];
 
+/// The points per pixel of a saturated random sequential adsorption set of
+/// radius `r` px: [`crate::sampler::RSA_DENSITY`] / (π r²/4).
+#[must_use]
+pub fn rsa_per_pixel(r: f64) -> f64 {
+    crate::sampler::RSA_DENSITY / (std::f64::consts::PI * r * r / 4.0)
+}
+
 /// The density of a maximal set of radius `r` px over RSA's ([`DENSITY`],
 /// interpolated in log r, clamped to the measured radii).
 ///

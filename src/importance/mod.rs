@@ -42,7 +42,7 @@ pub use options::{DEFAULT_RADIUS_RATIO, ImportanceOptions, MappingKind};
 
 use rayon::prelude::*;
 
-use crate::sampler::{Point, RSA_DENSITY};
+use crate::sampler::Point;
 
 /// The percentile of a float image's luminance that becomes white.
 pub const HDR_PERCENTILE: f64 = 99.5;
@@ -447,10 +447,7 @@ impl ImportanceMap {
             .iter()
             .zip(radii)
             .filter(|(v, _)| cutoff.is_none_or(|c| **v <= c))
-            .map(|(_, &r)| {
-                let r = f64::from(r);
-                RSA_DENSITY / (std::f64::consts::PI * r * r / 4.0)
-            })
+            .map(|(_, &r)| ink::rsa_per_pixel(f64::from(r)))
             .sum()
     }
 }
