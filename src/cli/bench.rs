@@ -38,6 +38,10 @@ pub struct BenchArgs {
     /// beside uniform sampling of as many points, whole processes.
     #[arg(long)]
     stipple: bool,
+    /// With --stipple: a 4-pen drawing (`--pens cmyk`) against the grey
+    /// drawing of the same count, to SVG, whole processes run in turn.
+    #[arg(long, requires = "stipple")]
+    colour: bool,
     /// The picture for --stipple.
     #[arg(long, default_value = "assets/default.png", requires = "stipple")]
     image: std::path::PathBuf,
@@ -92,6 +96,9 @@ fn row(label: &str, side: u32, batch: u32, s: &SampleSet) {
 }
 
 pub fn run(a: &BenchArgs) -> Result<()> {
+    if a.stipple && a.colour {
+        return super::bench_stipple::run_colour(&a.image, &a.points, a.reps);
+    }
     if a.stipple {
         return super::bench_stipple::run(&a.image, &a.points, a.reps);
     }

@@ -176,3 +176,83 @@ pub fn run(image: &Path, counts: &[usize], reps: u32) -> Result<()> {
     }
     Ok(())
 }
+
+/// Runs the colour benchmark on `image` for each of `counts`: the 4-pen
+/// drawing (`--pens cmyk`) and the grey one of the same count to SVG, whole
+/// processes run in turn `reps` times (the median of the pairs' ratios,
+/// the largest peaks), and the colour run's stages timed in this process.
+pub fn run_colour(image: &Path, counts: &[usize], reps: u32) -> Result<()> {
+    let dir = tempfile::tempdir()?;
+    let svg = dir.path().join("d.svg");
+    println!(
+        "{}, CPU backend ({} threads), whole processes to SVG, run in turn, median of {reps}\n",
+        image.display(),
+        rayon::current_num_threads()
+    );
+    println!(
+        "| dots | grey s | cmyk s | cmyk ÷ grey | peak MB (grey / cmyk) | cmyk stages s: prepare, sample, order, size |"
+    );
+    println!("|---|---|---|---|---|---|");
+    for &n in counts {
+        let points = n.to_string();
+        let args = |pens: bool| {
+            let mut v = vec![
+                "stipple",
+                s(image),
+                "-o",
+                s(&svg),
+                "--points",
+                &points,
+                "--backend",
+                "cpu",
+                "-q",
+            ];
+            if pens {
+                v.extend(["--pens", "cmyk"]);
+            }
+            v
+        };
+        let (mut grey, mut colour, mut ratios) = (Vec::new(), Vec::new(), Vec::new());
+        for _ in 0..reps.max(1) {
+            let g = child(&args(false))?;
+            let c = child(&args(true))?;
+            ratios.push(c.0 / g.0);
+            grey.push(g);
+            colour.push(c);
+        }
+        let median = |mut v: Vec<f64>| {
+            v.sort_by(f64::total_cmp);
+            v[v.len() / 2]
+        };
+        let peak = |v: &[(f64, f64)]| v.iter().map(|r| r.1).fold(0.0, f64::max);
+        let mut job = Job::default();
+        job.points = Some(n);
+        job.pens = Some(pixelpie::colour::PenSet::cmyk());
+        let drawing = job.run(
+            image,
+            |p| Ok(pixelpie::sampler::cpu::sample(p, Default::default())?),
+            |_| true,
+        )?;
+        let stage = |name: &str| {
+            drawing
+                .stages
+                .iter()
+                .find(|(n, _)| *n == name)
+                .map_or(0.0, |(_, s)| *s)
+        };
+        println!(
+            "| {:.0}K | {:.2} | {:.2} | **{:.1}** | {:.0} / {:.0} | {:.2}, {:.2}, {:.2}, {:.2} |",
+            drawing.dots.len() as f64 / 1e3,
+            median(grey.iter().map(|r| r.0).collect()),
+            median(colour.iter().map(|r| r.0).collect()),
+            median(ratios),
+            peak(&grey),
+            peak(&colour),
+            stage("prepare") + drawing.seconds.0 - stage("prepare"),
+            stage("sample"),
+            stage("order"),
+            stage("size"),
+        );
+    }
+    Ok(())
+}
