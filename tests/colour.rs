@@ -505,7 +505,8 @@ fn plot_stats_count_each_pens_dots_lifts_and_time() {
     }
     let last: f64 = rows[4].last().unwrap().parse().unwrap();
     assert!((last - total).abs() < 0.2, "total {last} vs {total}");
-    // Without a pen there is nothing to plot.
+    // Without a pen there is nothing to plot, and the error says what is
+    // missing, in one line.
     let o = pixelpie(&[
         "stipple",
         &rocket,
@@ -513,7 +514,9 @@ fn plot_stats_count_each_pens_dots_lifts_and_time() {
         svg.to_str().unwrap(),
         "--plot-stats",
     ]);
-    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("--pen-mm") && err.trim().lines().count() == 1, "{err}");
 }
 
 #[test]

@@ -6,7 +6,7 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use anyhow::Result;
+use anyhow::{Result, bail};
 use clap::Args;
 
 use pixelpie::io;
@@ -31,7 +31,7 @@ pub struct StippleArgs {
     save_points: Option<PathBuf>,
     /// Print, per pen, the dots, pen lifts, pen-down and pen-up distance and
     /// an estimated plotting time (needs --pen-mm, and --width-mm or --paper).
-    #[arg(long, requires = "pen_mm")]
+    #[arg(long)]
     plot_stats: bool,
     /// Pen-down speed for --plot-stats, mm/s [default: an AxiDraw's 95].
     #[arg(long, default_value_t = PlotSpeeds::default().draw_mm_s, requires = "plot_stats")]
@@ -59,6 +59,11 @@ pub fn run(a: &StippleArgs) -> Result<()> {
         lift_s: a.pen_delay,
     };
     if a.plot_stats {
+        if o.pen_mm.is_none() {
+            bail!(
+                "--plot-stats needs --pen-mm (and --width-mm or --paper): a plotter draws pen paths"
+            );
+        }
         speeds.check()?;
     }
     a.run.apply_gpu_path();
