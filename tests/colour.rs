@@ -516,7 +516,10 @@ fn plot_stats_count_each_pens_dots_lifts_and_time() {
     ]);
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(1), "{err}");
-    assert!(err.contains("--pen-mm") && err.trim().lines().count() == 1, "{err}");
+    assert!(
+        err.contains("--pen-mm") && err.trim().lines().count() == 1,
+        "{err}"
+    );
 }
 
 #[test]

@@ -529,11 +529,27 @@ impl Correction {
                     for y in cy * block..((cy + 1) * block).min(h) {
                         for x in cx * block..((cx + 1) * block).min(w) {
                             let i = (y * w + x) as usize;
-                            let mut a = [0f64; MAX_PENS];
+                            // Where every pen covers the pixel wholly or
+                            // not at all (most pixels), the mix is that
+                            // overlap's colour itself, exactly.
+                            let mut whole = 0usize;
+                            let mut partial = false;
                             for (k, l) in layers.iter().enumerate() {
-                                a[k] = 1.0 - f64::from(l.as_raw()[i]) / 255.0;
+                                match l.as_raw()[i] {
+                                    0 => whole |= 1 << k,
+                                    255 => {}
+                                    _ => partial = true,
+                                }
                             }
-                            let m = self.model.mix(&a[..pens]);
+                            let m = if partial {
+                                let mut a = [0f64; MAX_PENS];
+                                for (k, l) in layers.iter().enumerate() {
+                                    a[k] = 1.0 - f64::from(l.as_raw()[i]) / 255.0;
+                                }
+                                self.model.mix(&a[..pens])
+                            } else {
+                                self.model.primary(whole)
+                            };
                             for (s, v) in sum.iter_mut().zip(m) {
                                 *s += v;
                             }
