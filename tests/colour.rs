@@ -427,6 +427,19 @@ fn colour_takes_every_grey_control() {
         );
     }
     assert!(per_pen(&plain, &d0).iter().any(|&(_, r)| r > 10));
+    // Out-of-range tone options are refused as in grey.
+    for bad in [
+        cmyk(&|j| j.importance.white_cutoff = Some(2.0)),
+        cmyk(&|j| j.importance.gamma = 0.0),
+        cmyk(&|j| (j.importance.black_level, j.importance.white_level) = (0.6, 0.5)),
+    ] {
+        let r = bad.run(
+            &photo,
+            |p| Ok(cpu::sample(p, Default::default())?),
+            |_| true,
+        );
+        assert!(r.is_err(), "{:?} was accepted", bad.importance);
+    }
     // Linear mapping, per pen: accepted, equal dots within each pen.
     let linear = cmyk(&|j| j.importance.mapping = Some(pixelpie::importance::MappingKind::Linear));
     let dl = run(&linear, &photo);

@@ -133,6 +133,20 @@ impl ImportanceOptions {
         }
     }
 
+    /// Checks the tone adjustments and the white cutoff, which grey and
+    /// colour pictures share.
+    pub fn check(&self) -> Result<()> {
+        self.adjust().validate()?;
+        if let Some(c) = self.white_cutoff
+            && !(0.0..=1.0).contains(&c)
+        {
+            return Err(Error::InvalidParameter(format!(
+                "--white-cutoff {c} must be between 0 and 1"
+            )));
+        }
+        Ok(())
+    }
+
     /// The tone adjustments: levels, gamma, invert.
     #[must_use]
     pub fn adjust(&self) -> Adjust {
@@ -153,15 +167,8 @@ impl ImportanceOptions {
         default_mapping: Mapping,
         count_target: bool,
     ) -> Result<Prepared> {
+        self.check()?;
         let adjust = self.adjust();
-        adjust.validate()?;
-        if let Some(c) = self.white_cutoff
-            && !(0.0..=1.0).contains(&c)
-        {
-            return Err(Error::InvalidParameter(format!(
-                "--white-cutoff {c} must be between 0 and 1"
-            )));
-        }
         let (w, h) = size(map.width(), map.height());
         // Resized, toned and adjusted in one pass: the values of
         // `resized(w, h)?.toned(tones).adjusted(&adjust)?`.

@@ -57,6 +57,7 @@ impl Job {
         };
         let (width, height) = domain;
         let imp = &self.importance;
+        imp.check()?;
         let source = u64::from(picture.width()) * u64::from(picture.height());
         let upscaled = source < u64::from(width) * u64::from(height);
         let at = if upscaled {
