@@ -912,7 +912,10 @@ fn the_pens_section_draws_and_exports_in_colour() {
         );
     }
     // Without a pen width anywhere the rows say so, not "0.00mm".
-    assert!(shows(&h, "no width"), "the pen rows do not say they have no width");
+    assert!(
+        shows(&h, "no width"),
+        "the pen rows do not say they have no width"
+    );
     assert!(!shows(&h, "0.00mm"));
     // The view shows the composite; hiding every pen leaves white paper.
     h.run_steps(2);

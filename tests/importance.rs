@@ -369,3 +369,53 @@ fn bundled_assets_load() {
     assert!(lum.values.iter().copied().fold(0.0, f32::max) > 50.0);
     assert!(lum.white_point() < 5.0);
 }
+
+/// A 60×40 RGB PNG, black on its left third, white elsewhere, whose EXIF
+/// says "rotate 90° clockwise to view" (orientation 6), as phones write.
+fn sideways_png(path: &Path) {
+    use image::ImageEncoder;
+    let img = image::RgbImage::from_fn(60, 40, |x, _| {
+        if x < 20 {
+            Rgb([0, 0, 0])
+        } else {
+            Rgb([255, 255, 255])
+        }
+    });
+    // TIFF header (big-endian), one IFD entry: tag 0x0112, SHORT, 1, value 6.
+    let exif: Vec<u8> = [
+        &b"MM\0\x2a"[..],
+        &8u32.to_be_bytes(),
+        &1u16.to_be_bytes(),
+        &0x0112u16.to_be_bytes(),
+        &3u16.to_be_bytes(),
+        &1u32.to_be_bytes(),
+        &6u16.to_be_bytes(),
+        &0u16.to_be_bytes(),
+        &0u32.to_be_bytes(),
+    ]
+    .concat();
+    let file = std::fs::File::create(path).unwrap();
+    let mut enc = image::codecs::png::PngEncoder::new(std::io::BufWriter::new(file));
+    enc.set_exif_metadata(exif).unwrap();
+    enc.write_image(img.as_raw(), 60, 40, image::ExtendedColorType::Rgb8)
+        .unwrap();
+}
+
+#[test]
+fn photos_are_turned_upright_by_their_exif_orientation() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("sideways.png");
+    sideways_png(&path);
+    // Turned a quarter clockwise: 40 wide, 60 tall, the black third on top.
+    let grey = open(&path);
+    assert_eq!((grey.width(), grey.height()), (40, 60));
+    assert!(grey.value(20, 5) < 0.01 && grey.value(20, 55) > 0.99);
+    let colour = pixelpie::importance::ColourMap::open(&path, None).unwrap();
+    assert_eq!((colour.width(), colour.height()), (40, 60));
+    assert!(colour.rgb()[5 * 40 + 20][0] < 0.01);
+    let bytes = std::fs::read(&path).unwrap();
+    let from_bytes = ImportanceMap::from_encoded(&bytes, &path, None).unwrap();
+    assert_eq!(from_bytes, grey);
+    let decoded = pixelpie::importance::decode_file(&path).unwrap();
+    assert_eq!((decoded.width(), decoded.height()), (40, 60));
+}

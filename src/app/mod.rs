@@ -465,11 +465,11 @@ fn decode(path: Option<&Path>) -> Result<Decoded, String> {
     let importance = egui::ColorImage::new([w, h], gray.clone());
     // The photo in colour where `image` can decode it; EXR shows its luminance.
     let decoded = match path {
-        Some(p) => image::open(p),
-        None => image::load_from_memory(DEFAULT_IMAGE),
+        // Upright, as the drawing is.
+        Some(p) => crate::importance::decode_file(p).ok(),
+        None => image::load_from_memory(DEFAULT_IMAGE).ok(),
     };
     let photo = decoded
-        .ok()
         .map(|img| img.to_rgba8())
         .filter(|img| img.dimensions() == (map.width(), map.height()))
         .map_or_else(

@@ -62,7 +62,7 @@ impl ColourMap {
         let img = image::ImageReader::new(std::io::Cursor::new(bytes))
             .with_guessed_format()
             .ok()
-            .and_then(|r| r.decode().ok())
+            .and_then(|r| super::load::upright(r).ok())
             .ok_or_else(|| Error::Decode {
                 path: name.to_owned(),
                 message: "cannot decode the picture".into(),

@@ -104,11 +104,10 @@ pub fn load_bytes(bytes: &[u8], name: &Path) -> Result<Luminance> {
         path: name.to_owned(),
         message: crate::text::single_line(&e.to_string()),
     };
-    let img = image::ImageReader::new(std::io::Cursor::new(bytes))
+    let reader = image::ImageReader::new(std::io::Cursor::new(bytes))
         .with_guessed_format()
-        .map_err(|e| decode(&e))?
-        .decode()
         .map_err(|e| decode(&e))?;
+    let img = upright(reader).map_err(|e| decode(&e))?;
     let lum = luminance(img, name)?;
     if lum.width == 0 || lum.height == 0 {
         return Err(Error::Empty {
@@ -122,22 +121,37 @@ fn load_image(path: &Path) -> Result<Luminance> {
     luminance(decode_file(path)?, path)
 }
 
-/// Decodes a raster image file (PNG, JPEG, TIFF, BMP, WebP), its errors
-/// naming the file.
-pub(super) fn decode_file(path: &Path) -> Result<image::DynamicImage> {
+/// Decodes a raster image file (PNG, JPEG, TIFF, BMP, WebP), turned upright
+/// by its EXIF orientation ([`upright`]), its errors naming the file.
+pub fn decode_file(path: &Path) -> Result<image::DynamicImage> {
     let decode = |e: &dyn std::fmt::Display| Error::Decode {
         path: path.to_owned(),
         message: crate::text::single_line(&e.to_string()),
     };
-    image::ImageReader::open(path)
+    let reader = image::ImageReader::open(path)
         .map_err(|error| Error::Io {
             path: path.to_owned(),
             error,
         })?
         .with_guessed_format()
-        .map_err(|e| decode(&e))?
-        .decode()
-        .map_err(|e| decode(&e))
+        .map_err(|e| decode(&e))?;
+    upright(reader).map_err(|e| decode(&e))
+}
+
+/// Decodes the image of `reader` and turns it upright by its EXIF
+/// orientation (a phone's photo taken sideways says how to turn it), as a
+/// viewer shows it.
+pub(super) fn upright<R: std::io::BufRead + std::io::Seek>(
+    reader: image::ImageReader<R>,
+) -> image::ImageResult<image::DynamicImage> {
+    use image::ImageDecoder;
+    let mut decoder = reader.into_decoder()?;
+    let orientation = decoder
+        .orientation()
+        .unwrap_or(image::metadata::Orientation::NoTransforms);
+    let mut img = image::DynamicImage::from_decoder(decoder)?;
+    img.apply_orientation(orientation);
+    Ok(img)
 }
 
 /// A decoded raster image's linear luminance (and alpha).
