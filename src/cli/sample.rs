@@ -101,9 +101,18 @@ pub fn progress_bar(quiet: bool) -> ProgressBar {
     }
     let bar = ProgressBar::new(100);
     bar.set_style(
-        ProgressStyle::with_template("{spinner} {msg} [{bar:30}] {percent}% covered")
+        ProgressStyle::with_template("{spinner} {msg} [{bar:30}] {percent}% covered ({elapsed})")
             .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
+    bar
+}
+
+/// [`progress_bar`] for the sampler's run: its spinner and clock move
+/// between the sampler's iterations too (a large map's setup takes
+/// seconds).
+pub fn sampling_bar(quiet: bool) -> ProgressBar {
+    let bar = progress_bar(quiet);
+    bar.enable_steady_tick(std::time::Duration::from_millis(250));
     bar
 }
 
@@ -160,7 +169,7 @@ pub fn run(a: &SampleArgs) -> Result<()> {
         }
         Ok(r) => r,
     };
-    let bar = progress_bar(a.run.quiet);
+    let bar = sampling_bar(a.run.quiet);
     let done = job.run(&radii, |p| {
         Ok(run_with_progress(p, a.run.backend, &bar, a.run.verbose)?)
     });

@@ -13,7 +13,7 @@ use pixelpie::io;
 use pixelpie::job::{Format, Job, Step};
 use pixelpie::stipple::plot::PlotSpeeds;
 
-use super::sample::{RunArgs, progress_bar, run_with_progress};
+use super::sample::{RunArgs, progress_bar, run_with_progress, sampling_bar};
 
 /// Arguments of `pixelpie stipple`.
 #[derive(Args, Debug)]
@@ -68,7 +68,7 @@ pub fn run(a: &StippleArgs) -> Result<()> {
     }
     a.run.apply_gpu_path();
     let t0 = Instant::now();
-    let bar = progress_bar(a.run.quiet);
+    let bar = sampling_bar(a.run.quiet);
     let relax_bar = progress_bar(a.run.quiet || o.relax == 0);
     let stage_bar = progress_bar(a.run.quiet);
     stage_bar.set_style(
