@@ -728,3 +728,45 @@ fn new_options_refuse_bad_input_cleanly() {
         assert_fails(args, &none, why);
     }
 }
+
+#[test]
+fn too_few_dots_get_a_plain_message_with_the_least_that_fits() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("few.svg");
+    let rocket = asset("rocket.jpg");
+    for pens in [None, Some("cmyk")] {
+        let mut args = vec![
+            "stipple",
+            rocket.as_str(),
+            "-o",
+            out.to_str().unwrap(),
+            "--points",
+            "2",
+        ];
+        if let Some(p) = pens {
+            args.extend(["--pens", p]);
+        }
+        let o = pixelpie(&args);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{err}");
+        assert!(
+            err.contains("too few") && !err.contains("invalid radius"),
+            "{err}"
+        );
+        assert!(!out.exists());
+        // The least it names is drawn, with at most a warning.
+        let least: String = err
+            .rsplit("at least ")
+            .next()
+            .unwrap()
+            .chars()
+            .take_while(char::is_ascii_digit)
+            .collect();
+        let n = args.iter().position(|a| *a == "2").unwrap();
+        args[n] = least.as_str();
+        let o = pixelpie(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        assert!(out.exists());
+        std::fs::remove_file(&out).unwrap();
+    }
+}

@@ -282,7 +282,7 @@ fn compute(
     ctl.check()?;
     if let Some(n) = drawing.short_of {
         note = Some(format!(
-            "{n} points asked, {} fit at radii of at least 1 px",
+            "{n} points asked, {} fit within the sampler's radii (1 px to the picture's size)",
             drawing.points.len()
         ));
     }

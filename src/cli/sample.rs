@@ -188,8 +188,8 @@ pub fn run(a: &SampleArgs) -> Result<()> {
         && !a.run.quiet
     {
         eprintln!(
-            "warning: asked for {n} points, got {got}: the smallest radius is at the sampler's \
-             1 px floor; enlarge the domain with --width/--height"
+            "warning: asked for {n} points, got {got}: the radii are at the sampler's limits \
+             (1 px at the darkest, the domain's size at the lightest); change --width/--height"
         );
     }
     write_outputs(a, &done.set)

@@ -109,13 +109,16 @@ pub fn sample_map<E: From<Error> + From<ImportanceError>>(
         });
     };
     let floor = 1.0 / f64::from(map.range.min);
-    let Some(scale) = predicted_scale(map.predictor(), n, floor) else {
+    let predict = map.predictor();
+    let Some(scale) = predicted_scale(&predict, n, floor) else {
         return Err(ImportanceError::InvalidParameter(
             "the white cutoff leaves no pixel to place dots on".into(),
         )
         .into());
     };
-    fit_count(n, scale * scale * n as f64, map.range, cut_run)
+    let domain = (map.map.width(), map.map.height());
+    let ceiling = too_few(n, scale, map.range, domain, base.periodic, &predict)?;
+    fit_count(n, scale * scale * n as f64, map.range, ceiling, cut_run)
 }
 
 /// Samples `classes` (the pens of a colour drawing) with `run`, fitting
@@ -137,18 +140,49 @@ pub fn sample_classes<E: From<Error> + From<ImportanceError>>(
         });
     };
     let floor = 1.0 / f64::from(range.min);
-    let Some(scale) = predicted_scale(classes.predictor(), n, floor) else {
+    let predict = classes.predictor();
+    let Some(scale) = predicted_scale(&predict, n, floor) else {
         return Err(ImportanceError::InvalidParameter("the picture needs no ink".into()).into());
     };
-    fit_count(n, scale * scale * n as f64, range, |s| {
+    let first = &classes.maps[0].map;
+    let domain = (first.width(), first.height());
+    let ceiling = too_few(n, scale, range, domain, base.periodic, &predict)?;
+    fit_count(n, scale * scale * n as f64, range, ceiling, |s| {
         run(&classes.params(base, s)?)
     })
+}
+
+/// The largest scale of `range` that the sampler allows on `domain` (the
+/// largest radius at most its longer side, half the shorter one when
+/// periodic); a count `n` whose predicted `scale` passes it is refused in
+/// plain words, with the smallest count that fits.
+fn too_few(
+    n: usize,
+    scale: f64,
+    range: RadiusRange,
+    domain: (u32, u32),
+    periodic: bool,
+    predict: &impl Fn(f64) -> f64,
+) -> Result<f64, ImportanceError> {
+    let (w, h) = (f64::from(domain.0), f64::from(domain.1));
+    let largest = if periodic { w.min(h) / 2.0 } else { w.max(h) };
+    let widest = f64::from(range.max);
+    if widest * scale <= largest {
+        return Ok(largest / widest);
+    }
+    // The count at the largest scale the sampler allows, rounded up.
+    let least = predict(largest / widest).ceil().max(1.0) as usize + 1;
+    Err(ImportanceError::InvalidParameter(format!(
+        "{n} dots are too few for a {}x{} drawing: its lightest dots would lie farther apart \
+         than the picture is wide; ask for at least {least}",
+        domain.0, domain.1
+    )))
 }
 
 /// The radius scale at which `predict(scale)` is `n` points (six fixed-point
 /// steps from the count at scale 1), never below `floor`; `None` when
 /// nothing is predicted at scale 1.
-fn predicted_scale(predict: impl Fn(f64) -> f64, n: usize, floor: f64) -> Option<f64> {
+fn predicted_scale(predict: &impl Fn(f64) -> f64, n: usize, floor: f64) -> Option<f64> {
     let expected = predict(1.0);
     if expected <= 0.0 {
         return None;
@@ -166,24 +200,28 @@ fn predicted_scale(predict: impl Fn(f64) -> f64, n: usize, floor: f64) -> Option
 
 /// Fits the radius scale of `range` to `n` points (±3%) from the `expected`
 /// count at scale 1, sampling with `run(scale)`; the scale never takes the
-/// smallest radius below 1 px.
+/// smallest radius below 1 px, nor the largest past the sampler's
+/// `ceiling` (then the count is as near as the picture allows, and
+/// `short_of` says so).
 fn fit_count<E: From<Error>>(
     n: usize,
     expected: f64,
     range: RadiusRange,
+    ceiling: f64,
     mut run: impl FnMut(f64) -> Result<SampleSet, E>,
 ) -> Result<Fitted, E> {
     let floor = 1.0 / f64::from(range.min);
-    let initial = (expected / n as f64).sqrt().max(floor);
+    let clamp = |s: f64| s.min(ceiling).max(floor);
+    let initial = clamp((expected / n as f64).sqrt());
     let (scale, set, runs) = fit_scale(n, initial, |s| -> Result<_, E> {
-        let set = run(s.max(floor))?;
+        let set = run(clamp(s))?;
         Ok((set.points.len(), set))
     })?;
     let got = set.points.len() as f64;
     let short = (got - n as f64).abs() > COUNT_TOLERANCE * n as f64;
     Ok(Fitted {
         set,
-        range: range.scaled(scale.max(floor)),
+        range: range.scaled(clamp(scale)),
         runs,
         short_of: short.then_some(n),
     })

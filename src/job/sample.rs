@@ -117,7 +117,7 @@ pub struct Sampled {
     /// Sampler runs made to reach the count.
     pub runs: usize,
     /// The count asked for, when a picture's radii could not shrink enough
-    /// (their 1 px floor) to reach it.
+    /// (their 1 px floor, or the domain's size for the lightest) to reach it.
     pub short_of: Option<usize>,
 }
 
