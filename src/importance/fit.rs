@@ -111,6 +111,16 @@ impl Prepared {
     }
 }
 
+/// Σ f(bin, count) over the bins of a histogram that hold something, in
+/// bin order (the same sum, so the same count fit, on every machine).
+fn over_bins(bins: &[u64], f: impl Fn(usize, u64) -> f64) -> f64 {
+    bins.iter()
+        .enumerate()
+        .filter(|(_, n)| **n > 0)
+        .map(|(i, &n)| f(i, n))
+        .sum()
+}
+
 /// Knots of the density table of [`Prepared::predicted_points`].
 const KNOTS: usize = 1024;
 
@@ -129,17 +139,11 @@ impl Knots {
     /// [`Prepared::predicted_points`] at `scale`.
     fn predicted(&self, map: &Prepared, scale: f64) -> f64 {
         let range = map.range.scaled(scale);
-        let sum: f64 = self
-            .weights
-            .iter()
-            .enumerate()
-            .filter(|(_, w)| **w > 0)
-            .map(|(i, &w)| {
-                let r = f64::from(map.mapping.radius(i as f32 / KNOTS as f32, range));
-                let density = super::ink::rsa_per_pixel(r) * super::ink::density(r);
-                density * (w as f64 / KNOT_ONE)
-            })
-            .sum();
+        let sum = over_bins(&self.weights, |i, w| {
+            let r = f64::from(map.mapping.radius(i as f32 / KNOTS as f32, range));
+            let density = super::ink::rsa_per_pixel(r) * super::ink::density(r);
+            density * (w as f64 / KNOT_ONE)
+        });
         let (w, h) = (map.map.width() as usize, map.map.height() as usize);
         sum * (w * h) as f64 / self.sampled as f64 * COUNT_BIAS
     }
@@ -190,16 +194,10 @@ impl UnionRadii {
     /// best of R/2, R and 2R), as [`Prepared::predicted_points`] does one
     /// map's.
     fn predicted(&self, scale: f64) -> f64 {
-        let sum: f64 = self
-            .bins
-            .iter()
-            .enumerate()
-            .filter(|(_, n)| **n > 0)
-            .map(|(i, &n)| {
-                let r = (Self::radius(i) * scale).max(1.0);
-                super::ink::rsa_per_pixel(r) * super::ink::density(0.5 * r) * n as f64
-            })
-            .sum();
+        let sum = over_bins(&self.bins, |i, n| {
+            let r = (Self::radius(i) * scale).max(1.0);
+            super::ink::rsa_per_pixel(r) * super::ink::density(0.5 * r) * n as f64
+        });
         sum * self.scale * CLASS_COUNT_BIAS
     }
 }
@@ -228,27 +226,33 @@ impl Classes<'_> {
     /// `base` with every class's radii at `scale`.
     pub fn params(&self, base: &Params, scale: f64) -> crate::sampler::Result<Params> {
         let first = &self.maps[0];
-        let range = first.range.scaled(scale);
+        let radius = self.class_radius(first.range.scaled(scale));
+        let classes = ClassRadii::from_fn(
+            first.map.width(),
+            first.map.height(),
+            self.maps.len(),
+            radius,
+        )?;
+        Ok(base.clone().with_classes(Arc::new(classes)))
+    }
+
+    /// The radius of class `c` at pixel `i` for the radius range `range`,
+    /// `f32::INFINITY` where the class has no samples ([`Self::lightest`]).
+    fn class_radius(&self, range: RadiusRange) -> impl Fn(usize, usize) -> f32 + Sync + '_ {
         let lightest = self.lightest(range);
         let radius: Vec<_> = self
             .maps
             .iter()
             .map(|m| ImportanceMap::radius_fn(m.mapping, range))
             .collect();
-        let classes = ClassRadii::from_fn(
-            first.map.width(),
-            first.map.height(),
-            self.maps.len(),
-            |c, i| {
-                let v = self.maps[c].map.values()[i];
-                if f64::from(1.0 - v) < lightest / 2.0 {
-                    f32::INFINITY
-                } else {
-                    radius[c](v)
-                }
-            },
-        )?;
-        Ok(base.clone().with_classes(Arc::new(classes)))
+        move |c, i| {
+            let v = self.maps[c].map.values()[i];
+            if f64::from(1.0 - v) < lightest / 2.0 {
+                f32::INFINITY
+            } else {
+                radius[c](v)
+            }
+        }
     }
 
     /// The count a run of the classes at radius `scale` is predicted to
@@ -267,13 +271,7 @@ impl Classes<'_> {
         let first = &self.maps[0];
         let (w, h) = (first.map.width() as usize, first.map.height() as usize);
         let step = ((w * h) as f64 / 250_000.0).sqrt().floor().max(1.0) as usize;
-        let range = first.range;
-        let lightest = self.lightest(range);
-        let radius: Vec<_> = self
-            .maps
-            .iter()
-            .map(|m| ImportanceMap::radius_fn(m.mapping, range))
-            .collect();
+        let radius = self.class_radius(first.range);
         let bins = (0..h)
             .into_par_iter()
             .step_by(step)
@@ -282,16 +280,13 @@ impl Classes<'_> {
                 |mut acc, y| {
                     for x in (0..w).step_by(step) {
                         let i = y * w + x;
-                        let inv: f64 = self
-                            .maps
-                            .iter()
-                            .zip(&radius)
-                            .map(|(m, r)| {
-                                let v = m.map.values()[i];
-                                if f64::from(1.0 - v) < lightest / 2.0 {
+                        let inv: f64 = (0..self.maps.len())
+                            .map(|c| {
+                                let r = radius(c, i);
+                                if r == f32::INFINITY {
                                     0.0
                                 } else {
-                                    let r = f64::from(r(v));
+                                    let r = f64::from(r);
                                     1.0 / (r * r)
                                 }
                             })
