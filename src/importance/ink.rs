@@ -20,13 +20,41 @@ pub const K_MAX: f64 = 0.96;
 /// between the measured radii, clamped to their range), one entry per
 /// multiple of [`T_STEP`].
 fn row(r: f64) -> [f64; INK[0].len()] {
-    let lr = r.max(RADII[0]).min(RADII[RADII.len() - 1]).ln();
-    let i = RADII
-        .windows(2)
-        .position(|w| lr <= w[1].ln())
-        .unwrap_or(RADII.len() - 2);
-    let f = ((lr - RADII[i].ln()) / (RADII[i + 1].ln() - RADII[i].ln())).clamp(0.0, 1.0);
-    std::array::from_fn(|j| INK[i][j] + f * (INK[i + 1][j] - INK[i][j]))
+    let at = Between::of(r);
+    std::array::from_fn(|j| at.ink(j))
+}
+
+/// The measured radii's logarithms, taken once (the curves interpolate in
+/// log r; the same values as taking them each time).
+static LN_RADII: std::sync::LazyLock<[f64; RADII.len()]> =
+    std::sync::LazyLock::new(|| RADII.map(f64::ln));
+
+/// Where a radius lies between two measured radii: the lower one's index
+/// and the fraction of the way to the next, in log r (clamped to the
+/// measured range).
+#[derive(Clone, Copy)]
+struct Between {
+    i: usize,
+    f: f64,
+}
+
+impl Between {
+    fn of(r: f64) -> Self {
+        let ln = &*LN_RADII;
+        let lr = r.max(RADII[0]).min(RADII[RADII.len() - 1]).ln();
+        let i = ln
+            .windows(2)
+            .position(|w| lr <= w[1])
+            .unwrap_or(RADII.len() - 2);
+        let f = ((lr - ln[i]) / (ln[i + 1] - ln[i])).clamp(0.0, 1.0);
+        Self { i, f }
+    }
+
+    /// Entry `j` of the curve at this radius ([`row`]'s, one at a time).
+    #[inline]
+    fn ink(self, j: usize) -> f64 {
+        INK[self.i][j] + self.f * (INK[self.i + 1][j] - INK[self.i][j])
+    }
 }
 
 /// The density of the maximal sets the curve was measured on, over RSA's
@@ -54,12 +82,7 @@ pub fn rsa_per_pixel(r: f64) -> f64 {
 /// ```
 #[must_use]
 pub fn density(r: f64) -> f64 {
-    let lr = r.max(RADII[0]).min(RADII[RADII.len() - 1]).ln();
-    let i = RADII
-        .windows(2)
-        .position(|w| lr <= w[1].ln())
-        .unwrap_or(RADII.len() - 2);
-    let f = ((lr - RADII[i].ln()) / (RADII[i + 1].ln() - RADII[i].ln())).clamp(0.0, 1.0);
+    let Between { i, f } = Between::of(r);
     DENSITY[i] + f * (DENSITY[i + 1] - DENSITY[i])
 }
 
@@ -89,17 +112,21 @@ pub fn ink(t: f64, r: f64) -> f64 {
 /// ```
 #[must_use]
 pub fn dot_ratio(k: f64, r: f64) -> f64 {
-    let row = row(r);
     if k.is_nan() || k <= 0.0 {
         return 0.0;
     }
-    match row.windows(2).position(|w| w[1] >= k) {
+    // The curve's entries are read as the search reaches them: the same
+    // values as the whole row's, a fraction of the work.
+    let at = Between::of(r);
+    let n = INK[0].len();
+    match (0..n - 1).find(|&j| at.ink(j + 1) >= k) {
         Some(j) => {
-            let span = row[j + 1] - row[j];
-            let f = if span > 0.0 { (k - row[j]) / span } else { 0.0 };
+            let (lo, hi) = (at.ink(j), at.ink(j + 1));
+            let span = hi - lo;
+            let f = if span > 0.0 { (k - lo) / span } else { 0.0 };
             (j as f64 + f.clamp(0.0, 1.0)) * T_STEP
         }
-        None => (row.len() - 1) as f64 * T_STEP,
+        None => (n - 1) as f64 * T_STEP,
     }
 }
 

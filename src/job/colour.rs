@@ -130,17 +130,24 @@ impl Job {
         stage("size: density")?;
         let density = Density::new(points, maps, range, domain);
         let inks: Vec<f64> = points
-            .iter()
+            .par_iter()
             .map(|p| f64::from(1.0 - maps[p.class as usize].map.value_at(p.x, p.y)))
             .collect();
-        let spacing: Vec<f64> = points.iter().map(|p| density.effective_radius(p)).collect();
+        let spacing: Vec<f64> = points
+            .par_iter()
+            .map(|p| density.effective_radius(p))
+            .collect();
+        // Each pen's calibrated dot radius as a function of its value, made
+        // once (the black dots' radius inverts the ink curve).
+        let dot_radius: Vec<_> = maps.iter().map(|m| m.mapping.dot_radii(range)).collect();
         let mut calibrated: Vec<f32> = points
-            .iter()
+            .par_iter()
             .zip(&inks)
             .zip(&spacing)
             .map(|((p, &ink), &r_eff)| {
-                let map = &maps[p.class as usize];
-                map.dot_radius(p, range) * dot_factor(ink, f64::from(p.radius), r_eff)
+                let c = p.class as usize;
+                dot_radius[c](maps[c].map.value_at(p.x, p.y))
+                    * dot_factor(ink, f64::from(p.radius), r_eff)
             })
             .collect();
         if matches!(self.dot_size(), crate::stipple::DotSize::Calibrated(_)) {
@@ -605,26 +612,31 @@ impl Correction {
                     out
                 })
                 .collect();
-            for (j, p) in points.iter().enumerate() {
-                let gx = ((p.x * self.scale) as u32 / block).min(ww - 1);
-                let gy = ((p.y * self.scale) as u32 / block).min(wh - 1);
-                let g = (gy * ww + gx) as usize;
-                let k = p.class as usize;
-                let before = assumed[j];
-                if before < 1e-3 {
-                    continue;
-                }
-                let after =
-                    (before + f64::from(delta[g][k])).clamp(0.5 * before, MAX_CORRECTED_INK);
-                let r = spacing[j];
-                let had = ink::dot_ratio(before, r);
-                if had <= 0.0 {
-                    continue;
-                }
-                let factor = (ink::dot_ratio(after, r) / had).clamp(0.6, 1.6);
-                calibrated[j] *= factor as f32;
-                assumed[j] = after;
-            }
+            // Each dot's own update: in parallel, the same values.
+            points
+                .par_iter()
+                .zip(calibrated.par_iter_mut())
+                .zip(assumed.par_iter_mut())
+                .zip(spacing.par_iter())
+                .for_each(|(((p, cal), assumed), &r)| {
+                    let gx = ((p.x * self.scale) as u32 / block).min(ww - 1);
+                    let gy = ((p.y * self.scale) as u32 / block).min(wh - 1);
+                    let g = (gy * ww + gx) as usize;
+                    let k = p.class as usize;
+                    let before = *assumed;
+                    if before < 1e-3 {
+                        return;
+                    }
+                    let after =
+                        (before + f64::from(delta[g][k])).clamp(0.5 * before, MAX_CORRECTED_INK);
+                    let had = ink::dot_ratio(before, r);
+                    if had <= 0.0 {
+                        return;
+                    }
+                    let factor = (ink::dot_ratio(after, r) / had).clamp(0.6, 1.6);
+                    *cal *= factor as f32;
+                    *assumed = after;
+                });
         }
         Ok(())
     }
