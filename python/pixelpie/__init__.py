@@ -53,7 +53,7 @@ def _path(p: Optional[PathLike]) -> Optional[str]:
 
 
 def _count(value: Any, name: str) -> int:
-    """An integer argument: ``TypeError`` for another type (a float or a
+    """A positional size: ``TypeError`` for another type (a float or a
     string), ``ValueError`` for a negative one."""
     if isinstance(value, bool):
         raise TypeError(f"{name} must be an integer, not bool")
@@ -121,10 +121,9 @@ def sample(
     writes them. A bad argument raises ``ValueError`` (``TypeError`` for a
     wrong type).
     """
+    # The options' types are the job's own: its serde form refuses a float,
+    # a string or a negative number for a count (ValueError naming it).
     given = {k: v for k, v in options.items() if v is not None}
-    for name in ("points", "seed", "batch", "max_iterations", "subpixel_bits"):
-        if name in given:
-            given[name] = _count(given[name], name)
     if width is not None:
         given["width"] = _count(width, "width")
     if height is not None:
@@ -242,9 +241,6 @@ def stipple(
         for k, v in options.items()
         if v is not None
     }
-    for name in ("points", "width", "height", "seed", "relax", "subpixel_bits"):
-        if name in given:
-            given[name] = _count(given[name], name)
     pixels = _picture(image)
     return _pixelpie.stipple(
         None if pixels is not None else os.fspath(image),

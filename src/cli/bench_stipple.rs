@@ -248,7 +248,7 @@ pub fn run_colour(image: &Path, counts: &[usize], reps: u32) -> Result<()> {
             median(ratios),
             peak(&grey),
             peak(&colour),
-            stage("prepare") + drawing.seconds.0 - stage("prepare"),
+            drawing.seconds.0,
             stage("sample"),
             stage("order"),
             stage("size"),

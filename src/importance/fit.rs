@@ -215,7 +215,7 @@ impl Classes<'_> {
     /// The ink of the lightest dots at radius range `range`: where a map
     /// asks for less than half of it, its class has no samples.
     #[must_use]
-    pub fn lightest(&self, range: RadiusRange) -> f64 {
+    fn lightest(&self, range: RadiusRange) -> f64 {
         let white = f64::from(range.max);
         super::ink::ink(
             f64::from(self.maps[0].mapping.dot_radius(1.0, range)) / white,
@@ -238,7 +238,10 @@ impl Classes<'_> {
 
     /// The radius of class `c` at pixel `i` for the radius range `range`,
     /// `f32::INFINITY` where the class has no samples ([`Self::lightest`]).
-    fn class_radius(&self, range: RadiusRange) -> impl Fn(usize, usize) -> f32 + Sync + '_ {
+    pub(crate) fn class_radius(
+        &self,
+        range: RadiusRange,
+    ) -> impl Fn(usize, usize) -> f32 + Sync + '_ {
         let lightest = self.lightest(range);
         let radius: Vec<_> = self
             .maps

@@ -79,16 +79,17 @@ pub struct Fitted {
     pub range: RadiusRange,
     /// Sampler runs made.
     pub runs: usize,
-    /// The count asked for, when the domain could not hold it at radii of
-    /// at least 1 px (the sampler's floor).
+    /// The count asked for, when the domain could not hold it within the
+    /// sampler's radii (at least 1 px, at most the domain's size).
     pub short_of: Option<usize>,
 }
 
 /// Samples `map` with `run`, fitting the radius scale to `points` (±3%)
 /// when given, from the map's predicted count
 /// ([`Prepared::predicted_points`]). The scale never takes the smallest
-/// radius below 1 px. The statistics count the points that survive the
-/// cutoff.
+/// radius below 1 px, nor the largest past the domain's size; a count too
+/// small for that is refused in plain words. The statistics count the
+/// points that survive the cutoff.
 pub fn sample_map<E: From<Error> + From<ImportanceError>>(
     map: &Prepared,
     base: &Params,
@@ -108,17 +109,17 @@ pub fn sample_map<E: From<Error> + From<ImportanceError>>(
             short_of: None,
         });
     };
-    let floor = 1.0 / f64::from(map.range.min);
-    let predict = map.predictor();
-    let Some(scale) = predicted_scale(&predict, n, floor) else {
-        return Err(ImportanceError::InvalidParameter(
-            "the white cutoff leaves no pixel to place dots on".into(),
-        )
-        .into());
+    let target = Target {
+        n,
+        range: map.range,
+        domain: (map.map.width(), map.map.height()),
+        periodic: base.periodic,
     };
-    let domain = (map.map.width(), map.map.height());
-    let ceiling = too_few(n, scale, map.range, domain, base.periodic, &predict)?;
-    fit_count(n, scale * scale * n as f64, map.range, ceiling, cut_run)
+    target.fit(
+        map.predictor(),
+        "the white cutoff leaves no pixel to place dots on",
+        cut_run,
+    )
 }
 
 /// Samples `classes` (the pens of a colour drawing) with `run`, fitting
@@ -139,17 +140,47 @@ pub fn sample_classes<E: From<Error> + From<ImportanceError>>(
             short_of: None,
         });
     };
-    let floor = 1.0 / f64::from(range.min);
-    let predict = classes.predictor();
-    let Some(scale) = predicted_scale(&predict, n, floor) else {
-        return Err(ImportanceError::InvalidParameter("the picture needs no ink".into()).into());
-    };
     let first = &classes.maps[0].map;
-    let domain = (first.width(), first.height());
-    let ceiling = too_few(n, scale, range, domain, base.periodic, &predict)?;
-    fit_count(n, scale * scale * n as f64, range, ceiling, |s| {
+    let target = Target {
+        n,
+        range,
+        domain: (first.width(), first.height()),
+        periodic: base.periodic,
+    };
+    target.fit(classes.predictor(), "the picture needs no ink", |s| {
         run(&classes.params(base, s)?)
     })
+}
+
+/// A count to fit on a map of radii `range` (scale 1) over `domain`.
+struct Target {
+    n: usize,
+    range: RadiusRange,
+    domain: (u32, u32),
+    periodic: bool,
+}
+
+impl Target {
+    /// Fits the scale from the count `predict` gives at any scale
+    /// ([`predicted_scale`]), refusing a count too small for the domain
+    /// ([`too_few`]) and one where nothing is predicted (`nothing`), then
+    /// sampling with `run(scale)` ([`fit_count`]).
+    fn fit<E: From<Error> + From<ImportanceError>>(
+        &self,
+        predict: impl Fn(f64) -> f64,
+        nothing: &str,
+        run: impl FnMut(f64) -> Result<SampleSet, E>,
+    ) -> Result<Fitted, E> {
+        let (n, range) = (self.n, self.range);
+        let floor = 1.0 / f64::from(range.min);
+        let Some(scale) = predicted_scale(&predict, n, floor) else {
+            return Err(ImportanceError::InvalidParameter(nothing.into()).into());
+        };
+        let ceiling = too_few(n, scale, range, self.domain, self.periodic, &predict)?;
+        // The predicted scale handed on as the count it expects at scale 1,
+        // as the fit has always taken it (the same first scale to the bit).
+        fit_count(n, scale * scale * n as f64, range, ceiling, run)
+    }
 }
 
 /// The largest scale of `range` that the sampler allows on `domain` (the

@@ -127,7 +127,14 @@ impl Job {
         sample: impl FnMut(&Params) -> crate::Result<SampleSet>,
         mut progress: impl FnMut(Step) -> bool,
     ) -> crate::Result<Stipple> {
-        let t0 = std::time::Instant::now();
+        // Each stage's seconds, read as the next one begins.
+        let mut last = std::time::Instant::now();
+        let mut lap = || {
+            let now = std::time::Instant::now();
+            let seconds = (now - last).as_secs_f64();
+            last = now;
+            seconds
+        };
         self.check()?;
         let (points, count_target) = self.count();
         stage(&mut progress, "prepare")?;
@@ -153,7 +160,7 @@ impl Job {
             (None, None) => unreachable!("a drawing prepares a grey or a colour picture"),
         };
         let domain = (maps[0].map.width(), maps[0].map.height());
-        let t_load = t0.elapsed().as_secs_f64();
+        let t_load = lap();
         stage(&mut progress, "sample")?;
         let base = self
             .sampler
@@ -164,7 +171,7 @@ impl Job {
             count::sample_map(&maps[0], &base, points, sample)?
         };
         let (mut set, range) = (fitted.set, fitted.range);
-        let t_sample = t0.elapsed().as_secs_f64() - t_load;
+        let t_sample = lap();
         if self.relax > 0 {
             stage(&mut progress, "relax")?;
             let options = relax::RelaxOptions {
@@ -176,10 +183,10 @@ impl Job {
             })?;
             set = set.with_points(moved);
         }
-        let t_relax = t0.elapsed().as_secs_f64() - t_load - t_sample;
+        let t_relax = lap();
         stage(&mut progress, "order")?;
         let (points, tour) = self.ordered(&set.points, maps.len());
-        let t_order = t0.elapsed().as_secs_f64() - t_load - t_sample - t_relax;
+        let t_order = lap();
         stage(&mut progress, "size")?;
         let calibrated = match &separated {
             Some(s) => self.colour_sizes(s, &points, range, domain, &mut |name| {
@@ -187,7 +194,7 @@ impl Job {
             })?,
             None => maps[0].dot_radii(&points, range),
         };
-        let t_size = t0.elapsed().as_secs_f64() - t_load - t_sample - t_relax - t_order;
+        let t_size = lap();
         let mut drawing = Stipple {
             dots: Vec::new(),
             points,

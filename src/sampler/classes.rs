@@ -116,7 +116,7 @@ impl ClassRadii {
                     };
                 }
             });
-        if let Some(bad) = radii.iter().position(|&r| r == u32::MAX) {
+        if let Some(bad) = radii.par_iter().position_first(|&r| r == u32::MAX) {
             let (c, i) = (bad / pixels, bad % pixels);
             return Err(Error::InvalidRadius(format!(
                 "class {c} holds {} px at pixel ({}, {}); radii must be at least 1 px",

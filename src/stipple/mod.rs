@@ -134,9 +134,10 @@ pub fn relax_points(
     let Some(first) = maps.first() else {
         return Err(Error::InvalidParameter("nothing to relax".into()));
     };
-    let radii: Vec<Vec<f32>> = maps.iter().map(|m| m.map.radii(m.mapping, range)).collect();
     let weights: Vec<f32> = if let [prepared] = maps {
-        radii[0]
+        prepared
+            .map
+            .radii(prepared.mapping, range)
             .iter()
             .zip(prepared.map.values())
             .map(|(&r, &v)| {
@@ -148,15 +149,17 @@ pub fn relax_points(
             })
             .collect()
     } else {
-        let lightest = crate::importance::Classes { maps }.lightest(range);
-        (0..radii[0].len())
+        // The pens' own radii, none where a pen has no samples: the rule
+        // the sampler ran under.
+        let classes = crate::importance::Classes { maps };
+        let radius = classes.class_radius(range);
+        (0..first.map.values().len())
             .into_par_iter()
             .map(|i| {
-                let inv: f64 = maps
-                    .iter()
-                    .zip(&radii)
-                    .filter(|(m, _)| f64::from(1.0 - m.map.values()[i]) >= lightest / 2.0)
-                    .map(|(_, r)| 1.0 / f64::from(r[i]).powi(2))
+                let inv: f64 = (0..maps.len())
+                    .map(|c| radius(c, i))
+                    .filter(|r| r.is_finite())
+                    .map(|r| 1.0 / f64::from(r).powi(2))
                     .sum();
                 (inv * inv) as f32
             })
@@ -171,6 +174,12 @@ pub fn relax_points(
     relax::check(&density)?;
     let xy: Vec<[f32; 2]> = points.iter().map(|p| [p.x, p.y]).collect();
     let moved = relax::relax(&xy, &density, options, progress);
+    // Each point's new radius: its pen's at its new pixel (what the map's
+    // `radii` hold there), found for the points alone.
+    let radius: Vec<_> = maps
+        .iter()
+        .map(|m| crate::importance::ImportanceMap::radius_fn(m.mapping, range))
+        .collect();
     Ok(moved
         .iter()
         .zip(points)
@@ -178,10 +187,11 @@ pub fn relax_points(
             let px = (x.max(0.0) as u32).min(w - 1);
             let py = (y.max(0.0) as u32).min(h - 1);
             let class = if maps.len() == 1 { 0 } else { p.class };
+            let map = &maps[class as usize].map;
             Point {
                 x,
                 y,
-                radius: radii[class as usize][(py * w + px) as usize],
+                radius: radius[class as usize](map.value(px, py)),
                 class,
             }
         })
