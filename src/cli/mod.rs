@@ -42,17 +42,17 @@ enum Command {
 }
 
 /// Runs the parsed command line.
-pub fn run(cli: Cli) -> Result<()> {
-    let result = run_command(cli);
+pub fn run(cli: Cli, matches: &clap::ArgMatches) -> Result<()> {
+    let result = run_command(cli, matches);
     bench_stipple::print_peak();
     result
 }
 
-fn run_command(cli: Cli) -> Result<()> {
+fn run_command(cli: Cli, matches: &clap::ArgMatches) -> Result<()> {
     match cli.command.unwrap_or(Command::Gui { image: None }) {
         Command::Gui { image } => gui(image),
         Command::Sample(a) => sample::run(&a),
-        Command::Stipple(a) => stipple::run(&a),
+        Command::Stipple(a) => stipple::run(&a, matches.subcommand_matches("stipple")),
         Command::Analyze(a) => analyze::run(&a),
         Command::Bench(a) => bench::run(&a),
         Command::Fidelity(a) => fidelity::run(&a),

@@ -3,13 +3,15 @@
 //! ([`Job`]); this adds the paths, the backend, progress bars and the
 //! report on stderr.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use anyhow::{Result, bail};
+use anyhow::{Context, Result, bail};
 use clap::Args;
+use clap::parser::ValueSource;
 
 use pixelpie::io;
+use pixelpie::job::file::{JobFile, KEYS};
 use pixelpie::job::{Format, Job, Step};
 use pixelpie::stipple::plot::PlotSpeeds;
 
@@ -18,12 +20,27 @@ use super::sample::{RunArgs, progress_bar, run_with_progress, sampling_bar};
 /// Arguments of `pixelpie stipple`.
 #[derive(Args, Debug)]
 pub struct StippleArgs {
-    /// The picture: PNG, JPEG, TIFF, BMP, WebP or OpenEXR.
-    #[arg(id = "importance", value_name = "IMAGE")]
-    image: PathBuf,
-    /// Output drawing: .svg or .png (or the dots' points: .csv, .json).
+    /// The picture: PNG, JPEG, TIFF, BMP, WebP or OpenEXR. Several
+    /// pictures make a batch: one drawing each, in the folder -o names.
+    #[arg(id = "importance", value_name = "IMAGE", required = true, num_args = 1..)]
+    images: Vec<PathBuf>,
+    /// Output drawing: .svg or .png (or the dots' points: .csv, .json); for
+    /// a batch, a folder (made if missing; a path ending in / is one too),
+    /// where each picture's drawing is NAME.svg (or --format's extension).
     #[arg(long, short)]
     output: PathBuf,
+    /// The drawings' format in a batch [default: svg; for one drawing, the
+    /// output's extension].
+    #[arg(long, value_enum)]
+    format: Option<Format>,
+    /// Read every setting from a job file (written by --save-job or saved as
+    /// a preset in the app); the options given with it override it.
+    #[arg(long, value_name = "FILE.toml")]
+    job: Option<PathBuf>,
+    /// Write every setting of this drawing to a job file, to replay it with
+    /// --job (the same file, byte for byte) or batch it.
+    #[arg(long, value_name = "FILE.toml")]
+    save_job: Option<PathBuf>,
     #[command(flatten)]
     options: Job,
     /// Also write the dots' centres and radii (.csv or .json), in drawing order.
@@ -46,13 +63,125 @@ pub struct StippleArgs {
     run: RunArgs,
 }
 
-pub fn run(a: &StippleArgs) -> Result<()> {
-    let o = &a.options;
-    let format = Format::from_path(&a.output)?;
+/// Pairs of settings of which one given on the command line drops the
+/// other from the job file.
+const EXCLUSIVE: [(&str, &str); 2] = [("paper", "width_mm"), ("pens", "ink")];
+
+/// The job: the command line's options, or the job file's (`--job`) with
+/// the options given on the command line over it.
+fn job(a: &StippleArgs, matches: Option<&clap::ArgMatches>) -> Result<Job> {
+    let Some(path) = &a.job else {
+        return Ok(a.options.clone());
+    };
+    let file = JobFile::read(path)?;
+    if let Some(w) = &file.warning
+        && !a.run.quiet
+    {
+        eprintln!("warning: {}: {w}", path.display());
+    }
+    let mut table = file.table;
+    let given = a.options.to_table()?;
+    for key in KEYS {
+        let on_line =
+            matches.is_some_and(|m| m.value_source(key) == Some(ValueSource::CommandLine));
+        if !on_line {
+            continue;
+        }
+        for (one, other) in EXCLUSIVE {
+            if *key == one {
+                table.remove(other);
+            } else if *key == other {
+                table.remove(one);
+            }
+        }
+        match given.get(*key) {
+            Some(v) => table.insert((*key).to_string(), v.clone()),
+            None => table.remove(*key),
+        };
+    }
+    Job::from_table(table).with_context(|| format!("{}", path.display()))
+}
+
+/// Whether `path` names a folder: one that exists, or ends in a separator.
+fn is_folder(path: &Path) -> bool {
+    path.is_dir() || path.as_os_str().to_string_lossy().ends_with(['/', '\\'])
+}
+
+pub fn run(a: &StippleArgs, matches: Option<&clap::ArgMatches>) -> Result<()> {
+    let o = job(a, matches)?;
+    let batch = a.images.len() > 1 || is_folder(&a.output);
+    let format = match (batch, a.format) {
+        (true, f) => f.unwrap_or(Format::Svg),
+        (false, None) => Format::from_path(&a.output)?,
+        (false, Some(f)) => {
+            let by_name = Format::from_path(&a.output)?;
+            if by_name != f {
+                bail!(
+                    "--format {} disagrees with the output's extension ({})",
+                    f.extension(),
+                    a.output.display()
+                );
+            }
+            f
+        }
+    };
     if let Some(p) = &a.save_points {
+        if batch {
+            bail!("--save-points writes one drawing's points: give one picture, not a batch");
+        }
         io::PointFormat::from_path(p)?;
     }
     o.validate(format)?;
+    if let Some(path) = &a.save_job {
+        let source = (a.images.len() == 1).then(|| a.images[0].as_path());
+        let text = o.to_toml(source)?;
+        io::write_atomic(path, |w| Ok(w.write_all(text.as_bytes())?))?;
+    }
+    if !batch {
+        return draw(a, &o, &a.images[0], &a.output);
+    }
+    std::fs::create_dir_all(&a.output)
+        .with_context(|| format!("cannot make the folder '{}'", a.output.display()))?;
+    let mut outputs: Vec<PathBuf> = Vec::with_capacity(a.images.len());
+    for image in &a.images {
+        let stem = image.file_stem().unwrap_or(image.as_os_str());
+        let out = a.output.join(stem).with_extension(format.extension());
+        if let Some(i) = outputs.iter().position(|o| *o == out) {
+            bail!(
+                "'{}' and '{}' would both be drawn to '{}': rename one",
+                a.images[i].display(),
+                image.display(),
+                out.display()
+            );
+        }
+        outputs.push(out);
+    }
+    let mut failed = 0;
+    for (image, out) in a.images.iter().zip(&outputs) {
+        match draw(a, &o, image, out) {
+            Ok(()) if !a.run.quiet => eprintln!("wrote {}", out.display()),
+            Ok(()) => {}
+            Err(e) => {
+                failed += 1;
+                eprintln!(
+                    "error: {}: {}",
+                    image.display(),
+                    pixelpie::single_line(&format!("{e:#}"))
+                );
+            }
+        }
+    }
+    if failed > 0 {
+        bail!(
+            "{failed} of {} pictures failed; the others are drawn",
+            a.images.len()
+        );
+    }
+    Ok(())
+}
+
+/// Draws `image` with job `o` to `output` in `format`.
+fn draw(a: &StippleArgs, o: &Job, image: &Path, output: &Path) -> Result<()> {
     let speeds = PlotSpeeds {
         draw_mm_s: a.plot_speed,
         travel_mm_s: a.travel_speed,
@@ -80,8 +209,13 @@ pub fn run(a: &StippleArgs) -> Result<()> {
         indicatif::ProgressStyle::with_template("{spinner} relaxing [{bar:30}] {pos}/{len}")
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
+    if let Some(w) = pixelpie::importance::cut_short(image)
+        && !a.run.quiet
+    {
+        eprintln!("warning: {w}");
+    }
     let drawing = o.run(
-        &a.image,
+        image,
         |params| {
             Ok(run_with_progress(
                 params,
@@ -138,7 +272,7 @@ pub fn run(a: &StippleArgs) -> Result<()> {
             tour.nearest_neighbour_length, tour.length, tour.moves,
         );
     }
-    o.write(&drawing, &a.output)?;
+    o.write(&drawing, output)?;
     if let Some(path) = &a.save_points {
         o.write(&drawing, path)?;
     }
@@ -185,4 +319,27 @@ pub fn run(a: &StippleArgs) -> Result<()> {
         eprintln!("stages: {}", stages.join(", "));
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::{Args, CommandFactory};
+
+    /// The job file's keys are the CLI's option names, one for one.
+    #[test]
+    fn job_file_keys_are_the_options() {
+        let cli = crate::cli::Cli::command();
+        let stipple = cli.find_subcommand("stipple").expect("stipple");
+        let mut job: Vec<String> = pixelpie::job::Job::augment_args(clap::Command::new("x"))
+            .get_arguments()
+            .map(|a| a.get_id().to_string())
+            .collect();
+        job.sort();
+        let mut keys: Vec<String> = super::KEYS.iter().map(|k| (*k).to_string()).collect();
+        keys.sort();
+        assert_eq!(job, keys);
+        for key in super::KEYS {
+            assert!(stipple.get_arguments().any(|a| a.get_id() == *key), "{key}");
+        }
+    }
 }

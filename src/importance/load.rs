@@ -138,6 +138,35 @@ pub fn decode_file(path: &Path) -> Result<image::DynamicImage> {
     upright(reader).map_err(|e| decode(&e))
 }
 
+/// A warning when the image file at `path` is cut short, so that its
+/// decoder filled the missing part (JPEG decoders do: the picture opens
+/// whole, its lost part one flat tone): a JPEG without its end marker.
+/// `None` for a whole file, or one that cannot be read (its loading says
+/// why).
+#[must_use]
+pub fn cut_short(path: &Path) -> Option<String> {
+    let bytes = std::fs::read(path).ok()?;
+    cut_short_bytes(&bytes).then(|| {
+        format!(
+            "{} ends early (no JPEG end marker): part of the picture is missing and is \
+             drawn as one flat tone",
+            path.display()
+        )
+    })
+}
+
+/// Whether `bytes` are a JPEG cut short: a JPEG start marker without the
+/// end marker (padding after it allowed).
+#[must_use]
+pub fn cut_short_bytes(bytes: &[u8]) -> bool {
+    if !bytes.starts_with(&[0xFF, 0xD8]) {
+        return false;
+    }
+    // Writers may pad after the end marker; look for it near the end.
+    let tail = &bytes[bytes.len().saturating_sub(4096)..];
+    !tail.windows(2).any(|w| w == [0xFF, 0xD9])
+}
+
 /// Decodes the image of `reader` and turns it upright by its EXIF
 /// orientation (a phone's photo taken sideways says how to turn it), as a
 /// viewer shows it.
@@ -335,5 +364,20 @@ impl Luminance {
             }
         }
         ImportanceMap::from_values(self.width, self.height, values)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_cut_jpeg_is_told_from_a_whole_one() {
+        let whole =
+            std::fs::read(concat!(env!("CARGO_MANIFEST_DIR"), "/assets/astronaut.jpg")).unwrap();
+        assert!(!cut_short_bytes(&whole));
+        assert!(cut_short_bytes(&whole[..whole.len() / 3]));
+        let png = std::fs::read(concat!(env!("CARGO_MANIFEST_DIR"), "/assets/rings.png")).unwrap();
+        assert!(!cut_short_bytes(&png[..png.len() / 2]));
     }
 }

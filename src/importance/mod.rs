@@ -36,7 +36,10 @@ use std::path::{Path, PathBuf};
 
 pub use colour::ColourMap;
 pub use fit::{Classes, Prepared};
-pub use load::{Luminance, Range, decode_file, linear_to_srgb, load, load_bytes, srgb_to_linear};
+pub use load::{
+    Luminance, Range, cut_short, cut_short_bytes, decode_file, linear_to_srgb, load, load_bytes,
+    srgb_to_linear,
+};
 pub use mapping::{Mapping, RadiusRange};
 pub use options::{DEFAULT_RADIUS_RATIO, ImportanceOptions, MappingKind};
 

@@ -19,6 +19,7 @@ use serde::{Deserialize, Serialize};
 
 mod colour;
 pub mod count;
+pub mod file;
 mod options;
 mod plot;
 mod ramp;

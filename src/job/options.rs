@@ -69,6 +69,7 @@ pub enum Order {
 
 /// A drawing's file format, by extension (case-insensitive).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum Format {
     /// SVG: circles, or pen paths with `--pen-mm`.
     Svg,
@@ -81,6 +82,17 @@ pub enum Format {
 }
 
 impl Format {
+    /// The file extension of the format.
+    #[must_use]
+    pub const fn extension(self) -> &'static str {
+        match self {
+            Self::Svg => "svg",
+            Self::Png => "png",
+            Self::Csv => "csv",
+            Self::Json => "json",
+        }
+    }
+
     /// The format of `path`'s extension.
     pub fn from_path(path: &Path) -> Result<Self, Error> {
         match path

@@ -1,0 +1,198 @@
+//! `pixelpie stipple`'s saved jobs (`--save-job`, `--job`) and batches
+//! (several pictures, `-o DIR/`), through the binary.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn pixelpie(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_pixelpie"))
+        .args(args)
+        .output()
+        .expect("run pixelpie")
+}
+
+fn ok(args: &[&str]) -> Output {
+    let out = pixelpie(args);
+    assert!(
+        out.status.success(),
+        "{args:?} failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
+
+fn asset(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("assets")
+        .join(name)
+        .display()
+        .to_string()
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().expect("utf-8 path")
+}
+
+#[test]
+fn a_saved_job_replays_byte_for_byte_and_flags_override_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let (a, b, c) = (
+        dir.path().join("a.svg"),
+        dir.path().join("b.svg"),
+        dir.path().join("c.svg"),
+    );
+    let job = dir.path().join("job.toml");
+    let photo = asset("astronaut.jpg");
+    ok(&[
+        "stipple",
+        &photo,
+        "--points",
+        "1500",
+        "--relax",
+        "2",
+        "--gamma",
+        "1.2",
+        "--pens",
+        "cmyk",
+        "--order",
+        "tsp",
+        "--seed",
+        "5",
+        "-q",
+        "-o",
+        s(&a),
+        "--save-job",
+        s(&job),
+    ]);
+    let text = std::fs::read_to_string(&job).unwrap();
+    assert!(
+        text.contains("points = 1500") && text.contains("[[pens]]"),
+        "{text}"
+    );
+    ok(&["stipple", &photo, "--job", s(&job), "-q", "-o", s(&b)]);
+    assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
+    // A flag given with the job overrides its setting, and only that one.
+    let again = dir.path().join("again.toml");
+    ok(&[
+        "stipple",
+        &photo,
+        "--job",
+        s(&job),
+        "--seed",
+        "6",
+        "-q",
+        "-o",
+        s(&c),
+        "--save-job",
+        s(&again),
+    ]);
+    assert_ne!(std::fs::read(&a).unwrap(), std::fs::read(&c).unwrap());
+    let changed: Vec<_> = text
+        .lines()
+        .zip(std::fs::read_to_string(&again).unwrap().lines())
+        .filter(|(x, y)| x != y)
+        .map(|(_, y)| y.to_string())
+        .collect();
+    assert_eq!(changed, vec!["seed = 6".to_string()]);
+}
+
+#[test]
+fn a_job_file_with_an_unknown_key_or_version_is_said() {
+    let dir = tempfile::tempdir().unwrap();
+    let photo = asset("astronaut.jpg");
+    let out = dir.path().join("x.svg");
+    let bad = dir.path().join("bad.toml");
+    std::fs::write(
+        &bad,
+        "pixelpie = \"0.1.0\"\npoints = 900\ndot_ration = 0.5\n",
+    )
+    .unwrap();
+    let r = pixelpie(&["stipple", &photo, "--job", s(&bad), "-o", s(&out)]);
+    assert!(!r.status.success());
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(
+        err.contains("`dot_ration`") && err.contains("dot_ratio"),
+        "{err}"
+    );
+    assert!(!out.exists());
+    let old = dir.path().join("old.toml");
+    std::fs::write(&old, "pixelpie = \"0.0.9\"\npoints = 900\n").unwrap();
+    let r = ok(&["stipple", &photo, "--job", s(&old), "-o", s(&out)]);
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert!(err.contains("warning:") && err.contains("0.0.9"), "{err}");
+}
+
+#[test]
+fn a_batch_draws_every_good_picture_and_says_which_failed() {
+    let dir = tempfile::tempdir().unwrap();
+    let broken = dir.path().join("broken.png");
+    std::fs::write(&broken, b"\x89PNG\r\n\x1a\nnot really").unwrap();
+    let folder = dir.path().join("out");
+    let slash = format!("{}/", folder.display());
+    let r = pixelpie(&[
+        "stipple",
+        &asset("astronaut.jpg"),
+        s(&broken),
+        &asset("rocket.jpg"),
+        "--points",
+        "800",
+        "-o",
+        &slash,
+    ]);
+    assert!(!r.status.success());
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert!(
+        err.contains("broken.png") && err.contains("1 of 3"),
+        "{err}"
+    );
+    assert!(folder.join("astronaut.svg").is_file() && folder.join("rocket.svg").is_file());
+    assert!(!folder.join("broken.svg").exists());
+    // The same drawing as a single run's.
+    let one = dir.path().join("one.svg");
+    ok(&[
+        "stipple",
+        &asset("rocket.jpg"),
+        "--points",
+        "800",
+        "-q",
+        "-o",
+        s(&one),
+    ]);
+    assert_eq!(
+        std::fs::read(&one).unwrap(),
+        std::fs::read(folder.join("rocket.svg")).unwrap()
+    );
+    // --format picks the batch's format.
+    let pngs = dir.path().join("pngs");
+    ok(&[
+        "stipple",
+        &asset("astronaut.jpg"),
+        &asset("rocket.jpg"),
+        "--points",
+        "500",
+        "--format",
+        "png",
+        "-q",
+        "-o",
+        s(&pngs),
+    ]);
+    for name in ["astronaut.png", "rocket.png"] {
+        assert!(image::open(pngs.join(name)).is_ok(), "{name}");
+    }
+}
+
+#[test]
+fn a_cut_short_jpeg_is_drawn_with_a_warning() {
+    let dir = tempfile::tempdir().unwrap();
+    let bytes = std::fs::read(asset("astronaut.jpg")).unwrap();
+    let cut = dir.path().join("cut.jpg");
+    std::fs::write(&cut, &bytes[..bytes.len() / 3]).unwrap();
+    let out = dir.path().join("cut.svg");
+    let r = pixelpie(&["stipple", s(&cut), "--points", "500", "-o", s(&out)]);
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert!(
+        err.contains("warning:") && err.contains("ends early"),
+        "{err}"
+    );
+}
