@@ -208,14 +208,16 @@ mod tests {
 
     #[test]
     fn a_job_survives_its_file() {
-        let mut job = Job::default();
-        job.points = Some(12_345);
-        job.relax = 3;
+        let mut job = Job {
+            points: Some(12_345),
+            relax: 3,
+            dot_ratio: 0.3,
+            pens: Some("cmyk".parse().unwrap()),
+            paper: Some("a4".parse().unwrap()),
+            pen_mm: Some(0.3),
+            ..Job::default()
+        };
         job.importance.gamma = 1.1;
-        job.dot_ratio = 0.3;
-        job.pens = Some("cmyk".parse().unwrap());
-        job.paper = Some("a4".parse().unwrap());
-        job.pen_mm = Some(0.3);
         job.sampler.seed = 7;
         let text = job.to_toml(None).unwrap();
         assert!(
@@ -232,12 +234,14 @@ mod tests {
 
     #[test]
     fn every_key_written_is_known() {
-        let mut job = Job::default();
-        job.points = Some(1);
-        job.pens = Some("cmyk".parse().unwrap());
-        job.paper = Some("a4".parse().unwrap());
-        job.margin = Some(5.0);
-        job.landscape = true;
+        let job = Job {
+            points: Some(1),
+            pens: Some("cmyk".parse().unwrap()),
+            paper: Some("a4".parse().unwrap()),
+            margin: Some(5.0),
+            landscape: true,
+            ..Job::default()
+        };
         for key in job.to_table().unwrap().keys() {
             assert!(KEYS.contains(&key.as_str()), "{key} is not in KEYS");
         }
