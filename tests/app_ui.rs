@@ -1497,3 +1497,74 @@ fn the_panel_warns_when_the_dots_are_too_small_to_print_or_to_see_in_the_png() {
     h.run_steps(2);
     assert!(!shows(&h, "Dots too small"));
 }
+
+/// Waits for the plot estimate and the plotted dots, then lets the view rest.
+fn plotted(h: &mut Harness<'_, PixelPieApp>) {
+    let start = Instant::now();
+    while h.state().plot_pending() {
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "no plot estimate"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+        h.step();
+    }
+    rest(h);
+}
+
+#[test]
+fn with_a_pen_the_view_shows_the_plot_and_warns_with_a_one_click_count() {
+    let (dir, _, mut h) = ready(300, 200);
+    h.state_mut().settings.backend = pixelpie::backend::BackendChoice::Cpu;
+    h.state_mut().settings.points = 30_000;
+    h.state_mut().settings.job.width_mm = Some(150.0);
+    h.state_mut().settings.job.dot = Some(pixelpie::job::DotMode::Sized);
+    h.step();
+    settle(&mut h);
+    press(&mut h, egui::Key::F, egui::Modifiers::NONE);
+    let mut greys = Vec::new();
+    for pen in [0.3, 2.0] {
+        h.state_mut().settings.job.pen_mm = Some(pen);
+        h.step();
+        plotted(&mut h);
+        let view = h.render().expect("render");
+        let _ = view.save(format!("{}/app-pen-{pen}.png", env!("CARGO_TARGET_TMPDIR")));
+        // The CLI's --preview of the same drawing.
+        let job = h.state().settings.job();
+        let path = dir.path().join(format!("preview-{pen}.png"));
+        job.write_preview(&h.state().outcome.as_ref().unwrap().drawing, &path)
+            .unwrap();
+        let preview = image::open(&path).unwrap().to_rgba8();
+        let (on_screen, exported) = view_and_png_grey(&h, &view, &preview);
+        eprintln!("{pen} mm pen: view {on_screen:.4}, --preview {exported:.4}");
+        assert!(
+            (on_screen - exported).abs() <= 0.02,
+            "{pen} mm: the view's mean grey {on_screen:.4}, the preview's {exported:.4}"
+        );
+        greys.push(on_screen);
+    }
+    assert!(
+        greys[1] < greys[0] - 0.05,
+        "a 2 mm pen is not darker: {greys:?}"
+    );
+    // The 2 mm pen warns, and its one click asks for the count that draws
+    // the tones true: then it no longer warns.
+    let count = h.state().pen_warning().expect("a warning").true_count;
+    assert!(shows(&h, "Pen too wide"));
+    h.get_by_label(&format!("Use {count} dots")).click();
+    h.step();
+    assert_eq!(h.state().settings.points as usize, count);
+    settle(&mut h);
+    plotted(&mut h);
+    assert!(
+        h.state().pen_warning().is_none(),
+        "{:?}",
+        h.state()
+            .pen_warning()
+            .map(pixelpie::job::PenCheck::message)
+    );
+    // Without a pen, the view is the drawing as before.
+    h.state_mut().settings.job.pen_mm = None;
+    h.step();
+    assert!(!shows(&h, "Pen too wide"));
+}

@@ -196,3 +196,93 @@ fn a_cut_short_jpeg_is_drawn_with_a_warning() {
         "{err}"
     );
 }
+
+/// The mean grey (0 black, 1 white) of a PNG.
+fn mean_grey(path: &Path) -> f64 {
+    let img = image::open(path).unwrap().to_luma8();
+    img.pixels().map(|p| f64::from(p.0[0]) / 255.0).sum::<f64>()
+        / f64::from(img.width() * img.height())
+}
+
+#[test]
+fn the_preview_shows_the_pen_and_a_pen_too_wide_warns_with_a_count() {
+    let dir = tempfile::tempdir().unwrap();
+    let photo = asset("astronaut.jpg");
+    let mut greys = Vec::new();
+    let mut warnings = Vec::new();
+    for pen in ["0.3", "2.0"] {
+        let preview = dir.path().join(format!("p{pen}.png"));
+        let out = dir.path().join(format!("p{pen}.svg"));
+        let r = ok(&[
+            "stipple",
+            &photo,
+            "--points",
+            "300000",
+            "--pens",
+            "cmyk",
+            "--paper",
+            "a4",
+            "--pen-mm",
+            pen,
+            "--dot",
+            "sized",
+            "-o",
+            s(&out),
+            "--preview",
+            s(&preview),
+        ]);
+        let img = image::open(&preview).unwrap();
+        // The sheet: A4 portrait.
+        let aspect = f64::from(img.height()) / f64::from(img.width());
+        assert!((aspect - 297.0 / 210.0).abs() < 0.01, "{aspect}");
+        greys.push(mean_grey(&preview));
+        warnings.push(String::from_utf8_lossy(&r.stderr).to_string());
+    }
+    assert!(greys[1] < greys[0] - 0.05, "{greys:?}");
+    for w in &warnings {
+        assert!(
+            w.contains("warning:") && w.contains("darker") && w.contains("--points"),
+            "{w}"
+        );
+    }
+    // The count it names draws the tones true: no warning.
+    let count: String = warnings[0]
+        .rsplit("--points ")
+        .next()
+        .unwrap()
+        .chars()
+        .take_while(char::is_ascii_digit)
+        .collect();
+    let out = dir.path().join("true.svg");
+    let r = ok(&[
+        "stipple",
+        &photo,
+        "--points",
+        &count,
+        "--pens",
+        "cmyk",
+        "--paper",
+        "a4",
+        "--pen-mm",
+        "0.3",
+        "--dot",
+        "sized",
+        "-o",
+        s(&out),
+    ]);
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert!(!err.contains("darker"), "{count} dots: {err}");
+    // Without a pen the preview is the drawing's own PNG.
+    let (png, preview) = (dir.path().join("d.png"), dir.path().join("dp.png"));
+    ok(&[
+        "stipple",
+        &photo,
+        "--points",
+        "2000",
+        "-o",
+        s(&png),
+        "--preview",
+        s(&preview),
+    ]);
+    assert!((mean_grey(&png) - mean_grey(&preview)).abs() < 0.005);
+}

@@ -165,7 +165,39 @@ impl PixelPieApp {
             .on_hover_text("PNG pixels per sampled pixel");
         });
         self.dot_warning_ui(ui);
+        self.pen_warning_ui(ui);
         self.export_result_ui(ui);
+    }
+
+    /// The pen's warning (dots narrower than the pen plots them), with a
+    /// button that asks for the count that draws the tones true; a row of
+    /// fixed height, empty without a warning.
+    fn pen_warning_ui(&mut self, ui: &mut egui::Ui) {
+        let warning = self
+            .pen_warning()
+            .map(|c| (c.message(), c.true_count, c.plotted, c.asked));
+        fixed_row(ui, true, |ui| {
+            let Some((text, count, plotted, asked)) = warning else {
+                return;
+            };
+            if ui
+                .button(format!("Use {count} dots"))
+                .on_hover_text("Draw this many dots: the pen then draws the tones true")
+                .clicked()
+            {
+                self.settings.use_count = true;
+                self.settings.points = u32::try_from(count).unwrap_or(u32::MAX);
+            }
+            let short = format!(
+                "Pen too wide: {:.0}% inked, not {:.0}%",
+                100.0 * plotted,
+                100.0 * asked
+            );
+            let label =
+                egui::Label::new(egui::RichText::new(short).color(Color32::from_rgb(210, 120, 20)))
+                    .truncate();
+            ui.add(label).on_hover_text(text);
+        });
     }
 
     /// The warning that the dots are too small for the export's size, on

@@ -4,15 +4,33 @@
 //! thread of its own when the drawing changes, or once the controls rest
 //! after a change of the job, never per frame.
 
+use std::sync::Arc;
 use std::sync::mpsc::{Receiver, TryRecvError, channel};
 use std::time::Instant;
 
+use super::dots::DotInstance;
 use super::{DEBOUNCE, PixelPieApp};
-use crate::job::Job;
+use crate::job::{Job, PenCheck};
 use crate::stipple::plot::{PenPlot, PlotSpeeds};
 
 /// An estimate: each pen's plot, or why there is none.
 type Estimate = Result<Vec<PenPlot>, String>;
+
+/// The drawing as the pens plot it ([`Job::plotted_radii`]): what the view
+/// shows with a pen width, and the pen's warning.
+pub(super) struct Plotted {
+    /// The drawing's generation it was made for.
+    pub of: u64,
+    /// Its own generation (the view's caches tell it by this).
+    pub generation: u64,
+    /// The dots as plotted, one layer per pen (one for a grey drawing).
+    pub layers: Vec<Arc<Vec<DotInstance>>>,
+    /// Whether the pens draw the dots larger than the tones ask.
+    pub check: Option<PenCheck>,
+}
+
+/// Generations of [`Plotted`] layers: apart from the drawings' own.
+const PLOTTED_GENERATIONS: u64 = 1 << 62;
 
 /// The estimate shown, and the one on its way.
 #[derive(Default)]
@@ -25,6 +43,12 @@ pub(super) struct PlotTime {
     reply: Option<Receiver<Estimate>>,
     /// The last estimate (stale while a newer one is due or on its way).
     shown: Option<Estimate>,
+    /// The drawing as plotted, with the last estimate.
+    pub plotted: Option<Plotted>,
+    /// Estimates started.
+    made: u64,
+    /// The answer of the estimate's thread, with the plotted drawing.
+    plotted_reply: Option<Receiver<Option<Plotted>>>,
 }
 
 impl PixelPieApp {
@@ -39,6 +63,7 @@ impl PixelPieApp {
             return;
         };
         let key = (self.dots_generation, job);
+        let scale = outcome.scale;
         let plot = &mut self.plot;
         if plot.key.as_ref() != Some(&key) {
             let now = Instant::now();
@@ -63,6 +88,16 @@ impl PixelPieApp {
                 }
             }
         }
+        if let Some(reply) = &plot.plotted_reply {
+            match reply.try_recv() {
+                Ok(plotted) => {
+                    plot.plotted = plotted;
+                    plot.plotted_reply = None;
+                }
+                Err(TryRecvError::Empty) => {}
+                Err(TryRecvError::Disconnected) => plot.plotted_reply = None,
+            }
+        }
         let Some(since) = plot.due else { return };
         let rest = DEBOUNCE.saturating_sub(since.elapsed());
         if !rest.is_zero() {
@@ -75,7 +110,10 @@ impl PixelPieApp {
         };
         let drawing = outcome.drawing.clone();
         let (tx, rx) = channel();
+        let (plotted_tx, plotted_rx) = channel();
         let repaint = ctx.clone();
+        plot.made += 1;
+        let (of, generation) = (self.dots_generation, PLOTTED_GENERATIONS + plot.made);
         let spawned = std::thread::Builder::new()
             .name("pixelpie-plot-time".into())
             .spawn(move || {
@@ -83,12 +121,22 @@ impl PixelPieApp {
                     .plot_stats(&drawing, PlotSpeeds::default())
                     .map_err(|e| crate::text::one_line(&e));
                 let _ = tx.send(estimate);
+                let plotted = plotted(&job, &drawing, scale).map(|(layers, check)| Plotted {
+                    of,
+                    generation,
+                    layers,
+                    check,
+                });
+                let _ = plotted_tx.send(plotted);
                 repaint.request_repaint();
             });
         // A newer estimate replaces the one on its way (its answer is
         // dropped).
         match spawned {
-            Ok(_) => plot.reply = Some(rx),
+            Ok(_) => {
+                plot.reply = Some(rx);
+                plot.plotted_reply = Some(plotted_rx);
+            }
             Err(e) => plot.shown = Some(Err(format!("cannot estimate the plot time: {e}"))),
         }
     }
@@ -96,7 +144,24 @@ impl PixelPieApp {
     /// Whether a plot-time estimate is due or on its way.
     #[must_use]
     pub fn plot_pending(&self) -> bool {
-        self.plot.due.is_some() || self.plot.reply.is_some()
+        self.plot.due.is_some() || self.plot.reply.is_some() || self.plot.plotted_reply.is_some()
+    }
+
+    /// The drawing as the pens plot it, when a pen width is set and it is
+    /// of the drawing shown.
+    pub(super) fn plotted_view(&self) -> Option<&Plotted> {
+        self.settings.job.pen_mm?;
+        self.plot
+            .plotted
+            .as_ref()
+            .filter(|p| p.of == self.dots_generation)
+    }
+
+    /// The pen's warning: the dots narrower than the pen draws them, how
+    /// much darker the plot comes out, and the count that draws true.
+    #[must_use]
+    pub fn pen_warning(&self) -> Option<&PenCheck> {
+        self.plotted_view()?.check.as_ref()
     }
 
     /// The plot-time line ("plot ≈ 1 h 23 min · 4 pens · 20 012 lifts"),
@@ -160,6 +225,31 @@ impl PixelPieApp {
                 .on_hover_text(self.plot_details());
         });
     }
+}
+
+/// The dots of `drawing` as the pens plot them, one layer per pen, in
+/// image px (`scale` domain px each), and the pen's warning; `None`
+/// without a pen width and a size in mm.
+fn plotted(
+    job: &Job,
+    drawing: &crate::job::Stipple,
+    scale: f32,
+) -> Option<(Vec<Arc<Vec<DotInstance>>>, Option<PenCheck>)> {
+    let radii = job.plotted_radii(drawing).ok()??;
+    let pens = drawing.pens.as_ref().map_or(1, crate::colour::PenSet::len);
+    let mut layers = vec![Vec::new(); pens];
+    for (p, r) in drawing.points.iter().zip(radii) {
+        if let Some(layer) = layers.get_mut(p.class as usize) {
+            layer.push(DotInstance {
+                x: p.x / scale,
+                y: p.y / scale,
+                radius: p.radius / scale,
+                drawn: r / scale,
+            });
+        }
+    }
+    let check = job.pen_check(drawing).ok().flatten();
+    Some((layers.into_iter().map(Arc::new).collect(), check))
 }
 
 /// A time as a plot takes it: seconds under a minute, then minutes, then

@@ -307,8 +307,21 @@ impl PixelPieApp {
                 ..ink.clone()
             });
         }
+        // With a pen width, the dots as the pens plot them (their radii on
+        // paper, as `stipple --preview` draws them).
+        let plotted = self.plotted_view();
+        let as_plotted = |k: usize, layer: DotLayer| match plotted {
+            Some(p) => DotLayer {
+                dots: p.layers.get(k).cloned().unwrap_or_default(),
+                generation: p.generation,
+                radius_scale: 0.0,
+                drawn_scale: 1.0,
+                ..layer
+            },
+            None => layer,
+        };
         if self.pen_layers.is_empty() {
-            layers.push(ink.clone());
+            layers.push(as_plotted(0, ink.clone()));
         }
         // A colour drawing: each pen's layer in its ink, multiplied in.
         for (k, (colour, dots)) in self.pen_layers.iter().enumerate() {
@@ -316,13 +329,16 @@ impl PixelPieApp {
                 continue;
             }
             let [r, g, b] = colour.map(|c| f32::from(c) / 255.0);
-            layers.push(DotLayer {
-                dots: dots.clone(),
-                color: [r, g, b, 1.0],
-                slot: 1 + k,
-                blend: Blend::Multiply,
-                ..ink.clone()
-            });
+            layers.push(as_plotted(
+                k,
+                DotLayer {
+                    dots: dots.clone(),
+                    color: [r, g, b, 1.0],
+                    slot: 1 + k,
+                    blend: Blend::Multiply,
+                    ..ink.clone()
+                },
+            ));
         }
         layers
     }

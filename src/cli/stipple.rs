@@ -37,6 +37,12 @@ pub struct StippleArgs {
     /// a preset in the app); the options given with it override it.
     #[arg(long, value_name = "FILE.toml")]
     job: Option<PathBuf>,
+    /// Also write the drawing as the pens will plot it, as a PNG: each dot as
+    /// its pen path inks it with a pen of its plotted width (--pen-mm × the
+    /// pen's dot gain), the inks multiplied, on the sheet with --paper.
+    /// Without a pen, the dots as drawn.
+    #[arg(long, value_name = "FILE.png")]
+    preview: Option<PathBuf>,
     /// Write every setting of this drawing to a job file, to replay it with
     /// --job (the same file, byte for byte) or batch it.
     #[arg(long, value_name = "FILE.toml")]
@@ -130,6 +136,14 @@ pub fn run(a: &StippleArgs, matches: Option<&clap::ArgMatches>) -> Result<()> {
             bail!("--save-points writes one drawing's points: give one picture, not a batch");
         }
         io::PointFormat::from_path(p)?;
+    }
+    if let Some(p) = &a.preview {
+        if batch {
+            bail!("--preview writes one drawing's preview: give one picture, not a batch");
+        }
+        if Format::from_path(p).ok() != Some(Format::Png) {
+            bail!("the preview is a PNG: name it .png, not '{}'", p.display());
+        }
     }
     o.validate(format)?;
     if let Some(path) = &a.save_job {
@@ -273,6 +287,18 @@ fn draw(a: &StippleArgs, o: &Job, image: &Path, output: &Path) -> Result<()> {
         );
     }
     o.write(&drawing, output)?;
+    if let Some(path) = &a.preview {
+        o.write_preview(&drawing, path)?;
+    }
+    if let Some(check) = o.pen_check(&drawing)?
+        && !a.run.quiet
+    {
+        eprintln!(
+            "warning: {}: give --points {}",
+            check.message(),
+            check.true_count
+        );
+    }
     if let Some(path) = &a.save_points {
         o.write(&drawing, path)?;
     }

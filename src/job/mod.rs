@@ -22,11 +22,13 @@ pub mod count;
 pub mod file;
 mod options;
 mod plot;
+mod preview;
 mod ramp;
 mod run;
 mod sample;
 
 pub use options::{DotMode, Format, Ink, Order};
+pub use preview::{PenCheck, PlotPen, plotted_dot};
 pub use ramp::{RampError, ramp_error};
 pub use run::{Picture, Step, Stipple};
 pub use sample::{Radii, SampleJob, Sampled};

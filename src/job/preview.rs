@@ -1,0 +1,366 @@
+//! The drawing as the pens will put it on paper (`stipple --preview`, the
+//! app's view with a pen): each dot as its pen path inks it, by a pen of
+//! its plotted width (the pen's width × its dot gain), the inks multiplied
+//! where they overlap, on the sheet; and the warning when the pen cannot
+//! draw the dots as small as the tones ask.
+//!
+//! A dot no wider than the pen (or every dot, with `--dot-path touch`) is
+//! one touch: a disk of the pen's width. A spiral inks the dot's disk; a
+//! circle its ring, drawn here as the disk of the ring's area (its ink).
+//! Each, times the pen's gain. Without a pen (or a size in mm) the dots are
+//! the drawing's own.
+
+use std::path::Path;
+
+use super::{Job, Stipple};
+use crate::colour::{PenSet, RenderModel};
+use crate::importance::Tones;
+use crate::stipple::svg::DotPath;
+use crate::stipple::{Dot, raster};
+
+/// The share of dots that may be wider on paper than their tone asks before
+/// the plot is said to be too dark: the dots under the pen, beyond this,
+/// make the warning.
+const SMALL_SHARE: f64 = 0.05;
+/// The least rise in ink (of the paper's area) that is worth a warning.
+const INK_RISE: f64 = 0.01;
+/// The cells of the grid on which the inks are compared, per side.
+const GRID: usize = 64;
+
+/// One layer's pen as it plots: its name, width in mm and dot gain.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlotPen {
+    /// The pen's name.
+    pub name: String,
+    /// Its width in mm.
+    pub width_mm: f64,
+    /// Its dot gain (the plotted dot's diameter over the drawn one).
+    pub gain: f64,
+}
+
+/// The dots that a pen draws larger than their tones ask, and what that
+/// does to the plot.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PenCheck {
+    /// The pen whose dots are most often too small for it.
+    pub pen: PlotPen,
+    /// The share of that pen's dots narrower than it plots them.
+    pub small: f64,
+    /// The paper's ink in the drawing (0 white, 1 covered), as the tones ask.
+    pub asked: f64,
+    /// The paper's ink as the pens plot it.
+    pub plotted: f64,
+    /// About the dot count at which the pen draws the tones true (its
+    /// smallest dots, but for a few, one pen wide).
+    pub true_count: usize,
+    /// The drawing's dot count.
+    pub count: usize,
+}
+
+impl PenCheck {
+    /// The warning's text (one line).
+    #[must_use]
+    pub fn message(&self) -> String {
+        format!(
+            "{:.0}% of the dots are narrower than the {} mm {} pen can draw them: the plot \
+             will be darker than the picture ({:.0}% of the paper inked, not {:.0}%; mean grey \
+             {:.2}, not {:.2}); about {} dots draw its tones true",
+            100.0 * self.small,
+            self.pen.width_mm,
+            self.pen.name,
+            100.0 * self.plotted,
+            100.0 * self.asked,
+            1.0 - self.plotted,
+            1.0 - self.asked,
+            self.true_count
+        )
+    }
+}
+
+/// `dot` (domain px) as a pen `pen` px wide with dot gain `gain` inks it,
+/// following `path`.
+#[must_use]
+pub fn plotted_dot(dot: Dot, pen: f32, gain: f32, path: DotPath) -> Dot {
+    let r = dot.radius;
+    let radius = if path == DotPath::Touch || 2.0 * r <= pen {
+        pen / 2.0
+    } else if path == DotPath::Circle {
+        let inner = (r - pen).max(0.0);
+        (r * r - inner * inner).sqrt()
+    } else {
+        r
+    };
+    Dot {
+        radius: radius * gain,
+        ..dot
+    }
+}
+
+impl Job {
+    /// The pen of each layer as it plots, and the drawing's mm per domain
+    /// px: `None` without a pen width and a size in mm.
+    pub fn plot_pens(&self, drawing: &Stipple) -> crate::Result<Option<(f64, Vec<PlotPen>)>> {
+        let (Some(mm), Some(pen_mm)) = (self.mm_per_px(drawing.domain)?, self.pen_width()) else {
+            return Ok(None);
+        };
+        let pens = match &drawing.pens {
+            Some(set) => set
+                .pens()
+                .iter()
+                .enumerate()
+                .map(|(k, p)| PlotPen {
+                    name: p.name.clone(),
+                    width_mm: p.width_mm.unwrap_or(pen_mm),
+                    gain: self.dot_gain(k as u32),
+                })
+                .collect(),
+            None => vec![PlotPen {
+                name: self.one_pen().map_or_else(
+                    || crate::colour::pens::name_of(self.ink.0),
+                    |p| p.name.clone(),
+                ),
+                width_mm: pen_mm,
+                gain: self.dot_gain(0),
+            }],
+        };
+        Ok(Some((mm, pens)))
+    }
+
+    /// Each dot's radius on paper (domain px), in drawing order: the dot as
+    /// drawn ([`Self::dots`]) plotted by its pen ([`plotted_dot`]); `None`
+    /// without a pen width and a size in mm.
+    pub fn plotted_radii(&self, drawing: &Stipple) -> crate::Result<Option<Vec<f32>>> {
+        let Some((mm, pens)) = self.plot_pens(drawing)? else {
+            return Ok(None);
+        };
+        let pens: Vec<(f32, f32)> = pens
+            .iter()
+            .map(|p| ((p.width_mm / mm) as f32, p.gain as f32))
+            .collect();
+        Ok(Some(
+            drawing
+                .points
+                .iter()
+                .zip(self.dots(drawing))
+                .map(|(p, d)| {
+                    let (px, gain) = pens.get(p.class as usize).copied().unwrap_or(pens[0]);
+                    plotted_dot(d, px, gain, self.dot_path).radius
+                })
+                .collect(),
+        ))
+    }
+
+    /// The dots of `drawing` as the pens put them on paper, pen by pen
+    /// ([`Self::pen_dots`]'s layers, each dot [`plotted_dot`]); the dots
+    /// as drawn without a pen.
+    pub fn plotted_layers(&self, drawing: &Stipple) -> crate::Result<Vec<Vec<Dot>>> {
+        let Some(radii) = self.plotted_radii(drawing)? else {
+            return Ok(self.pen_dots(drawing));
+        };
+        let pens = drawing.pens.as_ref().map_or(1, PenSet::len);
+        let mut layers = vec![Vec::new(); pens];
+        for (p, r) in drawing.points.iter().zip(radii) {
+            if let Some(layer) = layers.get_mut(p.class as usize) {
+                layer.push(Dot {
+                    x: p.x,
+                    y: p.y,
+                    radius: r,
+                });
+            }
+        }
+        Ok(layers)
+    }
+
+    /// The render model of the drawing's inks: its pens', or the one ink's.
+    fn ink_model(&self, drawing: &Stipple) -> crate::Result<RenderModel> {
+        let linear = self.importance.tones == Tones::Linear;
+        let pens = match &drawing.pens {
+            Some(p) => p.clone(),
+            None => PenSet::from_colours([crate::colour::pens::hex_of(self.ink_rgb()).as_str()])?,
+        };
+        Ok(RenderModel::new(&pens, linear))
+    }
+
+    /// The as-plotted preview of `drawing` ([`Self::plotted_layers`]): the
+    /// drawing at one pixel per domain pixel, the inks multiplied, on its
+    /// sheet (white margins) with `--paper`.
+    pub fn preview(&self, drawing: &Stipple) -> crate::Result<image::RgbImage> {
+        let layers = self.plotted_layers(drawing)?;
+        let papers = layers
+            .iter()
+            .map(|d| raster::render(d, drawing.domain, 1.0))
+            .collect::<Result<Vec<_>, _>>()?;
+        let picture = raster::composite(&papers, &self.ink_model(drawing)?)?;
+        let Some(p) = self.placement(drawing.domain)? else {
+            return Ok(picture);
+        };
+        // The sheet, in domain px, the drawing at its origin.
+        let mm = p.mm_per_px(drawing.domain.0);
+        let side = |v: f64| (v / mm).round().max(1.0) as u32;
+        let (w, h) = (side(p.sheet_mm.0), side(p.sheet_mm.1));
+        if u64::from(w) * u64::from(h) > raster::MAX_PIXELS {
+            return Err(crate::stipple::Error::InvalidParameter(format!(
+                "a {w}x{h} preview is too large (at most {} pixels)",
+                raster::MAX_PIXELS
+            ))
+            .into());
+        }
+        let mut sheet = image::RgbImage::from_pixel(w, h, image::Rgb([255, 255, 255]));
+        let (x0, y0) = (
+            (p.origin_mm.0 / mm).round() as i64,
+            (p.origin_mm.1 / mm).round() as i64,
+        );
+        image::imageops::overlay(&mut sheet, &picture, x0, y0);
+        Ok(sheet)
+    }
+
+    /// Writes [`Self::preview`] of `drawing` as a PNG to `path`, atomically.
+    pub fn write_preview(&self, drawing: &Stipple, path: &Path) -> crate::Result<()> {
+        if super::Format::from_path(path)? != super::Format::Png {
+            return Err(crate::stipple::Error::InvalidParameter(format!(
+                "the preview is a PNG: name it .png, not '{}'",
+                path.display()
+            ))
+            .into());
+        }
+        let img = self.preview(drawing)?;
+        crate::io::write_atomic(path, |w| {
+            Ok(raster::write_png_rgb(w, &img, drawing.points.len())?)
+        })?;
+        Ok(())
+    }
+
+    /// Whether the pens draw `drawing`'s dots larger than its tones ask
+    /// (dots narrower than a pen), and by how much: `None` when they draw
+    /// it true, or without a pen.
+    pub fn pen_check(&self, drawing: &Stipple) -> crate::Result<Option<PenCheck>> {
+        let Some((mm, pens)) = self.plot_pens(drawing)? else {
+            return Ok(None);
+        };
+        let asked = self.pen_dots(drawing);
+        let plotted = self.plotted_layers(drawing)?;
+        // The pen with the largest share of dots under it.
+        let mut worst: Option<(f64, usize)> = None;
+        for (k, (layer, pen)) in asked.iter().zip(&pens).enumerate() {
+            if layer.is_empty() {
+                continue;
+            }
+            let gain = pen.gain as f32;
+            let small = layer
+                .iter()
+                .zip(&plotted[k])
+                .filter(|(a, p)| p.radius > a.radius * gain * 1.001)
+                .count() as f64
+                / layer.len() as f64;
+            if worst.is_none_or(|(s, _)| small > s) {
+                worst = Some((small, k));
+            }
+        }
+        let Some((small, k)) = worst else {
+            return Ok(None);
+        };
+        let gains: Vec<f32> = pens.iter().map(|p| p.gain as f32).collect();
+        let on_paper: Vec<Vec<Dot>> = asked
+            .iter()
+            .zip(&gains)
+            .map(|(l, &g)| {
+                l.iter()
+                    .map(|d| Dot {
+                        radius: d.radius * g,
+                        ..*d
+                    })
+                    .collect()
+            })
+            .collect();
+        let ink_asked = ink(&on_paper, drawing.domain);
+        let ink_plotted = ink(&plotted, drawing.domain);
+        if small <= SMALL_SHARE || ink_plotted - ink_asked < INK_RISE {
+            return Ok(None);
+        }
+        // The radii scale as 1/√count: the count whose dots, but for
+        // SMALL_SHARE of them, are at least the pen's plotted dot.
+        let pen = &pens[k];
+        let pen_r = (pen.width_mm / mm * pen.gain / 2.0) as f32;
+        let mut radii: Vec<f32> = on_paper[k].iter().map(|d| d.radius).collect();
+        radii.sort_by(f32::total_cmp);
+        let q = radii[((radii.len() as f64 * SMALL_SHARE) as usize).min(radii.len() - 1)];
+        let count = drawing.points.len();
+        let ratio = f64::from(q / pen_r).powi(2);
+        let true_count = ((count as f64 * ratio * 0.95).floor() as usize).max(1);
+        Ok(Some(PenCheck {
+            pen: pen.clone(),
+            small,
+            asked: ink_asked,
+            plotted: ink_plotted,
+            true_count,
+            count,
+        }))
+    }
+}
+
+/// The paper's mean ink under `layers` (domain px) over `domain`: each
+/// layer's dots' area summed on a coarse grid, as independent inks per cell
+/// (1 − e^(−area)), the layers multiplied.
+fn ink(layers: &[Vec<Dot>], (w, h): (u32, u32)) -> f64 {
+    let (cw, ch) = (
+        (f64::from(w) / GRID as f64).max(1.0),
+        (f64::from(h) / GRID as f64).max(1.0),
+    );
+    let (cols, rows) = (
+        (f64::from(w) / cw).ceil() as usize,
+        (f64::from(h) / ch).ceil() as usize,
+    );
+    let mut paper = vec![1.0f64; cols * rows];
+    for layer in layers {
+        let mut area = vec![0.0f64; cols * rows];
+        for d in layer {
+            let x = ((f64::from(d.x) / cw) as usize).min(cols - 1);
+            let y = ((f64::from(d.y) / ch) as usize).min(rows - 1);
+            area[y * cols + x] += std::f64::consts::PI * f64::from(d.radius).powi(2);
+        }
+        for (p, a) in paper.iter_mut().zip(&area) {
+            *p *= (-a / (cw * ch)).exp();
+        }
+    }
+    1.0 - paper.iter().sum::<f64>() / paper.len() as f64
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_pen_inks_at_least_its_own_width() {
+        let dot = Dot {
+            x: 1.0,
+            y: 2.0,
+            radius: 0.5,
+        };
+        // Narrower than the pen: one touch, the pen's disk, times the gain.
+        assert_eq!(plotted_dot(dot, 3.0, 1.0, DotPath::Spiral).radius, 1.5);
+        assert_eq!(
+            plotted_dot(dot, 3.0, 1.2, DotPath::Spiral).radius,
+            1.5 * 1.2
+        );
+        let big = Dot { radius: 4.0, ..dot };
+        assert_eq!(plotted_dot(big, 3.0, 1.0, DotPath::Spiral).radius, 4.0);
+        assert_eq!(plotted_dot(big, 3.0, 1.0, DotPath::Touch).radius, 1.5);
+        // A ring 3 px wide round a 4 px dot: the disk of its area.
+        let ring = plotted_dot(big, 3.0, 1.0, DotPath::Circle).radius;
+        assert!((ring * ring - (16.0 - 1.0)).abs() < 1e-4);
+    }
+
+    #[test]
+    fn the_coarse_ink_is_the_area_while_dots_are_sparse() {
+        let dots: Vec<Dot> = (0..100)
+            .map(|i| Dot {
+                x: (i % 10) as f32 * 64.0 + 32.0,
+                y: (i / 10) as f32 * 64.0 + 32.0,
+                radius: 2.0,
+            })
+            .collect();
+        let want = 100.0 * std::f64::consts::PI * 4.0 / (640.0 * 640.0);
+        let got = ink(&[dots], (640, 640));
+        assert!((got - want).abs() < 0.1 * want, "{got} vs {want}");
+    }
+}
