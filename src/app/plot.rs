@@ -24,10 +24,13 @@ pub(super) struct Plotted {
     /// Its own generation (the view's caches tell it by this).
     pub generation: u64,
     /// The dots as plotted, one layer per pen (one for a grey drawing).
-    pub layers: Vec<Arc<Vec<DotInstance>>>,
+    pub layers: Layers,
     /// Whether the pens draw the dots larger than the tones ask.
     pub check: Option<PenCheck>,
 }
+
+/// Dot layers, one per pen.
+type Layers = Vec<Arc<Vec<DotInstance>>>;
 
 /// Generations of [`Plotted`] layers: apart from the drawings' own.
 const PLOTTED_GENERATIONS: u64 = 1 << 62;
@@ -234,7 +237,7 @@ fn plotted(
     job: &Job,
     drawing: &crate::job::Stipple,
     scale: f32,
-) -> Option<(Vec<Arc<Vec<DotInstance>>>, Option<PenCheck>)> {
+) -> Option<(Layers, Option<PenCheck>)> {
     let radii = job.plotted_radii(drawing).ok()??;
     let pens = drawing.pens.as_ref().map_or(1, crate::colour::PenSet::len);
     let mut layers = vec![Vec::new(); pens];
