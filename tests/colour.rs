@@ -219,8 +219,15 @@ fn every_output_carries_the_pens() {
             counts[l] += 1;
         }
         assert!(counts.iter().all(|&n| n > 50), "{f}: {counts:?}");
+        // The layers in plotting order, the lightest ink first.
+        let names: Vec<&str> = d.layers.iter().map(|(n, _)| n.as_str()).collect();
+        assert_eq!(names, ["blue", "red", "ink"], "{f}");
         if f == "d.svg" {
-            assert_eq!(counts, per_pen, "{f}: dots per layer");
+            assert_eq!(
+                counts,
+                [per_pen[2], per_pen[1], per_pen[0]],
+                "{f}: dots per layer"
+            );
         }
         assert_eq!(d.layers[1], ("red".to_owned(), [0xd6, 0x27, 0x28]));
     }
@@ -495,7 +502,8 @@ fn plot_stats_count_each_pens_dots_lifts_and_time() {
     let mut total = 0.0;
     for (k, (row, name)) in rows
         .iter()
-        .zip(["cyan", "magenta", "yellow", "black"])
+        // In plotting order: the lightest ink first.
+        .zip(["yellow", "cyan", "magenta", "black"])
         .enumerate()
     {
         assert_eq!(row[0], name);

@@ -33,7 +33,7 @@ const GOLDEN: &[(&str, usize, u64)] = &[
     ("grey stipple, TSP", 3083, 0x1a0f5399944d81f2),
     ("grey stipple, TSP, SVG", 3083, 0x6671982dd574a407),
     ("CMYK stipple", 2988, 0xf7041fc0b98b24d2),
-    ("CMYK stipple, SVG", 2988, 0xa354ada56e628bdf),
+    ("CMYK stipple, SVG", 2988, 0xc6fda476b26550ed),
     ("uniform", 1897, 0xdbb96cf27fff9ec9),
     ("uniform, periodic", 1849, 0x7704e67eaecaa3f4),
     ("uniform, no sub-pixel bits", 1847, 0x8c3e8515ae42bd94),

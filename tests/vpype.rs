@@ -292,5 +292,73 @@ fn vpype_reads_one_layer_per_pen_in_its_colour() {
         "vpype's paths per layer vs our dots per pen"
     );
     let colours = layer_colours(&vpype, &svg);
-    assert_eq!(colours, ["#00ffff", "#ff00ff", "#ffff00", "#000000"]);
+    // The lightest ink first (--layer-order light-first, the default).
+    assert_eq!(colours, ["#ffff00", "#00ffff", "#ff00ff", "#000000"]);
+}
+
+/// Each layer's `(path count, length in CSS px)` from `vpype read --no-crop
+/// FILE stat`, in vpype's layer order.
+fn layer_stats(vpype: &Path, svg: &Path) -> Vec<(usize, f64)> {
+    let out = Command::new(vpype)
+        .arg("read")
+        .arg("--no-crop")
+        .arg(svg)
+        .arg("stat")
+        .output()
+        .unwrap_or_else(|e| panic!("cannot run {}: {e}", vpype.display()));
+    let text = String::from_utf8_lossy(&out.stdout).to_string();
+    assert!(out.status.success(), "vpype stat failed:\n{text}");
+    let body = text.split_once("\nTotals\n").map_or(text.as_str(), |t| t.0);
+    body.split("\nLayer ")
+        .skip(1)
+        .map(|section| {
+            let field = |name: &str| -> f64 {
+                section
+                    .lines()
+                    .find_map(|l| l.trim().strip_prefix(name)?.strip_prefix(": "))
+                    .unwrap_or_else(|| panic!("no {name} in:\n{section}"))
+                    .parse()
+                    .unwrap()
+            };
+            (field("Path count") as usize, field("Length"))
+        })
+        .collect()
+}
+
+#[test]
+fn refill_parts_reach_vpype_in_order_lightest_pen_first() {
+    let Some(vpype) = vpype() else {
+        return;
+    };
+    let dir = tempfile::tempdir().expect("temp dir");
+    let svg = dir.path().join("refill.svg");
+    let refill_mm = 400.0;
+    let text = stipple(&svg, "0.3", &["--pens", "cmyk", "--refill-mm", "400"]);
+    // Our layers, in the file's order: label and dots.
+    let ours: Vec<(String, usize)> = text
+        .split("inkscape:label=\"")
+        .skip(1)
+        .map(|rest| {
+            let label = rest[..rest.find('"').unwrap()].to_string();
+            let body = &rest[..rest.find("</g>").unwrap()];
+            (label, body.matches("<path").count())
+        })
+        .collect();
+    assert!(ours.len() > 4, "{ours:?}");
+    // Lightest ink first: yellow, cyan, magenta, black; parts numbered.
+    let first_of = |pen: &str| ours.iter().position(|(l, _)| l.contains(pen)).unwrap();
+    assert!(first_of("yellow") < first_of("cyan"));
+    assert!(first_of("cyan") < first_of("magenta"));
+    assert!(first_of("magenta") < first_of("black"));
+    let layers = layer_stats(&vpype, &svg);
+    assert_eq!(layers.len(), ours.len(), "{layers:?} vs {ours:?}");
+    for ((paths, length), (label, dots)) in layers.iter().zip(&ours) {
+        assert_eq!(paths, dots, "{label}");
+        // vpype's lengths are in CSS px (96 per inch).
+        let mm = length * 25.4 / 96.0;
+        assert!(
+            mm <= refill_mm * 1.001 || *dots == 1,
+            "{label}: {mm:.1} mm drawn"
+        );
+    }
 }

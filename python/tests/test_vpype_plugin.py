@@ -52,7 +52,8 @@ ASSETS = ROOT / "assets"
 CLI = Path(os.environ.get("PIXELPIE_BIN", ROOT / "target" / "release" / "pixelpie"))
 PROFILE = Path(vpype_plugin.GCODE_PROFILE)
 PX_PER_MM = 96 / 25.4
-CMYK = [("cyan", "#00ffff"), ("magenta", "#ff00ff"), ("yellow", "#ffff00"), ("black", "#000000")]
+# In plotting order: the lightest ink first (--layer-order light-first).
+CMYK = [("yellow", "#ffff00"), ("cyan", "#00ffff"), ("magenta", "#ff00ff"), ("black", "#000000")]
 
 # The options of the colour drawing, for the plugin and for the CLI (the
 # plugin's defaults written out: --paper a4 --pen-mm 0.3).

@@ -223,11 +223,6 @@ fn draw(a: &StippleArgs, o: &Job, image: &Path, output: &Path) -> Result<()> {
         indicatif::ProgressStyle::with_template("{spinner} relaxing [{bar:30}] {pos}/{len}")
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
-    if let Some(w) = pixelpie::importance::cut_short(image)
-        && !a.run.quiet
-    {
-        eprintln!("warning: {w}");
-    }
     let drawing = o.run(
         image,
         |params| {
@@ -261,6 +256,12 @@ fn draw(a: &StippleArgs, o: &Job, image: &Path, output: &Path) -> Result<()> {
     bar.finish_and_clear();
     relax_bar.finish_and_clear();
     stage_bar.finish_and_clear();
+    // Said once the picture has decoded (a file that does not is an error).
+    if let Some(w) = pixelpie::importance::cut_short(image)
+        && !a.run.quiet
+    {
+        eprintln!("warning: {w}");
+    }
     let got = drawing.set.points.len();
     if a.run.verbose {
         eprintln!("{got} points after {} runs", drawing.runs);

@@ -177,29 +177,23 @@ impl Job {
         Ok(calibrated)
     }
 
-    /// Writes the SVG of a colour drawing to `out`: one Inkscape layer per
-    /// pen, in the pens' order.
-    pub(crate) fn write_colour_svg(
+    /// Writes the SVG of a drawing in layers to `out`: one Inkscape layer
+    /// per pen (or per part of a pen's drawing, with `refill_mm`), in the
+    /// plotting order ([`Job::layers`]).
+    pub(crate) fn write_layered_svg(
         &self,
         drawing: &Stipple,
         out: &mut dyn std::io::Write,
     ) -> crate::Result<()> {
-        let Some(pens) = &drawing.pens else {
-            return Err(
-                crate::stipple::Error::InvalidParameter("not a colour drawing".into()).into(),
-            );
-        };
-        let layers = self.pen_dots(drawing);
+        let layers = self.layers(drawing)?;
         let opts = self.svg_options(drawing.domain)?;
-        let svg_layers: Vec<svg::Layer<'_>> = pens
-            .pens()
+        let svg_layers: Vec<svg::Layer<'_>> = layers
             .iter()
-            .zip(&layers)
-            .map(|(p, d)| svg::Layer {
-                name: &p.name,
-                ink: p.colour,
-                pen_mm: p.width_mm,
-                dots: d,
+            .map(|l| svg::Layer {
+                name: &l.name,
+                ink: l.ink,
+                pen_mm: l.pen_mm,
+                dots: &l.dots,
             })
             .collect();
         svg::write_layers(out, &svg_layers, &opts)?;

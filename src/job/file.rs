@@ -42,6 +42,8 @@ pub const KEYS: &[&str] = &[
     "landscape",
     "pen_mm",
     "dot_path",
+    "refill_mm",
+    "layer_order",
     "ink",
     "pens",
     "policy",

@@ -20,6 +20,7 @@ use serde::{Deserialize, Serialize};
 mod colour;
 pub mod count;
 pub mod file;
+mod layers;
 mod options;
 mod plot;
 mod preview;
@@ -27,7 +28,8 @@ mod ramp;
 mod run;
 mod sample;
 
-pub use options::{DotMode, Format, Ink, Order};
+pub use layers::PenLayer;
+pub use options::{DotMode, Format, Ink, LayerOrder, Order};
 pub use preview::{PenCheck, PlotPen, plotted_dot};
 pub use ramp::{RampError, ramp_error};
 pub use run::{Picture, Step, Stipple};
@@ -142,6 +144,17 @@ pub struct Job {
     #[cfg_attr(feature = "cli", arg(long, value_enum, default_value_t = DotPath::Spiral))]
     #[serde(skip_serializing_if = "DotPath::is_default")]
     pub dot_path: DotPath,
+    /// Pen-down length in mm after which a plotter's pen wants a refill:
+    /// each pen's layer is split into sub-layers of at most this much
+    /// drawing ("cyan 1/3", …), in order, to change pens between them
+    /// (needs --pen-mm).
+    #[cfg_attr(feature = "cli", arg(long, value_name = "MM", requires = "pen_mm"))]
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub refill_mm: Option<f64>,
+    /// The order of the pens' layers in the SVG, the order they plot in.
+    #[cfg_attr(feature = "cli", arg(long, value_enum, default_value_t = LayerOrder::LightFirst))]
+    #[serde(skip_serializing_if = "LayerOrder::is_default")]
+    pub layer_order: LayerOrder,
     /// The ink's colour in the SVG and the PNG: black or #rrggbb.
     #[cfg_attr(feature = "cli", arg(long, default_value_t = Ink::BLACK))]
     pub ink: Ink,
@@ -182,6 +195,8 @@ impl Default for Job {
             landscape: false,
             pen_mm: None,
             dot_path: DotPath::Spiral,
+            refill_mm: None,
+            layer_order: LayerOrder::LightFirst,
             ink: Ink::BLACK,
             pens: None,
             policy: DEFAULT_POLICY,
@@ -261,6 +276,14 @@ impl Job {
         }
         if self.paper.is_none() && (self.margin.is_some() || self.landscape) {
             return bad("--margin and --landscape need --paper".into());
+        }
+        if let Some(l) = self.refill_mm {
+            if self.pen_mm.is_none() {
+                return bad("--refill-mm needs --pen-mm: it splits the pen's drawing".into());
+            }
+            if !(l.is_finite() && l > 0.0) {
+                return bad(format!("--refill-mm {l} must be a positive number"));
+            }
         }
         if self.dot_path != DotPath::Spiral && self.pen_mm.is_none() {
             return bad("--dot-path needs --pen-mm: it is how the pen draws each dot".into());
@@ -532,8 +555,8 @@ impl Job {
     /// with `pen_mm`; one Inkscape layer per pen in colour.
     pub fn svg(&self, drawing: &Stipple) -> crate::Result<Vec<u8>> {
         let mut out = Vec::new();
-        if drawing.pens.is_some() {
-            self.write_colour_svg(drawing, &mut out)?;
+        if drawing.pens.is_some() || self.refill_mm.is_some() {
+            self.write_layered_svg(drawing, &mut out)?;
         } else {
             let dots = self.dots(drawing);
             let opts = self.svg_options(drawing.domain)?;

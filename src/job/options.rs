@@ -55,6 +55,28 @@ impl DotMode {
     }
 }
 
+/// The order of a drawing's pen layers in the SVG (`--layer-order`), the
+/// order a plotter draws them in.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
+#[serde(rename_all = "kebab-case")]
+pub enum LayerOrder {
+    /// From the lightest ink to the darkest, as printers lay them down: a
+    /// dark ink smeared by a later light pen shows, the reverse hardly.
+    #[default]
+    LightFirst,
+    /// In the pens' own order.
+    Pens,
+}
+
+impl LayerOrder {
+    /// Whether this is the default (left out of the job's files).
+    #[must_use]
+    pub fn is_default(&self) -> bool {
+        *self == Self::default()
+    }
+}
+
 /// Drawing order.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[cfg_attr(feature = "cli", derive(clap::ValueEnum))]

@@ -22,25 +22,14 @@ impl Job {
         let origin = self
             .placement(drawing.domain)?
             .map_or((0.0, 0.0), |p| p.origin_mm);
-        let layers = self.pen_dots(drawing);
-        let pens: Vec<(String, Option<f64>)> = match &drawing.pens {
-            Some(set) => set
-                .pens()
-                .iter()
-                .map(|p| (p.name.clone(), p.width_mm))
-                .collect(),
-            None => vec![(
-                self.one_pen()
-                    .map_or_else(|| "ink".to_owned(), |p| p.name.clone()),
-                self.pen_width(),
-            )],
-        };
-        Ok(pens
+        // Pen by pen, in plotting order.
+        let layers = self.layers_split(drawing, None)?;
+        Ok(layers
             .iter()
-            .zip(&layers)
-            .map(|((name, width), layer)| {
-                let pen = width.unwrap_or(pen_mm);
+            .map(|layer| {
+                let pen = layer.pen_mm.unwrap_or(pen_mm);
                 let paths: Vec<Vec<(f64, f64)>> = layer
+                    .dots
                     .iter()
                     .map(|d| {
                         svg::pen_path(
@@ -52,7 +41,7 @@ impl Job {
                         )
                     })
                     .collect();
-                plot_paths(name, layer.len(), &paths, speeds)
+                plot_paths(&layer.name, layer.dots.len(), &paths, speeds)
             })
             .collect())
     }

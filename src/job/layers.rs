@@ -1,0 +1,156 @@
+//! The pen layers of a drawing as its SVG holds them: in plotting order
+//! (`--layer-order`: the lightest ink first by default), each pen's layer
+//! split into sub-layers for refills (`--refill-mm`).
+
+use super::{Job, LayerOrder, Stipple};
+use crate::stipple::{Dot, svg};
+
+/// One layer of the SVG: a pen's dots, or a part of them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PenLayer {
+    /// The label: the pen's name; a part's is "L name k/n", L its layer's
+    /// position in the file (vpype and plotter tools number layers by the
+    /// label's first digits: each part gets its own, in plotting order).
+    pub name: String,
+    /// The pen's ink.
+    pub ink: [u8; 3],
+    /// The pen's own width in mm, when it has one.
+    pub pen_mm: Option<f64>,
+    /// The dots, in drawing order.
+    pub dots: Vec<Dot>,
+    /// The pen-down length in mm of these dots' paths (with a pen).
+    pub pen_down_mm: f64,
+}
+
+/// The relative luminance of an sRGB colour (0 black, 1 white).
+fn luminance(c: [u8; 3]) -> f64 {
+    let [r, g, b] = c.map(|v| crate::colour::decode(f64::from(v) / 255.0));
+    0.2126 * r + 0.7152 * g + 0.0722 * b
+}
+
+impl Job {
+    /// The drawing's pen layers as the SVG writes them: one per pen (one
+    /// for a grey drawing), in [`LayerOrder`], each split into parts of at
+    /// most `refill_mm` of pen-down length.
+    pub fn layers(&self, drawing: &Stipple) -> crate::Result<Vec<PenLayer>> {
+        self.layers_split(drawing, self.refill_mm)
+    }
+
+    /// [`Self::layers`], each pen's split at `refill_mm`, or whole.
+    pub(crate) fn layers_split(
+        &self,
+        drawing: &Stipple,
+        refill_mm: Option<f64>,
+    ) -> crate::Result<Vec<PenLayer>> {
+        let dots = self.pen_dots(drawing);
+        let pens: Vec<(String, [u8; 3], Option<f64>)> = match &drawing.pens {
+            Some(set) => set
+                .pens()
+                .iter()
+                .map(|p| (p.name.clone(), p.colour, p.width_mm))
+                .collect(),
+            None => vec![(
+                self.one_pen().map_or_else(
+                    || crate::colour::pens::name_of(self.ink_rgb()),
+                    |p| p.name.clone(),
+                ),
+                self.ink_rgb(),
+                None,
+            )],
+        };
+        let mut order: Vec<usize> = (0..pens.len()).collect();
+        if self.layer_order == LayerOrder::LightFirst {
+            // Stable: pens of equal lightness keep their order.
+            order.sort_by(|&a, &b| luminance(pens[b].1).total_cmp(&luminance(pens[a].1)));
+        }
+        let scale = self.mm_per_px(drawing.domain)?;
+        let mut layers = Vec::new();
+        for k in order {
+            let (name, ink, own) = &pens[k];
+            let pen = own.or(self.pen_width());
+            let length = |d: &Dot| match (scale, pen) {
+                (Some(mm), Some(pen)) => path_length(&svg::pen_path(
+                    0.0,
+                    0.0,
+                    f64::from(d.radius) * mm,
+                    pen,
+                    self.dot_path,
+                )),
+                _ => 0.0,
+            };
+            let parts = split(&dots[k], refill_mm, length);
+            let n = parts.len();
+            for (i, (part, pen_down_mm)) in parts.into_iter().enumerate() {
+                layers.push(PenLayer {
+                    name: if n > 1 {
+                        format!("{} {name} {}/{n}", layers.len() + 1, i + 1)
+                    } else {
+                        name.clone()
+                    },
+                    ink: *ink,
+                    pen_mm: *own,
+                    dots: part,
+                    pen_down_mm,
+                });
+            }
+        }
+        Ok(layers)
+    }
+}
+
+/// The length of a polyline.
+fn path_length(points: &[(f64, f64)]) -> f64 {
+    points
+        .windows(2)
+        .map(|w| (w[1].0 - w[0].0).hypot(w[1].1 - w[0].1))
+        .sum()
+}
+
+/// `dots` in consecutive parts of at most `limit` of `length` each (a dot
+/// longer than the limit alone in its part); one part without a limit.
+fn split(dots: &[Dot], limit: Option<f64>, length: impl Fn(&Dot) -> f64) -> Vec<(Vec<Dot>, f64)> {
+    let mut parts = vec![(Vec::new(), 0.0)];
+    for d in dots {
+        let l = length(d);
+        let last = parts.last_mut().expect("one part at least");
+        if let Some(limit) = limit
+            && !last.0.is_empty()
+            && last.1 + l > limit
+        {
+            parts.push((vec![*d], l));
+        } else {
+            last.0.push(*d);
+            last.1 += l;
+        }
+    }
+    parts
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lighter_inks_sort_first_and_parts_keep_under_the_limit() {
+        let [y, c, m, k] = [[255, 255, 0], [0, 255, 255], [255, 0, 255], [0, 0, 0]].map(luminance);
+        assert!(y > c && c > m && m > k);
+        let dots: Vec<Dot> = (0..10)
+            .map(|i| Dot {
+                x: i as f32,
+                y: 0.0,
+                radius: 1.0,
+            })
+            .collect();
+        let parts = split(&dots, Some(3.5), |_| 1.0);
+        assert_eq!(
+            parts.iter().map(|p| p.0.len()).collect::<Vec<_>>(),
+            [3, 3, 3, 1]
+        );
+        assert!(parts.iter().all(|p| p.1 <= 3.5));
+        let joined: Vec<Dot> = parts.into_iter().flat_map(|p| p.0).collect();
+        assert_eq!(joined, dots);
+        assert_eq!(split(&dots, None, |_| 1.0).len(), 1);
+        // A dot longer than the limit is a part of its own.
+        assert_eq!(split(&dots[..2], Some(0.5), |_| 1.0).len(), 2);
+    }
+}
