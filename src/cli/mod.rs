@@ -24,7 +24,7 @@ enum Command {
     /// Samples a maximal Poisson-disk set and writes it as CSV or JSON.
     Sample(sample::SampleArgs),
     /// Draws an image as stipples: SVG (for pen plotters) or PNG.
-    Stipple(stipple::StippleArgs),
+    Stipple(Box<stipple::StippleArgs>),
     /// Measures a point set (CSV): distances, coverage, angles; --plots draws spectra.
     Analyze(analyze::AnalyzeArgs),
     /// Measures how closely a drawing reproduces its photo: blurred PSNR and SSIM.
