@@ -26,6 +26,7 @@
 
 mod colour;
 mod fit;
+mod frame;
 pub mod ink;
 mod ink_table;
 mod load;
@@ -36,6 +37,7 @@ use std::path::{Path, PathBuf};
 
 pub use colour::ColourMap;
 pub use fit::{Classes, Prepared};
+pub use frame::{Crop, check_rotation};
 pub use load::{
     Luminance, Range, cut_short, cut_short_bytes, decode_file, linear_to_srgb, load, load_bytes,
     srgb_to_linear,

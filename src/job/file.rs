@@ -19,6 +19,8 @@ pub const KEYS: &[&str] = &[
     "points",
     "width",
     "height",
+    "crop",
+    "rotate",
     "tones",
     "mapping",
     "min_radius",

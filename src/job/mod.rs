@@ -36,7 +36,9 @@ pub use run::{Picture, Step, Stipple};
 pub use sample::{Radii, SampleJob, Sampled};
 
 use crate::colour::PenSet;
-use crate::importance::{DEFAULT_RADIUS_RATIO, ImportanceOptions, Mapping, RadiusRange, fit_size};
+use crate::importance::{
+    Crop, DEFAULT_RADIUS_RATIO, ImportanceOptions, Mapping, RadiusRange, fit_size,
+};
 use crate::sampler::{DEFAULT_POLICY, Policy, SamplerOptions};
 use crate::stipple::paper::{DEFAULT_MARGIN_MM, Paper, Placement};
 use crate::stipple::svg::DotPath;
@@ -77,6 +79,15 @@ pub struct Job {
     /// Domain height in px [default: from the width and the image's aspect].
     #[cfg_attr(feature = "cli", arg(long))]
     pub height: Option<u32>,
+    /// Crop the picture to x,y,w,h (its pixels, upright) before drawing.
+    #[cfg_attr(feature = "cli", arg(long, value_name = "X,Y,W,H"))]
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub crop: Option<Crop>,
+    /// Turn the picture clockwise by 90, 180 or 270 degrees (after the
+    /// crop) before drawing.
+    #[cfg_attr(feature = "cli", arg(long, value_name = "DEGREES", value_parser = clap::builder::TypedValueParser::map(clap::builder::PossibleValuesParser::new(["90", "180", "270"]), |s| s.parse::<u16>().unwrap_or(0))))]
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rotate: Option<u16>,
     /// How the picture's tones become radii.
     #[cfg_attr(feature = "cli", command(flatten))]
     #[serde(flatten)]
@@ -181,6 +192,8 @@ impl Default for Job {
             points: None,
             width: None,
             height: None,
+            crop: None,
+            rotate: None,
             importance: ImportanceOptions::default(),
             dot: None,
             dot_factor: None,
@@ -276,6 +289,11 @@ impl Job {
         }
         if self.paper.is_none() && (self.margin.is_some() || self.landscape) {
             return bad("--margin and --landscape need --paper".into());
+        }
+        if let Some(r) = self.rotate
+            && !matches!(r, 90 | 180 | 270)
+        {
+            return bad(format!("--rotate {r} must be 90, 180 or 270 (degrees clockwise)"));
         }
         if let Some(l) = self.refill_mm {
             if self.pen_mm.is_none() {

@@ -8,7 +8,7 @@ use std::path::Path;
 
 use super::{Job, Order, count};
 use crate::colour::PenSet;
-use crate::importance::{Classes, ColourMap, ImportanceMap, Prepared, RadiusRange};
+use crate::importance::{Classes, ColourMap, Crop, ImportanceMap, Prepared, RadiusRange};
 use crate::sampler::{Params, Point, SampleSet};
 use crate::stipple::{Dot, relax, tsp};
 
@@ -26,7 +26,33 @@ pub enum Picture<'a> {
     Both(&'a ImportanceMap, &'a ColourMap),
 }
 
+/// A picture framed (cropped and turned) for a job, owned.
+enum Framed {
+    Grey(ImportanceMap),
+    Colour(ColourMap),
+    Both(ImportanceMap, ColourMap),
+}
+
+impl Framed {
+    fn picture(&self) -> Picture<'_> {
+        match self {
+            Self::Grey(m) => Picture::Grey(m),
+            Self::Colour(c) => Picture::Colour(c),
+            Self::Both(m, c) => Picture::Both(m, c),
+        }
+    }
+}
+
 impl<'a> Picture<'a> {
+    /// The picture cropped to `crop` and turned `degrees` clockwise.
+    fn framed(self, crop: Option<Crop>, degrees: u16) -> crate::Result<Framed> {
+        Ok(match self {
+            Self::Grey(m) => Framed::Grey(m.framed(crop, degrees)?),
+            Self::Colour(c) => Framed::Colour(c.framed(crop, degrees)?),
+            Self::Both(m, c) => Framed::Both(m.framed(crop, degrees)?, c.framed(crop, degrees)?),
+        })
+    }
+
     /// The grey picture.
     fn grey(self) -> Cow<'a, ImportanceMap> {
         match self {
@@ -138,6 +164,12 @@ impl Job {
         self.check()?;
         let (points, count_target) = self.count();
         stage(&mut progress, "prepare")?;
+        // The crop and the turn, first: the rest sees the framed picture.
+        let framed = match (self.crop, self.rotate) {
+            (None, None) => None,
+            (crop, turn) => Some(picture.framed(crop, turn.unwrap_or(0))?),
+        };
+        let picture = framed.as_ref().map_or(picture, Framed::picture);
         let (separated, grey) = if self.colour() {
             let colour = picture.colour();
             let domain = self.domain_for((colour.width(), colour.height()), points);
