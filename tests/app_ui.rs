@@ -45,6 +45,12 @@ fn ready(w: u32, h: u32) -> (tempfile::TempDir, PathBuf, Harness<'static, PixelP
 
 /// Steps the UI until sampling is done (debounce, worker, reply).
 fn settle(h: &mut Harness<'_, PixelPieApp>) {
+    finish(h);
+    assert!(h.state().error.is_none(), "error: {:?}", h.state().error);
+}
+
+/// Steps the UI until the app is idle, whatever the outcome.
+fn finish(h: &mut Harness<'_, PixelPieApp>) {
     let start = Instant::now();
     loop {
         h.step();
@@ -58,7 +64,6 @@ fn settle(h: &mut Harness<'_, PixelPieApp>) {
         std::thread::sleep(Duration::from_millis(20));
     }
     h.run_steps(2);
-    assert!(h.state().error.is_none(), "error: {:?}", h.state().error);
 }
 
 #[derive(Debug)]
@@ -1567,4 +1572,66 @@ fn with_a_pen_the_view_shows_the_plot_and_warns_with_a_one_click_count() {
     h.state_mut().settings.job.pen_mm = None;
     h.step();
     assert!(!shows(&h, "Pen too wide"));
+}
+
+#[test]
+fn counts_out_of_range_are_refused_in_words_and_nothing_fails_silently() {
+    let (dir, _, mut h) = ready(200, 150);
+    for (n, says) in [(10_000_000, "at most 8000000"), (0, "at least 1 dot")] {
+        h.state_mut().settings.points = n;
+        h.step();
+        finish(&mut h);
+        let e = h.state().error.clone().expect("a refusal");
+        assert!(e.contains(says), "{n}: {e}");
+        // Nothing stale is shown or exported.
+        assert!(
+            h.state().outcome.is_none() && h.state().dots_drawn() == 0,
+            "{n}"
+        );
+        assert_eq!(
+            h.state().settings.points,
+            n,
+            "the field keeps what was typed"
+        );
+    }
+    // Too few for the picture: a plain message with the least count.
+    h.state_mut().settings.points = 1;
+    h.step();
+    finish(&mut h);
+    let e = h.state().error.clone().expect("too few");
+    assert!(e.contains("too few") && e.contains("at least"), "{e}");
+    assert!(!e.contains("radius"), "{e}");
+    // Back in range: drawn again, the error gone.
+    h.state_mut().settings.points = 2000;
+    h.step();
+    settle(&mut h);
+    assert!(h.state().error.is_none() && h.state().outcome.is_some());
+    // An export while a new drawing is on its way says which it wrote.
+    h.state_mut().settings.points = 3000;
+    h.step();
+    assert!(h.state().busy());
+    h.state_mut().export_path = dir.path().join("mid").display().to_string();
+    h.get_by_label("SVG").click();
+    h.run_steps(1);
+    let note = h.state().exported_note.clone().expect("a note");
+    assert!(note.contains("last finished drawing"), "{note}");
+    settle(&mut h);
+    // A picture cut short shows with a warning.
+    let bytes =
+        std::fs::read(concat!(env!("CARGO_MANIFEST_DIR"), "/assets/astronaut.jpg")).unwrap();
+    let cut = dir.path().join("cut.jpg");
+    std::fs::write(&cut, &bytes[..bytes.len() / 3]).unwrap();
+    let ctx = h.ctx.clone();
+    h.state_mut().open(&ctx, &cut);
+    settle(&mut h);
+    let w = h
+        .state()
+        .source
+        .as_ref()
+        .unwrap()
+        .warning
+        .clone()
+        .expect("a warning");
+    assert!(w.contains("ends early"), "{w}");
+    assert!(shows(&h, "ends early"));
 }

@@ -293,20 +293,48 @@ fn crop_and_rotate_frame_the_picture_and_are_saved_in_the_job() {
     let photo = asset("rocket.jpg"); // 480×320
     let (a, job) = (dir.path().join("a.png"), dir.path().join("j.toml"));
     ok(&[
-        "stipple", &photo, "--points", "1000", "--crop", "40,20,200,300", "--rotate", "90", "-q",
-        "-o", s(&a), "--save-job", s(&job),
+        "stipple",
+        &photo,
+        "--points",
+        "1000",
+        "--crop",
+        "40,20,200,300",
+        "--rotate",
+        "90",
+        "-q",
+        "-o",
+        s(&a),
+        "--save-job",
+        s(&job),
     ]);
     // 200×300 turned a quarter: 300 wide, 200 high, scaled to 1024 wide.
     let img = image::open(&a).unwrap();
     assert_eq!((img.width(), img.height()), (1024, 683));
     let text = std::fs::read_to_string(&job).unwrap();
-    assert!(text.contains("crop = \"40,20,200,300\"") && text.contains("rotate = 90"), "{text}");
+    assert!(
+        text.contains("crop = \"40,20,200,300\"") && text.contains("rotate = 90"),
+        "{text}"
+    );
     let b = dir.path().join("b.png");
     ok(&["stipple", &photo, "--job", s(&job), "-q", "-o", s(&b)]);
     assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
-    for (flag, value) in [("--crop", "300,0,200,10"), ("--rotate", "45"), ("--crop", "1,2")] {
-        let r = pixelpie(&["stipple", &photo, flag, value, "-o", s(&dir.path().join("x.png"))]);
+    for (flag, value) in [
+        ("--crop", "300,0,200,10"),
+        ("--rotate", "45"),
+        ("--crop", "1,2"),
+    ] {
+        let r = pixelpie(&[
+            "stipple",
+            &photo,
+            flag,
+            value,
+            "-o",
+            s(&dir.path().join("x.png")),
+        ]);
         let err = String::from_utf8_lossy(&r.stderr);
-        assert!(!r.status.success() && err.lines().count() == 1, "{flag} {value}: {err}");
+        assert!(
+            !r.status.success() && err.lines().count() == 1,
+            "{flag} {value}: {err}"
+        );
     }
 }

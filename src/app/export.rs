@@ -21,7 +21,13 @@ impl PixelPieApp {
     fn export_result_ui(&self, ui: &mut egui::Ui) {
         let (text, color) = match (&self.export_error, &self.exported) {
             (Some(e), _) => (e.clone(), Color32::from_rgb(200, 40, 40)),
-            (None, Some(p)) => (format!("wrote {}", p.display()), ui.visuals().text_color()),
+            (None, Some(p)) => (
+                match &self.exported_note {
+                    Some(note) => format!("wrote {}: {note}", p.display()),
+                    None => format!("wrote {}", p.display()),
+                },
+                ui.visuals().text_color(),
+            ),
             (None, None) => (String::new(), ui.visuals().text_color()),
         };
         fixed_row(ui, true, |ui| {
@@ -263,6 +269,14 @@ impl PixelPieApp {
         let path = super::typed_path(typed).with_extension(ext);
         match self.export(&path) {
             Ok(()) => {
+                // Said when the drawing written is not what the controls ask.
+                self.exported_note = self.busy().then(|| {
+                    let dots = self.outcome.as_ref().map_or(0, |o| o.drawing.points.len());
+                    format!(
+                        "the last finished drawing ({dots} dots); the one for the present \
+                         settings is still being made"
+                    )
+                });
                 let full = std::fs::canonicalize(&path).unwrap_or(path);
                 if let Some(dir) = full.parent() {
                     self.settings.last_dir = Some(dir.to_path_buf());

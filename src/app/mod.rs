@@ -50,6 +50,8 @@ pub struct Source {
     pub colour: Arc<ColourMap>,
     importance: egui::TextureHandle,
     photo: egui::TextureHandle,
+    /// Why the picture may not be whole (a file cut short), shown with it.
+    pub warning: Option<String>,
 }
 
 /// The app.
@@ -72,6 +74,8 @@ pub struct PixelPieApp {
     pub status: String,
     /// The last file exported, in full.
     pub exported: Option<PathBuf>,
+    /// What the last export wrote, when not the present settings' drawing.
+    pub exported_note: Option<String>,
     /// Where exports go (the extension is set by the button).
     pub export_path: String,
     worker: Worker,
@@ -118,6 +122,7 @@ struct Loading {
 
 /// A decoded picture: the importance map and its two display images.
 struct Decoded {
+    warning: Option<String>,
     map: ImportanceMap,
     colour: ColourMap,
     importance: egui::ColorImage,
@@ -149,6 +154,7 @@ impl PixelPieApp {
             export_error: None,
             status: String::new(),
             exported: None,
+            exported_note: None,
             export_path: "stipple.svg".into(),
             worker,
             next_job: 0,
@@ -247,6 +253,7 @@ impl PixelPieApp {
                         egui::TextureOptions::LINEAR,
                     ),
                     photo: ctx.load_texture("photo", decoded.photo, egui::TextureOptions::LINEAR),
+                    warning: decoded.warning,
                 };
                 match &loading.path {
                     Some(path) => {
@@ -341,6 +348,14 @@ impl PixelPieApp {
         self.request_sample();
     }
 
+    /// Drops the drawing: nothing is shown or exported until the next one.
+    fn drop_drawing(&mut self) {
+        self.outcome = None;
+        self.dot_instances = Arc::new(Vec::new());
+        self.pen_layers.clear();
+        self.dots_generation += 1;
+    }
+
     /// The GPU adapter that samples and draws, if any.
     pub fn adapter(&self) -> Option<&str> {
         self.worker.adapter()
@@ -386,6 +401,12 @@ impl PixelPieApp {
     }
 
     fn start_job(&mut self) {
+        if let Some(why) = self.settings.refused_count() {
+            // Refused in words; the old drawing goes, as it is not this one.
+            self.error = Some(why);
+            self.drop_drawing();
+            return;
+        }
         let Some(src) = &self.source else { return };
         self.next_job += 1;
         self.progress = None;
@@ -424,7 +445,12 @@ impl PixelPieApp {
                             self.outcome = Some(outcome);
                             self.error = None;
                         }
-                        Err(e) => self.error = Some(e),
+                        Err(e) => {
+                            // The drawing shown and exported would not be
+                            // this job's: it goes.
+                            self.error = Some(e);
+                            self.drop_drawing();
+                        }
                     }
                 }
             }
@@ -483,6 +509,7 @@ fn decode(path: Option<&Path>) -> Result<Decoded, String> {
         None => map_grey(&map),
     };
     Ok(Decoded {
+        warning: path.and_then(crate::importance::cut_short),
         map,
         colour,
         importance,

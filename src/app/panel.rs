@@ -111,6 +111,9 @@ impl PixelPieApp {
                 src.map.width(),
                 src.map.height()
             ));
+            if let Some(w) = &src.warning {
+                ui.colored_label(Color32::from_rgb(210, 120, 20), format!("warning: {w}"));
+            }
         }
     }
 
@@ -129,13 +132,18 @@ impl PixelPieApp {
         ui.add_enabled_ui(s.use_count, |ui| {
             ui.horizontal(|ui| {
                 let l = ui.label("Points");
+                // Not clamped: a count out of range is refused in words.
                 ui.add(
                     egui::DragValue::new(&mut s.points)
-                        .range(10..=2_000_000)
+                        .range(0..=u32::MAX)
                         .speed(50),
                 )
                 .labelled_by(l.id)
-                .on_hover_text("How many dots the drawing has (within 3%)");
+                .on_hover_text(format!(
+                    "How many dots the drawing has (within 3%): 1 to {} (a photo on the \
+                     largest domain, 4096×4096 px, holds about 6 million dots of 1 px)",
+                    super::settings::MAX_POINTS
+                ));
             });
         });
         let imp = &mut s.job.importance;

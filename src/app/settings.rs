@@ -69,6 +69,11 @@ impl Default for Settings {
     }
 }
 
+/// The most dots the app asks for: a photo on the largest domain (4096²
+/// px) holds about 6 million dots of radius 1 px, the sampler's smallest;
+/// past that the count cannot be met, and the sampler's buffers pass 1 GB.
+pub const MAX_POINTS: u32 = 8_000_000;
+
 /// The settings that change the points (a change re-samples).
 #[derive(Clone, Debug, PartialEq)]
 pub struct SamplingKey {
@@ -77,6 +82,24 @@ pub struct SamplingKey {
 }
 
 impl Settings {
+    /// Why the Points field's count is refused (none, or more than
+    /// [`MAX_POINTS`]), when the count is used.
+    #[must_use]
+    pub fn refused_count(&self) -> Option<String> {
+        if !self.use_count {
+            return None;
+        }
+        match self.points {
+            0 => Some("a drawing needs at least 1 dot".into()),
+            n if n > MAX_POINTS => Some(format!(
+                "{n} dots is more than the app draws: at most {MAX_POINTS} (the drawing's \
+                 domain is at most 4096×4096 px with dots at least 1 px in radius, which \
+                 holds about 6 million)"
+            )),
+            _ => None,
+        }
+    }
+
     /// The job these controls stand for: with the Points field, its count;
     /// with the radius range, the range as it is (in domain pixels).
     #[must_use]

@@ -98,10 +98,7 @@ fn frame<T: Copy + Send + Sync>(
     let (cw, ch) = (c.width as usize, c.height as usize);
     let at = |x: usize, y: usize| data[(c.y as usize + y) * w as usize + c.x as usize + x];
     let (size, values): ((usize, usize), Vec<T>) = match degrees {
-        0 => (
-            (cw, ch),
-            (0..cw * ch).map(|i| at(i % cw, i / cw)).collect(),
-        ),
+        0 => ((cw, ch), (0..cw * ch).map(|i| at(i % cw, i / cw)).collect()),
         // Clockwise: the new row y is the old column y, read bottom up.
         90 => (
             (ch, cw),
@@ -175,7 +172,10 @@ mod tests {
         let (_, back) = frame((2, 3), &r270, None, 90).unwrap();
         assert_eq!(back, data);
         let crop = "1,0,2,2".parse().ok();
-        assert_eq!(frame((3, 2), &data, crop, 0).unwrap(), ((2, 2), vec![1, 2, 4, 5]));
+        assert_eq!(
+            frame((3, 2), &data, crop, 0).unwrap(),
+            ((2, 2), vec![1, 2, 4, 5])
+        );
         assert!(frame((3, 2), &data, "2,0,2,2".parse().ok(), 0).is_err());
         assert!(frame((3, 2), &data, None, 45).is_err());
         assert!("1,2,0,3".parse::<Crop>().is_err() && "1,2,3".parse::<Crop>().is_err());

@@ -293,7 +293,9 @@ impl Job {
         if let Some(r) = self.rotate
             && !matches!(r, 90 | 180 | 270)
         {
-            return bad(format!("--rotate {r} must be 90, 180 or 270 (degrees clockwise)"));
+            return bad(format!(
+                "--rotate {r} must be 90, 180 or 270 (degrees clockwise)"
+            ));
         }
         if let Some(l) = self.refill_mm {
             if self.pen_mm.is_none() {
