@@ -504,8 +504,9 @@ fn every_label_is_in_the_fonts_and_the_controls_explain_themselves() {
         ("SVG", "SVG"),
         ("Black", "Black"),
     ] {
-        // Away first: egui shows a tooltip after the pointer rests.
-        h.get_by_label("Behind").hover();
+        // Away first (onto the title, in sight however the panel scrolls):
+        // egui shows a tooltip after the pointer rests.
+        h.get_by_label("PixelPie").hover();
         h.run_steps(2);
         h.get_all_by_label(control).next().unwrap().hover();
         h.run_steps(2);
@@ -515,7 +516,7 @@ fn every_label_is_in_the_fonts_and_the_controls_explain_themselves() {
     }
     assert!(missing.is_empty(), "no tooltips: {missing:?}");
     // S1/S2/PP are named in the statistics' tooltip.
-    h.get_by_label("Behind").hover();
+    h.get_by_label("PixelPie").hover();
     h.run_steps(2);
     h.get_by_label_contains("S1 ").hover();
     h.run_steps(2);
@@ -1634,4 +1635,75 @@ fn counts_out_of_range_are_refused_in_words_and_nothing_fails_silently() {
         .expect("a warning");
     assert!(w.contains("ends early"), "{w}");
     assert!(shows(&h, "ends early"));
+}
+
+#[test]
+fn presets_crop_and_turn_round_trip_through_job_files() {
+    let (dir, png, mut h) = ready(300, 200);
+    h.state_mut().settings.points = 1500;
+    h.state_mut().settings.job.relax = 1;
+    h.step();
+    settle(&mut h);
+    // Turn a quarter and crop: the drawing takes the framed picture's shape.
+    h.get_by_label("Turn 90° (0°)").click();
+    h.step();
+    assert_eq!(h.state().settings.job.rotate, Some(90));
+    h.state_mut().settings.job.crop = Some("0,0,200,100".parse().unwrap());
+    h.step();
+    settle(&mut h);
+    let (w, hh) = h.state().outcome.as_ref().unwrap().drawing.domain;
+    // 200×100 turned: 100 wide, 200 high.
+    assert!(
+        (f64::from(hh) / f64::from(w) - 2.0).abs() < 0.01,
+        "{w}x{hh}"
+    );
+    let view = h.render().expect("render");
+    let _ = view.save(format!("{}/app-framed.png", env!("CARGO_TARGET_TMPDIR")));
+    // A crop past the picture is refused in words.
+    h.state_mut().settings.job.crop = Some("250,0,100,100".parse().unwrap());
+    h.step();
+    finish(&mut h);
+    let e = h.state().error.clone().expect("a refusal");
+    assert!(e.contains("reaches past the 300x200 picture"), "{e}");
+    h.state_mut().settings.job.crop = Some("0,0,200,100".parse().unwrap());
+    h.step();
+    settle(&mut h);
+    // Saved as a preset, it is the CLI's job file: the same drawing.
+    let preset = dir.path().join("preset.toml");
+    h.state_mut().preset_path = preset.display().to_string();
+    h.get_by_label("Save").click();
+    h.step();
+    let app_svg = dir.path().join("app.svg");
+    export(&mut h, &app_svg);
+    let cli_svg = dir.path().join("cli.svg");
+    cli(&[
+        "stipple",
+        png.to_str().unwrap(),
+        "--job",
+        preset.to_str().unwrap(),
+        "-q",
+        "-o",
+        cli_svg.to_str().unwrap(),
+    ]);
+    assert_eq!(
+        std::fs::read(&app_svg).unwrap(),
+        std::fs::read(&cli_svg).unwrap()
+    );
+    // Loaded back after changes, the settings return.
+    h.state_mut().settings.points = 900;
+    h.state_mut().settings.job.rotate = None;
+    h.get_by_label("Load").click();
+    h.step();
+    assert_eq!(h.state().settings.points, 1500);
+    assert_eq!(h.state().settings.job.rotate, Some(90));
+    assert_eq!(h.state().settings.job.relax, 1);
+    // A file that is not a job says so.
+    std::fs::write(&preset, "points = 5\n").unwrap();
+    h.get_by_label("Load").click();
+    h.step();
+    let note = h.state().preset_note.clone().unwrap();
+    assert!(
+        note.starts_with("not loaded") && note.contains("pixelpie"),
+        "{note}"
+    );
 }

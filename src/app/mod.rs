@@ -52,6 +52,18 @@ pub struct Source {
     photo: egui::TextureHandle,
     /// Why the picture may not be whole (a file cut short), shown with it.
     pub warning: Option<String>,
+    /// The picture as decoded, before the job's crop and turn.
+    original: Arc<Original>,
+    /// The crop and turn `map`, `colour` and the textures have.
+    framing: (Option<crate::importance::Crop>, u16),
+}
+
+/// A decoded picture before framing: the maps and the display images.
+struct Original {
+    map: Arc<ImportanceMap>,
+    colour: Arc<ColourMap>,
+    importance: egui::ColorImage,
+    photo: egui::ColorImage,
 }
 
 /// The app.
@@ -76,6 +88,12 @@ pub struct PixelPieApp {
     pub exported: Option<PathBuf>,
     /// What the last export wrote, when not the present settings' drawing.
     pub exported_note: Option<String>,
+    /// Why the job's crop cannot frame the picture.
+    pub framing_error: Option<String>,
+    /// The preset (job file) path typed.
+    pub preset_path: String,
+    /// What the last preset save or load did, or why it failed.
+    pub preset_note: Option<String>,
     /// Where exports go (the extension is set by the button).
     pub export_path: String,
     worker: Worker,
@@ -129,6 +147,17 @@ struct Decoded {
     photo: egui::ColorImage,
 }
 
+/// The control panel's width, in points.
+pub const PANEL_WIDTH: f32 = 300.0;
+
+impl Source {
+    /// The picture's size before the crop and turn.
+    #[must_use]
+    pub fn original_size(&self) -> (u32, u32) {
+        (self.original.map.width(), self.original.map.height())
+    }
+}
+
 impl PixelPieApp {
     /// Builds the app on eframe's context; `image` overrides the stored one.
     pub fn new(cc: &eframe::CreationContext<'_>, image: Option<PathBuf>) -> Self {
@@ -155,6 +184,9 @@ impl PixelPieApp {
             status: String::new(),
             exported: None,
             exported_note: None,
+            framing_error: None,
+            preset_path: "job.toml".into(),
+            preset_note: None,
             export_path: "stipple.svg".into(),
             worker,
             next_job: 0,
@@ -243,17 +275,29 @@ impl PixelPieApp {
         };
         match result {
             Ok(decoded) => {
-                let source = Source {
-                    path: loading.path.clone(),
+                let original = Arc::new(Original {
                     map: Arc::new(decoded.map),
                     colour: Arc::new(decoded.colour),
+                    importance: decoded.importance,
+                    photo: decoded.photo,
+                });
+                let source = Source {
+                    path: loading.path.clone(),
+                    map: original.map.clone(),
+                    colour: original.colour.clone(),
                     importance: ctx.load_texture(
                         "importance",
-                        decoded.importance,
+                        original.importance.clone(),
                         egui::TextureOptions::LINEAR,
                     ),
-                    photo: ctx.load_texture("photo", decoded.photo, egui::TextureOptions::LINEAR),
+                    photo: ctx.load_texture(
+                        "photo",
+                        original.photo.clone(),
+                        egui::TextureOptions::LINEAR,
+                    ),
                     warning: decoded.warning,
+                    original,
+                    framing: (None, 0),
                 };
                 match &loading.path {
                     Some(path) => {
@@ -348,6 +392,86 @@ impl PixelPieApp {
         self.request_sample();
     }
 
+    /// Frames the picture as the job's crop and turn ask, when they
+    /// changed: the maps the jobs sample and the images the view shows.
+    fn reframe(&mut self, ctx: &egui::Context) {
+        let want = (
+            self.settings.job.crop,
+            self.settings.job.rotate.unwrap_or(0),
+        );
+        let Some(src) = &mut self.source else { return };
+        if src.framing == want {
+            return;
+        }
+        let o = src.original.clone();
+        let framed = (|| -> Result<_, String> {
+            let text = |e: crate::importance::Error| crate::text::one_line(&e);
+            let map = o.map.framed(want.0, want.1).map_err(text)?;
+            let colour = o.colour.framed(want.0, want.1).map_err(text)?;
+            let image = |img: &egui::ColorImage| {
+                let size = (img.size[0] as u32, img.size[1] as u32);
+                crate::importance::frame(size, &img.pixels, want.0, want.1)
+                    .map(|((w, h), px)| egui::ColorImage::new([w as usize, h as usize], px))
+                    .map_err(text)
+            };
+            Ok((map, colour, image(&o.importance)?, image(&o.photo)?))
+        })();
+        src.framing = want;
+        match framed {
+            Ok((map, colour, importance, photo)) => {
+                src.map = Arc::new(map);
+                src.colour = Arc::new(colour);
+                src.importance =
+                    ctx.load_texture("importance", importance, egui::TextureOptions::LINEAR);
+                src.photo = ctx.load_texture("photo", photo, egui::TextureOptions::LINEAR);
+                self.framing_error = None;
+            }
+            Err(e) => self.framing_error = Some(e),
+        }
+        self.drop_drawing();
+        self.view.fit_next = true;
+        self.request_sample();
+    }
+
+    /// Saves the job to the preset path (a job file, as `--save-job`).
+    pub fn save_preset(&mut self) {
+        let path = typed_path(&self.preset_path);
+        let image = self.source.as_ref().and_then(|s| s.path.clone());
+        let result = self
+            .settings
+            .job()
+            .to_toml(image.as_deref())
+            .and_then(|text| {
+                Ok(crate::io::write_atomic(&path, |w| {
+                    Ok(w.write_all(text.as_bytes())?)
+                })?)
+            });
+        self.preset_note = Some(match result {
+            Ok(()) => format!("saved {}", path.display()),
+            Err(e) => format!("not saved: {}", crate::text::one_line(&e)),
+        });
+    }
+
+    /// Loads the job from the preset path (a job file, as `--job`): every
+    /// setting, the count in the Points field.
+    pub fn load_preset(&mut self) {
+        let path = typed_path(&self.preset_path);
+        self.preset_note = Some(match crate::job::Job::open(&path) {
+            Ok((job, warning)) => {
+                self.settings.use_count = job.points.is_some();
+                if let Some(n) = job.points {
+                    self.settings.points = u32::try_from(n).unwrap_or(u32::MAX);
+                }
+                self.settings.job = job;
+                match warning {
+                    Some(w) => format!("loaded {} (warning: {w})", path.display()),
+                    None => format!("loaded {}", path.display()),
+                }
+            }
+            Err(e) => format!("not loaded: {}", crate::text::one_line(&e)),
+        });
+    }
+
     /// Drops the drawing: nothing is shown or exported until the next one.
     fn drop_drawing(&mut self) {
         self.outcome = None;
@@ -401,7 +525,11 @@ impl PixelPieApp {
     }
 
     fn start_job(&mut self) {
-        if let Some(why) = self.settings.refused_count() {
+        if let Some(why) = self
+            .settings
+            .refused_count()
+            .or_else(|| self.framing_error.clone())
+        {
             // Refused in words; the old drawing goes, as it is not this one.
             self.error = Some(why);
             self.drop_drawing();
@@ -417,7 +545,8 @@ impl PixelPieApp {
             id: self.next_job,
             map: src.map.clone(),
             colour: src.colour.clone(),
-            settings: self.settings.clone(),
+            // The source is framed already.
+            settings: self.settings.framed(),
         });
     }
 
@@ -530,6 +659,7 @@ impl eframe::App for PixelPieApp {
     fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
         let ctx = ui.ctx().clone();
         self.poll_loading(&ctx);
+        self.reframe(&ctx);
         self.poll_worker();
         self.update_plot_time(&ctx);
         let dropped: Vec<PathBuf> = ctx.input(|i| {
@@ -548,7 +678,9 @@ impl eframe::App for PixelPieApp {
         // (`clear_color`), and a software rasterizer is spared egui's
         // shader over the whole window at every frame.
         let panel = egui::Frame::side_top_panel(ui.style()).fill(egui::Color32::TRANSPARENT);
+        // One width, whatever the state (long labels truncate).
         egui::Panel::left("controls")
+            .exact_size(PANEL_WIDTH)
             .resizable(false)
             .frame(panel)
             .show(ui, |ui| {

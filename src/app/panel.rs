@@ -14,20 +14,111 @@ use crate::sampler::Policy;
 impl PixelPieApp {
     /// The side panel's controls, one function per section.
     pub(super) fn controls(&mut self, ui: &mut egui::Ui) {
-        ui.set_width(270.0);
         self.header_ui(ui);
         self.open_ui(ui);
-        ui.separator();
-        self.spacing_ui(ui);
-        self.levels_ui(ui);
-        self.darts_ui(ui);
-        ui.separator();
-        self.dots_ui(ui);
-        self.pens_ui(ui);
-        ui.separator();
-        self.paper_ui(ui);
-        ui.separator();
-        self.view_ui(ui);
+        self.frame_ui(ui);
+        self.preset_ui(ui);
+        // Collapsible sections, so that each is in reach on a small screen.
+        let section = |name: &str, open: bool| {
+            egui::CollapsingHeader::new(name.to_owned()).default_open(open)
+        };
+        section("Spacing", true).show(ui, |ui| {
+            self.spacing_ui(ui);
+            self.levels_ui(ui);
+            self.darts_ui(ui);
+        });
+        section("Dots", true).show(ui, |ui| self.dots_ui(ui));
+        section("Pens", true).show(ui, |ui| self.pens_ui(ui));
+        section("Paper", true).show(ui, |ui| self.paper_ui(ui));
+        section("View", true).show(ui, |ui| self.view_ui(ui));
+    }
+
+    /// The photo's crop and quarter turn (the job's `crop` and `rotate`,
+    /// as the CLI's `--crop` and `--rotate`), and why a crop does not fit.
+    fn frame_ui(&mut self, ui: &mut egui::Ui) {
+        let (w, h) = self
+            .source
+            .as_ref()
+            .map_or((1, 1), |s| (s.original_size().0, s.original_size().1));
+        let job = &mut self.settings.job;
+        ui.horizontal(|ui| {
+            let turn = job.rotate.unwrap_or(0);
+            if ui
+                .button(format!("Turn 90° ({turn}°)"))
+                .on_hover_text("Turn the photo a quarter clockwise (--rotate)")
+                .clicked()
+            {
+                job.rotate = match (turn + 90) % 360 {
+                    0 => None,
+                    t => Some(t),
+                };
+            }
+            let mut cropped = job.crop.is_some();
+            if ui
+                .checkbox(&mut cropped, "Crop")
+                .on_hover_text(
+                    "Draw a part of the photo: x, y, width, height in its pixels (--crop)",
+                )
+                .changed()
+            {
+                job.crop = cropped.then_some(crate::importance::Crop {
+                    x: 0,
+                    y: 0,
+                    width: w,
+                    height: h,
+                });
+            }
+        });
+        if let Some(c) = &mut job.crop {
+            ui.horizontal(|ui| {
+                for (name, v, most) in [
+                    ("x", &mut c.x, w - 1),
+                    ("y", &mut c.y, h - 1),
+                    ("w", &mut c.width, w),
+                    ("h", &mut c.height, h),
+                ] {
+                    ui.add(
+                        egui::DragValue::new(v)
+                            .range(0..=most)
+                            .prefix(format!("{name} ")),
+                    )
+                    .on_hover_text("In the photo's pixels, upright");
+                }
+            });
+        }
+        if let Some(e) = &self.framing_error {
+            ui.colored_label(Color32::from_rgb(200, 40, 40), e);
+        }
+    }
+
+    /// Presets: the job's every setting saved to, or loaded from, a job
+    /// file (`pixelpie stipple --save-job` / `--job`).
+    fn preset_ui(&mut self, ui: &mut egui::Ui) {
+        ui.horizontal(|ui| {
+            ui.label("Preset");
+            ui.add(egui::TextEdit::singleline(&mut self.preset_path).desired_width(110.0))
+                .on_hover_text(
+                    "A job file: every setting of the drawing, as pixelpie stipple --save-job \
+                     writes it and --job replays it",
+                );
+            if ui
+                .button("Save")
+                .on_hover_text("Save every setting to the job file")
+                .clicked()
+            {
+                self.save_preset();
+            }
+            if ui
+                .button("Load")
+                .on_hover_text("Load every setting from the job file")
+                .clicked()
+            {
+                self.load_preset();
+            }
+        });
+        if let Some(note) = &self.preset_note {
+            ui.label(note);
+        }
     }
 
     /// The title, Undo and Reset (always in reach, however long the

@@ -82,6 +82,16 @@ pub struct SamplingKey {
 }
 
 impl Settings {
+    /// These settings for a picture already cropped and turned: the job
+    /// without its crop and turn.
+    #[must_use]
+    pub fn framed(&self) -> Self {
+        let mut s = self.clone();
+        s.job.crop = None;
+        s.job.rotate = None;
+        s
+    }
+
     /// Why the Points field's count is refused (none, or more than
     /// [`MAX_POINTS`]), when the count is used.
     #[must_use]

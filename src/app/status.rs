@@ -57,19 +57,32 @@ impl PixelPieApp {
             }
             None => (String::new(), String::new(), String::new()),
         };
-        ui.label(a)
+        // One line each (the panel's height goes to the controls); the
+        // whole text on hover.
+        ui.add(egui::Label::new(a).truncate())
             .on_hover_text("The last drawing: dots, sampler iterations and runs");
-        ui.label(b).on_hover_text(
-            "The paper's stages: S1 throws darts, S2 culls the conflicting ones, PP \
-             compacts the still-empty pixels",
-        );
-        ui.label(c);
+        ui.add(egui::Label::new(&b).truncate())
+            .on_hover_text(format!(
+                "{b}. The paper's stages: S1 throws darts, S2 culls the conflicting ones, PP \
+             compacts the still-empty pixels"
+            ));
+        let r = ui.add(egui::Label::new(&c).truncate());
+        if !c.is_empty() {
+            r.on_hover_text(&c);
+        }
         let note = match (&self.error, self.status.is_empty()) {
             (Some(e), _) => (Color32::from_rgb(200, 40, 40), format!("Error: {e}")),
             (None, false) => (ui.visuals().text_color(), self.status.clone()),
             (None, true) => (ui.visuals().text_color(), String::new()),
         };
-        ui.colored_label(note.0, note.1);
+        if self.error.is_some() {
+            ui.colored_label(note.0, note.1);
+        } else {
+            let r = ui.add(egui::Label::new(egui::RichText::new(&note.1).color(note.0)).truncate());
+            if !note.1.is_empty() {
+                r.on_hover_text(&note.1);
+            }
+        }
     }
 
     /// A spinner that turns at a few frames a second: egui's asks for a

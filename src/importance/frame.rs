@@ -64,7 +64,7 @@ impl<'de> serde::Deserialize<'de> for Crop {
 
 /// Checks a quarter turn: 0, 90, 180 or 270 degrees.
 pub fn check_rotation(degrees: u16) -> Result<()> {
-    if degrees % 90 == 0 && degrees < 360 {
+    if degrees.is_multiple_of(90) && degrees < 360 {
         Ok(())
     } else {
         Err(Error::InvalidParameter(format!(
@@ -73,9 +73,10 @@ pub fn check_rotation(degrees: u16) -> Result<()> {
     }
 }
 
-/// The `w`×`h` grid `data` cropped to `crop` and turned `degrees`
-/// clockwise: its size and values.
-fn frame<T: Copy + Send + Sync>(
+/// The `w`×`h` grid `data` (rows from the top) cropped to `crop` and
+/// turned `degrees` clockwise: its size and values. Any picture frames
+/// alike (the app's display images too).
+pub fn frame<T: Copy + Send + Sync>(
     (w, h): (u32, u32),
     data: &[T],
     crop: Option<Crop>,

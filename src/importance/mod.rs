@@ -37,7 +37,7 @@ use std::path::{Path, PathBuf};
 
 pub use colour::ColourMap;
 pub use fit::{Classes, Prepared};
-pub use frame::{Crop, check_rotation};
+pub use frame::{Crop, check_rotation, frame};
 pub use load::{
     Luminance, Range, cut_short, cut_short_bytes, decode_file, linear_to_srgb, load, load_bytes,
     srgb_to_linear,
