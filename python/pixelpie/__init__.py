@@ -21,6 +21,7 @@ import json
 import math
 import operator
 import os
+import warnings
 from typing import Any, Callable, Dict, Optional, Tuple, Union
 
 import numpy as np
@@ -200,6 +201,7 @@ def stipple(
     backend: str = "auto",
     progress: Optional[Progress] = None,
     svg: bool = False,
+    job: Optional[PathLike] = None,
     **options: Any,
 ) -> Any:
     """Draws ``image`` as stipples, as ``pixelpie stipple`` does.
@@ -233,14 +235,25 @@ def stipple(
     ``max_radius``, ``gamma``, ``black_level``, ``white_level``,
     ``invert``, ``white_cutoff`` and ``hdr_white``; ``pens`` draws in colour
     with several pens sampled together: ``"cmyk"``, a list of ``"#rrggbb"``
-    colours, or the path of a ``.toml`` pen file. An unknown name or a bad
-    value raises ``ValueError`` (``TypeError`` for a wrong type).
+    colours, or the path of a ``.toml`` pen file; ``crop`` (``"x,y,w,h"``)
+    and ``rotate`` (90, 180 or 270) frame the picture; ``refill_mm`` and
+    ``layer_order`` shape the pen layers. An unknown name or a bad value
+    raises ``ValueError`` (``TypeError`` for a wrong type).
+
+    ``job`` is a job file (``pixelpie stipple --save-job``, the app's
+    presets): its settings, with ``options`` over them, as ``--job`` takes
+    it; a file from another version warns (``UserWarning``).
     """
     given = {
         k: os.fspath(v) if isinstance(v, os.PathLike) else v
         for k, v in options.items()
         if v is not None
     }
+    if job is not None:
+        text, warning = _pixelpie.read_job(os.fspath(job))
+        if warning:
+            warnings.warn(f"{os.fspath(job)}: {warning}", stacklevel=2)
+        given = {**json.loads(text), **given}
     pixels = _picture(image)
     return _pixelpie.stipple(
         None if pixels is not None else os.fspath(image),

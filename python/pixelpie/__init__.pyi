@@ -54,6 +54,7 @@ def stipple(
     backend: str = ...,
     progress: Optional[Progress] = ...,
     svg: bool = ...,
+    job: Optional[PathLike] = ...,
     points: Optional[int] = ...,
     width: Optional[int] = ...,
     height: Optional[int] = ...,
@@ -87,6 +88,10 @@ def stipple(
     white_cutoff: Optional[float] = ...,
     hdr_white: Optional[float] = ...,
     pens: Optional[Union[str, Sequence[str], os.PathLike[str]]] = ...,
+    crop: Optional[str] = ...,
+    rotate: Optional[int] = ...,
+    refill_mm: Optional[float] = ...,
+    layer_order: Optional[str] = ...,
 ) -> Any:
     """A stipple drawing of ``image`` (a path, an array or a PIL image),
     written to ``output``; its dots (x, y, radius), with ``pens`` also each

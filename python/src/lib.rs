@@ -243,6 +243,20 @@ fn job_from(options: &str) -> PyResult<Job> {
     Ok(job)
 }
 
+/// The settings of the job file at `path` (`pixelpie stipple
+/// --save-job`, the app's presets) as JSON, and the warning to give when
+/// another version wrote it; a file that is not a job, or holds an unknown
+/// setting, raises `ValueError`.
+#[pyfunction]
+fn read_job(path: PathBuf) -> PyResult<(String, Option<String>)> {
+    let file = pixelpie::job::file::JobFile::read(&path).map_err(|e| py_err(&e))?;
+    // Checked whole, as the CLI's --job checks it.
+    Job::from_table(file.table.clone()).map_err(|e| py_err(&e))?;
+    let json =
+        serde_json::to_string(&file.table).map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    Ok((json, file.warning))
+}
+
 /// The drawing job's options and their defaults, as JSON (the names
 /// `stipple` takes).
 #[pyfunction]
@@ -264,6 +278,10 @@ fn job_options() -> serde_json::Result<serde_json::Value> {
             ("margin", serde_json::Value::Null),
             ("landscape", serde_json::to_value(job.landscape)?),
             ("dot_path", serde_json::to_value(job.dot_path)?),
+            ("crop", serde_json::Value::Null),
+            ("rotate", serde_json::Value::Null),
+            ("refill_mm", serde_json::Value::Null),
+            ("layer_order", serde_json::to_value(job.layer_order)?),
         ] {
             m.entry(name).or_insert(default);
         }
@@ -464,6 +482,7 @@ fn _pixelpie(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(sample, m)?)?;
     m.add_function(wrap_pyfunction!(stipple_py, m)?)?;
     m.add_function(wrap_pyfunction!(stipple_defaults, m)?)?;
+    m.add_function(wrap_pyfunction!(read_job, m)?)?;
     m.add_function(wrap_pyfunction!(sample_defaults, m)?)?;
     m.add_function(wrap_pyfunction!(analyze_py, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

@@ -155,7 +155,33 @@ EVERY_OPTION = [
     ("margin", 25.0, "a.svg"),
     ("landscape", True, "a.svg"),
     ("dot_path", "circle", "a.svg"),
+    ("crop", "40,20,300,200", "a.svg"),
+    ("rotate", 90, "a.svg"),
+    ("refill_mm", 300.0, "a.svg"),
+    ("layer_order", "pens", "a.svg"),
 ]
+
+
+def test_a_job_file_replays_the_clis_drawing(tmp_path):
+    job, theirs, ours = tmp_path / "job.toml", tmp_path / "cli.svg", tmp_path / "py.svg"
+    image = ASSETS / "rocket.jpg"
+    cli("stipple", str(image), "-o", str(theirs), "--quiet", "--points", "700", "--pens", "cmyk",
+        "--relax", "1", "--save-job", str(job))
+    pixelpie.stipple(image, ours, job=job)
+    assert ours.read_bytes() == theirs.read_bytes()
+    # Options given with it override it.
+    other = tmp_path / "other.svg"
+    pixelpie.stipple(image, other, job=job, seed=4)
+    assert other.read_bytes() != theirs.read_bytes()
+    # Unknown settings are refused by name; another version warns.
+    bad = tmp_path / "bad.toml"
+    bad.write_text('pixelpie = "0.1.0"\nrelaxx = 2\n')
+    with pytest.raises(ValueError, match="relaxx"):
+        pixelpie.stipple(image, job=bad)
+    old = tmp_path / "old.toml"
+    old.write_text('pixelpie = "0.0.1"\npoints = 300\n')
+    with pytest.warns(UserWarning, match="0.0.1"):
+        pixelpie.stipple(image, job=old)
 
 
 def test_every_stipple_option_is_tested_against_the_cli():
@@ -170,10 +196,13 @@ def test_every_stipple_option_gives_the_clis_file(tmp_path, name, value, out):
     if value is not True:
         args.append(str(value))
     # Options that need a partner, or that set the count themselves.
-    if name in ("pen_mm", "dot_path"):
+    if name in ("pen_mm", "dot_path", "refill_mm"):
         kwargs["width_mm"] = 120.0
         args += ["--width-mm", "120"]
-    if name == "dot_path":
+    if name == "layer_order":
+        kwargs["pens"] = "cmyk"
+        args += ["--pens", "cmyk"]
+    if name in ("dot_path", "refill_mm"):
         kwargs["pen_mm"] = 0.3
         args += ["--pen-mm", "0.3"]
     if name in ("margin", "landscape"):
