@@ -83,6 +83,15 @@ def cli(*args: str) -> None:
     subprocess.run([str(CLI), *args, "--quiet"], capture_output=True, text=True, check=True)
 
 
+# The cmyk pens' indices (cyan, magenta, yellow, black) in plotting order.
+LAYER_PENS = [2, 0, 1, 3]
+
+
+def in_layers(counts: list) -> list:
+    """Dots per pen (in the pens' order) in the layers' plotting order."""
+    return [counts[k] for k in LAYER_PENS]
+
+
 def cli_pen_counts(tmp_path: Path, image: Path, args: list) -> list:
     """Dots per pen that `pixelpie stipple` draws, from its CSV's pen column."""
     out = tmp_path / "cli.csv"
@@ -157,7 +166,7 @@ def test_cmyk_gives_one_layer_per_pen_with_its_colour_and_width(colour):
 def test_each_layer_has_the_clis_dots_for_its_pen(colour):
     _, doc, counts = colour
     got = [len(doc.layers[lid]) for lid in (1, 2, 3, 4)]
-    assert got == counts
+    assert got == in_layers(counts)
     assert sum(got) > 1800 and min(got) > 0, got
 
 
@@ -271,15 +280,16 @@ def test_layer_option_moves_the_pens():
     image = str(ASSETS / "rocket.jpg")
     doc = vpype_cli.execute(f"rect 0 0 10 10 pixelpie '{image}' --points 400 --pens cmyk -l new")
     assert sorted(doc.layers) == [1, 2, 3, 4, 5]
-    assert doc.layers[2].property(vp.METADATA_FIELD_NAME) == "cyan"
+    assert doc.layers[2].property(vp.METADATA_FIELD_NAME) == "yellow"
     doc = plugin(image, "--points", "400", "--pens", "#000000,#d62728", "-l", "3")
     assert sorted(doc.layers) == [3, 4]
-    assert doc.layers[4].property(vp.METADATA_FIELD_COLOR) == vp.Color("#d62728")
+    # The lighter ink first.
+    assert doc.layers[3].property(vp.METADATA_FIELD_COLOR) == vp.Color("#d62728")
 
 
 def test_pen_file_names_with_digits_keep_their_layers(tmp_path):
     # vpype takes the digits of a layer's name as its number; our layers
-    # follow the pens' order whatever their names.
+    # keep the plotting order (the lighter ink first) whatever their names.
     pens = tmp_path / "pens.toml"
     pens.write_text(
         '[[pen]]\nname = "Pilot 05 black"\ncolour = "#000000"\nwidth_mm = 0.5\n'
@@ -287,9 +297,9 @@ def test_pen_file_names_with_digits_keep_their_layers(tmp_path):
     )
     doc = plugin(str(ASSETS / "rocket.jpg"), "--points", "600", "--pens", str(pens))
     assert sorted(doc.layers) == [1, 2]
-    assert [doc.layers[i].property(vp.METADATA_FIELD_NAME) for i in (1, 2)] == ["Pilot 05 black", "Stabilo 88 red"]
+    assert [doc.layers[i].property(vp.METADATA_FIELD_NAME) for i in (1, 2)] == ["Stabilo 88 red", "Pilot 05 black"]
     widths = [doc.layers[i].property(vp.METADATA_FIELD_PEN_WIDTH) / PX_PER_MM for i in (1, 2)]
-    assert widths == pytest.approx([0.5, 0.4])
+    assert widths == pytest.approx([0.4, 0.5])
 
 
 def test_extra_options_reach_the_job(tmp_path):
@@ -345,7 +355,7 @@ def test_pipeline_to_svg(tmp_path, colour):
     text = out.read_text()
     layers = re.findall(r'<g [^>]*inkscape:label="(\w+)"[^>]*>(.*?)</g>', text, re.S)
     assert [name for name, _ in layers] == [name for name, _ in CMYK]
-    assert [body.count("<polyline") for _, body in layers] == counts
+    assert [body.count("<polyline") for _, body in layers] == in_layers(counts)
     for (name, rgb), (_, body) in zip(CMYK, layers):
         assert re.search(rf'<g [^>]*stroke="{rgb}"[^>]*inkscape:label="{name}"', text) or re.search(
             rf'<g [^>]*inkscape:label="{name}"[^>]*stroke="{rgb}"', text
@@ -370,7 +380,7 @@ def test_hpgl_through_vpype(tmp_path, colour):
     assert pens == ["1", "2", "3", "4", "0"]
     # One pen-down per path, pen by pen.
     blocks = re.split(r"SP[1-4];", hpgl)[1:]
-    assert [b.count("PD") for b in blocks] == counts
+    assert [b.count("PD") for b in blocks] == in_layers(counts)
     # The same dots on a landscape sheet with 20 mm margins.
     assert counts == cli_pen_counts(tmp_path, image, COLOUR_CLI + margins)
 
@@ -391,8 +401,8 @@ def test_gcode_through_vpype_gcode(tmp_path, colour):
     blocks = re.split(r"^M0 .*$", gcode, flags=re.M)[1:]
     downs = [len(re.findall(r"^G1 Z0 F1000$", b, re.M)) for b in blocks]
     ups = [len(re.findall(r"^G0 Z3$", b, re.M)) for b in blocks]
-    assert downs == counts
-    assert ups[:3] == [c + 1 for c in counts[:3]]  # each path, then the next pen change
+    assert downs == in_layers(counts)
+    assert ups[:3] == [c + 1 for c in in_layers(counts)[:3]]  # each path, then the next pen change
     assert gcode.startswith("; ") and "G21" in gcode and gcode.rstrip().endswith("M2")
     # Bottom-left origin: every move lies on the A4 sheet.
     xy = np.array(re.findall(r"^G[01] X(-?[\d.]+) Y(-?[\d.]+)", gcode, re.M), dtype=float)
