@@ -1707,3 +1707,43 @@ fn presets_crop_and_turn_round_trip_through_job_files() {
         "{note}"
     );
 }
+
+#[test]
+fn the_pen_travel_overlay_toggles_and_the_sections_fit_a_small_window() {
+    let (_dir, _, mut h) = ready(300, 200);
+    h.state_mut().settings.points = 800;
+    h.step();
+    settle(&mut h);
+    let red = |img: &image::RgbaImage| {
+        img.enumerate_pixels()
+            .filter(|(x, _, p)| *x > 320 && p[0] > 150 && p[1] < 110 && p[2] < 110)
+            .count()
+    };
+    rest(&mut h);
+    let off = red(&h.render().expect("render"));
+    // (The View section's checkbox, set as its click sets it.)
+    h.state_mut().settings.show_travel = true;
+    h.run_steps(2);
+    let img = h.render().expect("render");
+    let _ = img.save(format!("{}/app-travel.png", env!("CARGO_TARGET_TMPDIR")));
+    let on = red(&img);
+    assert!(off == 0 && on > 500, "red pixels: {off} off, {on} on");
+    // At 1024×700, with Sampling and Dot size folded, the Pens and Paper
+    // sections are in sight.
+    h.set_size(egui::vec2(1024.0, 700.0));
+    h.run_steps(2);
+    h.get_by_label("Sampling").click();
+    h.run_steps(2);
+    h.get_by_label("Dot size").click();
+    h.run_steps(3);
+    let img = h.render().expect("render");
+    let _ = img.save(format!("{}/app-1024x700.png", env!("CARGO_TARGET_TMPDIR")));
+    let ppp = h.ctx.pixels_per_point();
+    for name in ["Paper", "Pens"] {
+        // The section's header and its own control of that name.
+        for node in h.get_all_by_label(name) {
+            let r = node.rect();
+            assert!(r.max.y * ppp < 700.0 - 300.0, "{name} at {r:?}");
+        }
+    }
+}

@@ -22,12 +22,12 @@ impl PixelPieApp {
         let section = |name: &str, open: bool| {
             egui::CollapsingHeader::new(name.to_owned()).default_open(open)
         };
-        section("Spacing", true).show(ui, |ui| {
+        section("Sampling", true).show(ui, |ui| {
             self.spacing_ui(ui);
             self.levels_ui(ui);
             self.darts_ui(ui);
         });
-        section("Dots", true).show(ui, |ui| self.dots_ui(ui));
+        section("Dot size", true).show(ui, |ui| self.dots_ui(ui));
         section("Pens", true).show(ui, |ui| self.pens_ui(ui));
         section("Paper", true).show(ui, |ui| self.paper_ui(ui));
         section("View", true).show(ui, |ui| self.view_ui(ui));
@@ -466,6 +466,12 @@ impl PixelPieApp {
                 "Each sample's disk in blue (the paper's Figure 4): where the disks overlap \
                  and how the set covers the picture",
             );
+        ui.checkbox(&mut s.show_travel, "Pen travel")
+            .on_hover_text(format!(
+                "The pen's moves from dot to dot in drawing order (pen up), each pen's in its \
+             colour: the plotter's path (Order: Plotter shortens it); the first {} moves",
+                super::view::MAX_TRAVEL_MOVES
+            ));
         if ui
             .button("Fit view")
             .on_hover_text("Fit the picture in the view (F); + and − zoom")

@@ -43,6 +43,8 @@ pub struct Settings {
     pub background: Background,
     /// Show the coverage disks of the samples (paper Figure 4).
     pub show_coverage: bool,
+    /// Show the pen's travel: its moves between dots, in drawing order.
+    pub show_travel: bool,
     /// The folder of the last file opened or exported (the dialogs start there).
     pub last_dir: Option<PathBuf>,
     /// With a periodic domain, show the drawing tiled 2×2.
@@ -62,6 +64,7 @@ impl Default for Settings {
             backend: BackendChoice::Auto,
             background: Background::Paper,
             show_coverage: false,
+            show_travel: false,
             last_dir: None,
             tile: true,
             hidden_pens: Vec::new(),

@@ -143,6 +143,46 @@ impl PixelPieApp {
             );
         }
         self.paint_dots(ui, &painter, rect, &offsets, size);
+        if self.settings.show_travel {
+            self.paint_travel(&painter, rect);
+        }
+    }
+
+    /// The pen's travel over the drawing: each layer's dots joined in
+    /// drawing order (its first [`MAX_TRAVEL_MOVES`] moves in all), in the
+    /// layer's ink, faded.
+    fn paint_travel(&self, painter: &egui::Painter, rect: Rect) {
+        let layers: Vec<([u8; 3], &[super::dots::DotInstance])> = if self.pen_layers.is_empty() {
+            vec![(self.settings.job.ink.0, self.dot_instances.as_slice())]
+        } else {
+            self.pen_layers
+                .iter()
+                .map(|(c, d)| (*c, d.as_slice()))
+                .collect()
+        };
+        let origin = rect.min + self.view.pan;
+        let mut left = MAX_TRAVEL_MOVES + layers.len();
+        for (colour, dots) in layers {
+            let n = dots.len().min(left);
+            left -= n;
+            if n < 2 {
+                continue;
+            }
+            let points: Vec<egui::Pos2> = dots[..n]
+                .iter()
+                .map(|d| origin + Vec2::new(d.x, d.y) * self.view.zoom)
+                .collect();
+            // Red for black ink, so that the path shows over the dots.
+            let [r, g, b] = if colour == [0, 0, 0] {
+                [220, 40, 40]
+            } else {
+                colour
+            };
+            painter.add(egui::Shape::line(
+                points,
+                egui::Stroke::new(1.0, Color32::from_rgba_unmultiplied(r, g, b, 160)),
+            ));
+        }
     }
 
     /// Fits the view when asked (or when a fitted view's canvas, tiling or
@@ -525,6 +565,10 @@ impl LayerKey {
         (self.slot, self.generation, self.dots) == (other.slot, other.generation, other.dots)
     }
 }
+
+/// The most pen moves the travel overlay draws (its lines are drawn every
+/// frame).
+pub const MAX_TRAVEL_MOVES: usize = 200_000;
 
 /// The cache of the dots the view holds, and when the view last moved.
 pub struct DotCache {
