@@ -50,6 +50,10 @@ pub const DEFAULT_POINTS: usize = 10_000;
 /// the best of 0.3, 0.4 and 0.5 by the fidelity measure on the bundled
 /// photos (StippleGen's default dot sizes, 2 and 5, make 0.4).
 pub const DEFAULT_DOT_RATIO: f32 = 0.3;
+/// Pixels across the pen's plotted dot, at least, in a domain the pen sizes
+/// (`--pen-mm` without a count): below about 3 the sampler's 1 px radius
+/// floor refuses the dots.
+pub const PEN_DOT_PX: f64 = 4.0;
 /// The default domain's longer side is at least this many pixels.
 pub const MIN_DOMAIN_SIDE: u32 = 1024;
 /// The default domain holds at most this many pixels (4096²): past about
@@ -435,9 +439,35 @@ impl Job {
     /// The domain for a picture of `size`: the asked size, or the default.
     pub(crate) fn domain_for(&self, size: (u32, u32), points: Option<usize>) -> (u32, u32) {
         match (self.width, self.height) {
-            (None, None) => default_domain(size.0, size.1, points.unwrap_or(DEFAULT_POINTS)),
+            (None, None) => {
+                let domain = default_domain(size.0, size.1, points.unwrap_or(DEFAULT_POINTS));
+                self.pen_domain(domain).unwrap_or(domain)
+            }
             (wd, hd) => fit_size(size, wd, hd),
         }
+    }
+
+    /// When the pen sizes the dots (no count, no radius given), `domain`
+    /// enlarged so that the pen's plotted dot spans [`PEN_DOT_PX`] pixels
+    /// (within [`MAX_DOMAIN_PIXELS`]): a fine pen on a large sheet is
+    /// sampled, not refused. `None` when it spans that already.
+    fn pen_domain(&self, domain: (u32, u32)) -> Option<(u32, u32)> {
+        if !self.pen_sized() || self.dot_radius.is_some() {
+            return None;
+        }
+        let mm = self.mm_per_px(domain).ok()??;
+        let across = self.pen_width()? * self.dot_gain(0) / mm;
+        if across >= PEN_DOT_PX {
+            return None;
+        }
+        let (w, h) = (f64::from(domain.0), f64::from(domain.1));
+        let grow = PEN_DOT_PX / across;
+        let fit = (MAX_DOMAIN_PIXELS as f64 / (w * h)).sqrt();
+        let s = grow.min(fit).max(1.0);
+        Some((
+            ((w * s).round() as u32).max(1),
+            ((h * s).round() as u32).max(1),
+        ))
     }
 
     /// `range`, or the range whose darkest dots have the asked dot radius
