@@ -15,6 +15,7 @@ from __future__ import annotations
 import _thread
 import math
 import os
+import re
 import subprocess
 import threading
 from pathlib import Path
@@ -591,3 +592,22 @@ def test_stipple_of_a_pil_image_is_the_files_drawing():
         from_pil = pixelpie.stipple(img, points=1500, seed=4)
     from_file = pixelpie.stipple(path, points=1500, seed=4)
     assert np.array_equal(from_pil, from_file)
+
+
+def python_blocks(page: Path) -> list:
+    """The ```python blocks of a page."""
+    return re.findall(r"^```python\n(.*?)^```", page.read_text(), re.M | re.S)
+
+
+@pytest.mark.parametrize("page", ["README.md", "docs/python.md"])
+def test_the_docs_python_examples_run_as_written(tmp_path, page, monkeypatch, capsys):
+    blocks = python_blocks(ROOT / page)
+    assert blocks, page
+    (tmp_path / "assets").symlink_to(ASSETS)
+    monkeypatch.chdir(tmp_path)
+    for block in blocks:
+        exec(compile(block, page, "exec"), {})
+    # What they say: the sample is maximal, the drawing is written.
+    out = capsys.readouterr().out.split()
+    assert out[1] == "True", out
+    assert (tmp_path / "stipple.png").stat().st_size > 0

@@ -414,3 +414,34 @@ def test_gcode_through_vpype_gcode(tmp_path, colour):
               "gwrite", "--profile", "pixelpie", "-d", "z_down", "-0.5", "-d", "feed", "4000", str(out2))
     text = out2.read_text()
     assert "G1 Z-0.5 F1000" in text and "F4000" in text and "G1 Z0 F" not in text
+
+
+# --- the docs' examples -------------------------------------------------------
+
+
+def shell_lines(page: Path) -> list:
+    """The `pixelpie` and `vpype` commands of a page's ```sh blocks, in
+    order, continuation lines joined."""
+    lines, block = [], re.findall(r"^```sh\n(.*?)^```", page.read_text(), re.M | re.S)
+    for text in block:
+        for line in text.replace("\\\n", " ").splitlines():
+            if line.startswith(("pixelpie ", "vpype ")):
+                lines.append(line)
+    return lines
+
+
+@pytest.mark.parametrize("page", ["README.md", "docs/plotter.md"])
+def test_the_docs_vpype_examples_run_as_written(tmp_path, page):
+    lines = shell_lines(ROOT / page)
+    assert any(line.startswith("vpype ") for line in lines), page
+    for name in ("assets", "python"):
+        (tmp_path / name).symlink_to(ROOT / name)
+    shutil.copy(ASSETS / "rocket.jpg", tmp_path / "photo.jpg")
+    env = dict(os.environ)
+    env["PATH"] = os.pathsep.join([str(CLI.parent), str(Path(vpype_exe()).parent), env.get("PATH", "")])
+    for line in lines:
+        out = subprocess.run(["sh", "-c", line], cwd=tmp_path, env=env, capture_output=True, text=True)
+        assert out.returncode == 0, f"{page}: `{line}` failed:\n{out.stderr}"
+    # What they write is there.
+    for name in re.findall(r"(?:write|gwrite --profile pixelpie)(?: --device \S+ --page-size \S+ --landscape)? (\S+)", " ".join(lines)):
+        assert (tmp_path / name).stat().st_size > 0, name
