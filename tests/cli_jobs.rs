@@ -338,3 +338,37 @@ fn crop_and_rotate_frame_the_picture_and_are_saved_in_the_job() {
         );
     }
 }
+
+#[test]
+fn dots_sized_in_mm_are_that_size_on_the_page() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("mm.svg");
+    ok(&[
+        "stipple",
+        &asset("astronaut.jpg"),
+        "--paper",
+        "a5",
+        "--dot-mm",
+        "1.2",
+        "-q",
+        "-o",
+        s(&out),
+    ]);
+    let text = std::fs::read_to_string(&out).unwrap();
+    let largest = text
+        .split(" r=\"")
+        .skip(1)
+        .map(|t| t[..t.find('"').unwrap()].parse::<f64>().unwrap())
+        .fold(0.0, f64::max);
+    // The darkest dots: 1.2 mm across (the SVG's unit is the mm on paper).
+    assert!((largest - 0.6).abs() < 0.01, "{largest}");
+    let r = pixelpie(&[
+        "stipple",
+        &asset("astronaut.jpg"),
+        "--dot-mm",
+        "1",
+        "-o",
+        s(&out),
+    ]);
+    assert!(String::from_utf8_lossy(&r.stderr).contains("needs --width-mm or --paper"));
+}

@@ -89,6 +89,7 @@ def stipple(
     hdr_white: Optional[float] = ...,
     pens: Optional[Union[str, Sequence[str], os.PathLike[str]]] = ...,
     crop: Optional[str] = ...,
+    dot_mm: Optional[float] = ...,
     rotate: Optional[int] = ...,
     refill_mm: Optional[float] = ...,
     layer_order: Optional[str] = ...,

@@ -279,6 +279,7 @@ fn job_options() -> serde_json::Result<serde_json::Value> {
             ("landscape", serde_json::to_value(job.landscape)?),
             ("dot_path", serde_json::to_value(job.dot_path)?),
             ("crop", serde_json::Value::Null),
+            ("dot_mm", serde_json::Value::Null),
             ("rotate", serde_json::Value::Null),
             ("refill_mm", serde_json::Value::Null),
             ("layer_order", serde_json::to_value(job.layer_order)?),

@@ -157,6 +157,7 @@ EVERY_OPTION = [
     ("landscape", True, "a.svg"),
     ("dot_path", "circle", "a.svg"),
     ("crop", "40,20,300,200", "a.svg"),
+    ("dot_mm", 1.2, "a.svg"),
     ("rotate", 90, "a.svg"),
     ("refill_mm", 300.0, "a.svg"),
     ("layer_order", "pens", "a.svg"),
@@ -197,7 +198,7 @@ def test_every_stipple_option_gives_the_clis_file(tmp_path, name, value, out):
     if value is not True:
         args.append(str(value))
     # Options that need a partner, or that set the count themselves.
-    if name in ("pen_mm", "dot_path", "refill_mm"):
+    if name in ("pen_mm", "dot_path", "refill_mm", "dot_mm"):
         kwargs["width_mm"] = 120.0
         args += ["--width-mm", "120"]
     if name == "layer_order":
@@ -209,7 +210,7 @@ def test_every_stipple_option_gives_the_clis_file(tmp_path, name, value, out):
     if name in ("margin", "landscape"):
         kwargs["paper"] = "a4"
         args += ["--paper", "a4"]
-    if name not in ("points", "dot_radius", "min_radius", "pen_mm"):
+    if name not in ("points", "dot_radius", "min_radius", "pen_mm", "dot_mm"):
         kwargs["points"] = 800
         args += ["--points", "800"]
     ours, theirs = tmp_path / ("py-" + out), tmp_path / ("cli-" + out)

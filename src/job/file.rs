@@ -35,6 +35,7 @@ pub const KEYS: &[&str] = &[
     "dot_factor",
     "dot_ratio",
     "dot_radius",
+    "dot_mm",
     "relax",
     "order",
     "scale",

@@ -119,6 +119,14 @@ pub struct Job {
     /// it, so the dot count does too (instead of --points).
     #[cfg_attr(feature = "cli", arg(long))]
     pub dot_radius: Option<f32>,
+    /// Diameter in mm of the darkest dots on the page (needs --width-mm or
+    /// --paper); as --dot-radius, the radii and the count follow from it.
+    #[cfg_attr(
+        feature = "cli",
+        arg(long, value_name = "MM", conflicts_with = "dot_radius")
+    )]
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dot_mm: Option<f64>,
     /// Weighted Lloyd (Voronoi) relaxation steps after sampling: moves each
     /// dot to the centroid of its Voronoi cell, weighted to keep the
     /// calibrated density. A few steps make the spacing more even.
@@ -203,6 +211,7 @@ impl Default for Job {
             dot_factor: None,
             dot_ratio: DEFAULT_DOT_RATIO,
             dot_radius: None,
+            dot_mm: None,
             relax: 0,
             order: Order::None,
             scale: 1.0,
@@ -330,6 +339,24 @@ impl Job {
                 );
             }
         }
+        if let Some(d) = self.dot_mm {
+            if !(d.is_finite() && d > 0.0) {
+                return bad(format!("--dot-mm {d} must be a positive number"));
+            }
+            if self.width_mm.is_none() && self.paper.is_none() {
+                return bad("--dot-mm needs --width-mm or --paper: the page's size in mm".into());
+            }
+            if self.points.is_some()
+                || self.importance.min_radius.is_some()
+                || self.dot_radius.is_some()
+            {
+                return bad(
+                    "--dot-mm excludes --points, --min-radius and --dot-radius: it sets the radii \
+                     itself"
+                        .into(),
+                );
+            }
+        }
         if !(self.scale.is_finite() && self.scale > 0.0) {
             return bad(format!("--scale {} must be a positive number", self.scale));
         }
@@ -392,9 +419,11 @@ impl Job {
         let pen_sized = self.pen_mm.is_some()
             && self.points.is_none()
             && self.importance.min_radius.is_none()
-            && self.dot_radius.is_none();
+            && self.dot_radius.is_none()
+            && self.dot_mm.is_none();
         key.dot_path = DotPath::Spiral;
-        if !pen_sized {
+        // Dots sized in mm take their radii from the page's size.
+        if !pen_sized && self.dot_mm.is_none() {
             key.pen_mm = None;
             key.width_mm = None;
             key.paper = None;
@@ -417,7 +446,10 @@ impl Job {
     /// Whether the dots' own radius or the pen sets the sample radii (else
     /// the count does, or the minimum radius).
     fn pen_sized(&self) -> bool {
-        self.pen_mm.is_some() && self.points.is_none() && self.importance.min_radius.is_none()
+        self.pen_mm.is_some()
+            && self.points.is_none()
+            && self.importance.min_radius.is_none()
+            && self.dot_mm.is_none()
     }
 
     /// The dot count to fit, if any, and whether something scales the
@@ -426,7 +458,7 @@ impl Job {
     pub(crate) fn count(&self) -> (Option<usize>, bool) {
         // The dots' own radius sets the sample radii, or the count does; a
         // pen alone sets the darkest dots to its width.
-        let by_dot = self.dot_radius.is_some() || self.pen_sized();
+        let by_dot = self.dot_radius.is_some() || self.dot_mm.is_some() || self.pen_sized();
         let points = match (self.points, self.importance.min_radius) {
             (Some(n), _) => Some(n),
             _ if by_dot => None,
@@ -485,7 +517,12 @@ impl Job {
             }
             _ => None,
         };
-        let Some(rho) = self.dot_radius.or(pen_dot) else {
+        // The darkest dots' diameter in mm, as a radius in domain px.
+        let mm_dot = match (self.dot_mm, self.mm_per_px(domain)?) {
+            (Some(d), Some(mm)) => Some((d / 2.0 / mm) as f32),
+            _ => None,
+        };
+        let Some(rho) = self.dot_radius.or(mm_dot).or(pen_dot) else {
             return Ok(range);
         };
         let min = Mapping::range_for_dot(rho, 1.0)?.min;
