@@ -1747,3 +1747,37 @@ fn the_pen_travel_overlay_toggles_and_the_sections_fit_a_small_window() {
         }
     }
 }
+
+#[test]
+fn dots_sized_in_mm_and_warnings_that_name_a_count() {
+    let (_dir, _, mut h) = ready(300, 200);
+    // No size in mm: the control is greyed out and changes nothing.
+    h.state_mut().settings.dot_mm = Some(1.0);
+    h.step();
+    settle(&mut h);
+    assert_eq!(h.state().settings.job().dot_mm, None);
+    h.state_mut().settings.job.width_mm = Some(150.0);
+    h.step();
+    settle(&mut h);
+    let job = h.state().settings.job();
+    assert_eq!((job.dot_mm, job.points), (Some(1.0), None));
+    let drawing = &h.state().outcome.as_ref().unwrap().drawing;
+    let mm = job.mm_per_px(drawing.domain).unwrap().unwrap();
+    let largest = job
+        .dots(drawing)
+        .iter()
+        .map(|d| d.radius)
+        .fold(0.0, f32::max);
+    assert!(
+        (2.0 * f64::from(largest) * mm - 1.0).abs() < 0.01,
+        "{largest} px"
+    );
+    // A PNG at a tenth of the size: the warning says which count reaches a pixel.
+    h.state_mut().settings.dot_mm = None;
+    h.state_mut().settings.job.width_mm = None;
+    h.state_mut().settings.job.scale = 0.1;
+    h.step();
+    settle(&mut h);
+    let w = h.state().dot_size_warning().expect("a warning");
+    assert!(w.contains("dots reach it"), "{w}");
+}

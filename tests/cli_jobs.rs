@@ -372,3 +372,33 @@ fn dots_sized_in_mm_are_that_size_on_the_page() {
     ]);
     assert!(String::from_utf8_lossy(&r.stderr).contains("needs --width-mm or --paper"));
 }
+
+#[test]
+fn a_png_of_dots_under_a_pixel_warns_with_a_count() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("small.png");
+    let r = ok(&[
+        "stipple",
+        &asset("astronaut.jpg"),
+        "--points",
+        "20000",
+        "--scale",
+        "0.05",
+        "-o",
+        s(&out),
+    ]);
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert!(
+        err.contains("warning: the PNG's dots are") && err.contains("dots, or a larger --scale"),
+        "{err}"
+    );
+    let r = ok(&[
+        "stipple",
+        &asset("astronaut.jpg"),
+        "--points",
+        "20000",
+        "-o",
+        s(&out),
+    ]);
+    assert!(!String::from_utf8_lossy(&r.stderr).contains("warning"));
+}

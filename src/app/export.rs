@@ -240,19 +240,25 @@ impl PixelPieApp {
                 DotSize::Fixed(r) => r,
             };
         let mut why = Vec::new();
+        // Radii scale as 1/√count: the count at which a size is reached.
+        let n = o.drawing.points.len() as f64;
+        let count_for = |ratio: f64| ((n * ratio * ratio).floor() as usize).max(1);
         if let Ok(Some(mm)) = job.mm_per_px(o.drawing.domain) {
             let d = f64::from(across) * mm;
             if d < MIN_PRINT_MM {
                 why.push(format!(
-                    "{d:.2} mm across in the SVG (under {MIN_PRINT_MM} mm)"
+                    "{d:.2} mm across in the SVG (under {MIN_PRINT_MM} mm; about {} dots reach it)",
+                    count_for(d / MIN_PRINT_MM)
                 ));
             }
         }
         let px = across * job.scale;
         if px < MIN_PNG_PX {
             why.push(format!(
-                "{px:.2} px across in the PNG at \u{d7}{:.2} (under {MIN_PNG_PX} px)",
-                job.scale
+                "{px:.2} px across in the PNG at \u{d7}{:.2} (under {MIN_PNG_PX} px; about {} \
+                 dots reach it)",
+                job.scale,
+                count_for(f64::from(px / MIN_PNG_PX))
             ));
         }
         (!why.is_empty()).then(|| format!("Dots too small: {}", why.join(", ")))

@@ -459,6 +459,7 @@ impl PixelPieApp {
         self.preset_note = Some(match crate::job::Job::open(&path) {
             Ok((job, warning)) => {
                 self.settings.use_count = job.points.is_some();
+                self.settings.dot_mm = job.dot_mm;
                 if let Some(n) = job.points {
                     self.settings.points = u32::try_from(n).unwrap_or(u32::MAX);
                 }

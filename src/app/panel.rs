@@ -220,7 +220,8 @@ impl PixelPieApp {
                      as pixelpie stipple scales it: longer side 1024 px or more)",
                 );
         });
-        ui.add_enabled_ui(s.use_count, |ui| {
+        let by_count = s.use_count && s.job().dot_mm.is_none();
+        ui.add_enabled_ui(by_count, |ui| {
             ui.horizontal(|ui| {
                 let l = ui.label("Points");
                 // Not clamped: a count out of range is refused in words.
@@ -411,7 +412,12 @@ impl PixelPieApp {
                     .on_hover_text("A fraction of each sample's disk: a texture, not tones.");
             })
             .response
-            .on_hover_text("How big each dot is drawn");
+            .on_hover_text(
+                "How the dots are sized. Fixed: all alike, the tones made by their spacing (a \
+                 pen's own width). Sized: larger where it is dark, as StippleGen. Both are \
+                 calibrated, so that the drawing's grey is the picture's. Proportional: a \
+                 fraction of each sample's disk, a texture that does not keep the tones.",
+            );
         if mode != job.dot_mode() {
             job.dot = Some(mode);
             // Each mode has its own default factor.
@@ -437,6 +443,34 @@ impl PixelPieApp {
         {
             job.dot_factor = Some(factor);
         }
+        // The darkest dots' diameter on the page, when it has a size in mm
+        // (--dot-mm): then it, not the count, sets the radii.
+        let on_page = job.width_mm.is_some() || job.paper.is_some();
+        ui.add_enabled_ui(on_page, |ui| {
+            ui.horizontal(|ui| {
+                let mut sized = self.settings.dot_mm.is_some();
+                if ui
+                    .checkbox(&mut sized, "Dot mm")
+                    .on_hover_text(
+                        "Give the darkest dots' diameter on the page in mm (--dot-mm) instead \
+                         of a count: the count follows",
+                    )
+                    .on_disabled_hover_text("Needs a width in mm or paper (Paper section)")
+                    .changed()
+                {
+                    self.settings.dot_mm = sized.then_some(1.0);
+                }
+                if let Some(d) = &mut self.settings.dot_mm {
+                    ui.add(
+                        egui::DragValue::new(d)
+                            .range(0.05..=20.0)
+                            .speed(0.01)
+                            .suffix(" mm"),
+                    );
+                }
+            });
+        });
+        let job = &mut self.settings.job;
         ui.add_enabled(
             mode == DotMode::Sized,
             egui::Slider::new(&mut job.dot_ratio, 0.1..=1.0).text("Lightest / darkest dot"),

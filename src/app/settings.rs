@@ -45,6 +45,9 @@ pub struct Settings {
     pub show_coverage: bool,
     /// Show the pen's travel: its moves between dots, in drawing order.
     pub show_travel: bool,
+    /// The darkest dots' diameter on the page in mm, when it sets the radii
+    /// (the job's `dot_mm`; with a width in mm or paper only).
+    pub dot_mm: Option<f64>,
     /// The folder of the last file opened or exported (the dialogs start there).
     pub last_dir: Option<PathBuf>,
     /// With a periodic domain, show the drawing tiled 2×2.
@@ -65,6 +68,7 @@ impl Default for Settings {
             background: Background::Paper,
             show_coverage: false,
             show_travel: false,
+            dot_mm: None,
             last_dir: None,
             tile: true,
             hidden_pens: Vec::new(),
@@ -99,7 +103,7 @@ impl Settings {
     /// [`MAX_POINTS`]), when the count is used.
     #[must_use]
     pub fn refused_count(&self) -> Option<String> {
-        if !self.use_count {
+        if !self.use_count || self.job().dot_mm.is_some() {
             return None;
         }
         match self.points {
@@ -118,7 +122,13 @@ impl Settings {
     #[must_use]
     pub fn job(&self) -> Job {
         let mut job = self.job.clone();
-        if self.use_count {
+        let on_page = job.width_mm.is_some() || job.paper.is_some();
+        if let (Some(d), true) = (self.dot_mm, on_page) {
+            job.points = None;
+            job.dot_radius = None;
+            job.importance.min_radius = None;
+            job.dot_mm = Some(d);
+        } else if self.use_count {
             job.points = Some(self.points as usize);
             job.dot_radius = None;
         } else {
@@ -136,7 +146,7 @@ impl Settings {
         let mut job = self.job().sampling_key();
         // The sheet only places the dots, unless the pen sizes them (the
         // job's key keeps the pen then), and the pen's path only draws them.
-        if job.pen_mm.is_none() {
+        if job.pen_mm.is_none() && job.dot_mm.is_none() {
             job.paper = None;
             job.margin = None;
             job.landscape = false;

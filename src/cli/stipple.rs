@@ -291,6 +291,12 @@ fn draw(a: &StippleArgs, o: &Job, image: &Path, output: &Path) -> Result<()> {
     if let Some(path) = &a.preview {
         o.write_preview(&drawing, path)?;
     }
+    if Format::from_path(output).ok() == Some(Format::Png)
+        && let Some(w) = o.png_check(&drawing)
+        && !a.run.quiet
+    {
+        eprintln!("warning: {w}");
+    }
     if let Some(check) = o.pen_check(&drawing)?
         && !a.run.quiet
     {

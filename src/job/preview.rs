@@ -298,6 +298,40 @@ impl Job {
     }
 }
 
+impl Job {
+    /// A warning when the PNG's dots are too small to see: the dots that
+    /// hold half the drawing's ink under one pixel across at `scale`, with
+    /// the count at which they reach it; `None` when they are larger.
+    #[must_use]
+    pub fn png_check(&self, drawing: &Stipple) -> Option<String> {
+        let mut radii: Vec<f32> = self.dots(drawing).iter().map(|d| d.radius).collect();
+        if radii.is_empty() {
+            return None;
+        }
+        radii.sort_by(f32::total_cmp);
+        // The radius below which half the ink (Σ r²) lies.
+        let total: f64 = radii.iter().map(|&r| f64::from(r * r)).sum();
+        let mut sum = 0.0;
+        let median = radii
+            .iter()
+            .find(|&&r| {
+                sum += f64::from(r * r);
+                sum >= total / 2.0
+            })
+            .copied()
+            .unwrap_or(radii[radii.len() - 1]);
+        let across = 2.0 * f64::from(median) * f64::from(self.scale);
+        (across < 1.0).then(|| {
+            let count = ((radii.len() as f64 * across * across).floor() as usize).max(1);
+            format!(
+                "the PNG's dots are {across:.2} px across at --scale {} (half the ink in dots \
+                 under 1 px: a grey haze); about {count} dots, or a larger --scale, draw them",
+                self.scale
+            )
+        })
+    }
+}
+
 /// The paper's mean ink under `layers` (domain px) over `domain`: each
 /// layer's dots' area summed on a coarse grid, as independent inks per cell
 /// (1 − e^(−area)), the layers multiplied.
