@@ -218,10 +218,19 @@ impl RadiusMap {
     /// [`fixed::MAX_SIDE`]: classes stack their maps.
     pub(crate) fn stacked(width: u32, height: u32, radii: Vec<u32>) -> Self {
         use rayon::prelude::*;
+        // By chunks, each a plain loop (per slot, rayon's fold costs more
+        // than the comparison).
         let (min, max) = radii
-            .par_iter()
-            .filter(|&&r| r > 0)
-            .fold(|| (u32::MAX, 0), |(lo, hi), &r| (lo.min(r), hi.max(r)))
+            .par_chunks(1 << 16)
+            .map(|chunk| {
+                chunk.iter().fold((u32::MAX, 0), |(lo, hi), &r| {
+                    if r > 0 {
+                        (lo.min(r), hi.max(r))
+                    } else {
+                        (lo, hi)
+                    }
+                })
+            })
             .reduce(|| (u32::MAX, 0), |a, b| (a.0.min(b.0), a.1.max(b.1)));
         let (min, max) = if max == 0 {
             (MIN_RADIUS_FX, MIN_RADIUS_FX)
