@@ -49,6 +49,14 @@ fn settle(h: &mut Harness<'_, PixelPieApp>) {
     assert!(h.state().error.is_none(), "error: {:?}", h.state().error);
 }
 
+/// Folds the panel's sections named, so that those below come into sight.
+fn fold(h: &mut Harness<'_, PixelPieApp>, sections: &[&str]) {
+    for name in sections {
+        h.get_all_by_label(name).next().expect("a section").click();
+        h.run_steps(2);
+    }
+}
+
 /// Steps the UI until the app is idle, whatever the outcome.
 fn finish(h: &mut Harness<'_, PixelPieApp>) {
     let start = Instant::now();
@@ -491,19 +499,25 @@ fn every_label_is_in_the_fonts_and_the_controls_explain_themselves() {
         assert!(ok, "a glyph of {l:?} is missing from the fonts");
     }
     // Tooltips in plain words, keeping the paper's terms (the help window
-    // closed, so that it covers nothing).
+    // closed, so that it covers nothing; the sections above Sampling folded,
+    // so that its controls are in sight).
     h.state_mut().show_help = false;
     h.run_steps(2);
+    fold(&mut h, &["Pens", "Paper"]);
     let mut missing = Vec::new();
     for (control, words) in [
+        ("Black", "Black"),
+        ("SVG", "SVG"),
         ("Policy", "disk policy"),
         ("Sub-pixel bits", "pixel centre"),
         ("Coverage disks (Figure 4)", "Figure 4"),
         ("Re-roll", "seed"),
         ("Periodic (tileable)", "tile"),
-        ("SVG", "SVG"),
-        ("Black", "Black"),
     ] {
+        if control == "Policy" {
+            // The Dot size section folded too: Sampling's controls in sight.
+            fold(&mut h, &["Dot size"]);
+        }
         // Away first (onto the title, in sight however the panel scrolls):
         // egui shows a tooltip after the pointer rests.
         h.get_by_label("PixelPie").hover();
@@ -555,6 +569,7 @@ fn a_periodic_drawing_shows_two_by_two_tiles() {
     for (qx, qy) in [(-1.0, -1.0), (1.0, -1.0), (-1.0, 1.0), (1.0, 1.0)] {
         assert!(dark_in(qx, qy) > 100, "no dots in quadrant ({qx}, {qy})");
     }
+    fold(&mut h, &["Pens", "Paper", "Dot size"]);
     h.get_by_label("Show 2×2 tiles").click();
     h.run_steps(2);
     assert_eq!(h.state().tiles(), 1);
@@ -1728,23 +1743,18 @@ fn the_pen_travel_overlay_toggles_and_the_sections_fit_a_small_window() {
     let _ = img.save(format!("{}/app-travel.png", env!("CARGO_TARGET_TMPDIR")));
     let on = red(&img);
     assert!(off == 0 && on > 500, "red pixels: {off} off, {on} on");
-    // At 1024×700, with Sampling and Dot size folded, the Pens and Paper
-    // sections are in sight.
+    // At 1024×700 the Pens and Paper sections are in sight, first under
+    // the count.
     h.set_size(egui::vec2(1024.0, 700.0));
-    h.run_steps(2);
-    h.get_by_label("Sampling").click();
-    h.run_steps(2);
-    h.get_by_label("Dot size").click();
     h.run_steps(3);
     let img = h.render().expect("render");
     let _ = img.save(format!("{}/app-1024x700.png", env!("CARGO_TARGET_TMPDIR")));
     let ppp = h.ctx.pixels_per_point();
-    for name in ["Paper", "Pens"] {
-        // The section's header and its own control of that name.
-        for node in h.get_all_by_label(name) {
-            let r = node.rect();
-            assert!(r.max.y * ppp < 700.0 - 300.0, "{name} at {r:?}");
-        }
+    for name in ["Paper", "Pens", "Margin"] {
+        // The first node of the name: the section's header (the margin row
+        // is the Paper section's last).
+        let r = h.get_all_by_label(name).next().unwrap().rect();
+        assert!(r.max.y * ppp < 700.0 - 300.0, "{name} at {r:?}");
     }
 }
 

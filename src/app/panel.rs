@@ -18,18 +18,20 @@ impl PixelPieApp {
         self.open_ui(ui);
         self.frame_ui(ui);
         self.preset_ui(ui);
-        // Collapsible sections, so that each is in reach on a small screen.
+        self.count_ui(ui);
+        // Collapsible sections, so that each is in reach on a small screen;
+        // the pens and the paper (short) first, for the plot.
         let section = |name: &str, open: bool| {
             egui::CollapsingHeader::new(name.to_owned()).default_open(open)
         };
+        section("Pens", true).show(ui, |ui| self.pens_ui(ui));
+        section("Paper", true).show(ui, |ui| self.paper_ui(ui));
+        section("Dot size", true).show(ui, |ui| self.dots_ui(ui));
         section("Sampling", true).show(ui, |ui| {
             self.spacing_ui(ui);
             self.levels_ui(ui);
             self.darts_ui(ui);
         });
-        section("Dot size", true).show(ui, |ui| self.dots_ui(ui));
-        section("Pens", true).show(ui, |ui| self.pens_ui(ui));
-        section("Paper", true).show(ui, |ui| self.paper_ui(ui));
         section("View", true).show(ui, |ui| self.view_ui(ui));
     }
 
@@ -208,8 +210,9 @@ impl PixelPieApp {
         }
     }
 
-    /// Count or radius range, mapping, tones, policy and exact spacing.
-    fn spacing_ui(&mut self, ui: &mut egui::Ui) {
+    /// The dot count (or the radius range): always in sight, above the
+    /// sections.
+    fn count_ui(&mut self, ui: &mut egui::Ui) {
         let s = &mut self.settings;
         ui.horizontal(|ui| {
             ui.radio_value(&mut s.use_count, true, "Point count")
@@ -238,6 +241,11 @@ impl PixelPieApp {
                 ));
             });
         });
+    }
+
+    /// The radius range, mapping, tones, policy and exact spacing.
+    fn spacing_ui(&mut self, ui: &mut egui::Ui) {
+        let s = &mut self.settings;
         let imp = &mut s.job.importance;
         let mut lo = imp.min_radius.unwrap_or(1.0);
         let mut hi = imp
