@@ -182,6 +182,7 @@ impl PixelPieApp {
         let warning = self
             .pen_warning()
             .map(|c| (c.message(), c.true_count, c.plotted, c.asked));
+        // Mean greys: the plot's, and the picture's as the tones ask.
         fixed_row(ui, true, |ui| {
             let Some((text, count, plotted, asked)) = warning else {
                 return;
@@ -194,11 +195,7 @@ impl PixelPieApp {
                 self.settings.use_count = true;
                 self.settings.points = u32::try_from(count).unwrap_or(u32::MAX);
             }
-            let short = format!(
-                "Pen too wide: {:.0}% inked, not {:.0}%",
-                100.0 * plotted,
-                100.0 * asked
-            );
+            let short = format!("Pen too wide: grey {plotted:.2}, not {asked:.2}");
             let label =
                 egui::Label::new(egui::RichText::new(short).color(Color32::from_rgb(210, 120, 20)))
                     .truncate();

@@ -22,10 +22,10 @@ use crate::stipple::{Dot, raster};
 /// the plot is said to be too dark: the dots under the pen, beyond this,
 /// make the warning.
 const SMALL_SHARE: f64 = 0.05;
-/// The least rise in ink (of the paper's area) that is worth a warning.
-const INK_RISE: f64 = 0.01;
-/// The cells of the grid on which the inks are compared, per side.
-const GRID: usize = 64;
+/// The least fall in mean grey that is worth a warning.
+const GREY_DROP: f64 = 0.01;
+/// The longer side in pixels of the renders the warning compares.
+const CHECK_SIDE: f32 = 512.0;
 
 /// One layer's pen as it plots: its name, width in mm and dot gain.
 #[derive(Clone, Debug, PartialEq)]
@@ -46,9 +46,10 @@ pub struct PenCheck {
     pub pen: PlotPen,
     /// The share of that pen's dots narrower than it plots them.
     pub small: f64,
-    /// The paper's ink in the drawing (0 white, 1 covered), as the tones ask.
+    /// The drawing's mean grey (0 black, 1 white) as the tones ask: its
+    /// dots at their calibrated size, the inks multiplied.
     pub asked: f64,
-    /// The paper's ink as the pens plot it.
+    /// The mean grey as the pens plot it ([`Job::preview`]'s dots).
     pub plotted: f64,
     /// About the dot count at which the pen draws the tones true (its
     /// smallest dots, but for a few, one pen wide).
@@ -63,17 +64,27 @@ impl PenCheck {
     pub fn message(&self) -> String {
         format!(
             "{:.0}% of the dots are narrower than the {} mm {} pen can draw them: the plot \
-             will be darker than the picture ({:.0}% of the paper inked, not {:.0}%; mean grey \
-             {:.2}, not {:.2}); about {} dots draw its tones true",
+             will be darker than the picture (mean grey {:.2}, not {:.2}: {:.0}% darker); \
+             about {} dots draw its tones true",
             100.0 * self.small,
             self.pen.width_mm,
             self.pen.name,
-            100.0 * self.plotted,
-            100.0 * self.asked,
-            1.0 - self.plotted,
-            1.0 - self.asked,
+            self.plotted,
+            self.asked,
+            100.0 * self.darker(),
             self.true_count
         )
+    }
+
+    /// How much darker the plot is than the tones ask, as a share of the
+    /// asked mean grey.
+    #[must_use]
+    pub fn darker(&self) -> f64 {
+        if self.asked > 0.0 {
+            (self.asked - self.plotted) / self.asked
+        } else {
+            0.0
+        }
     }
 }
 
@@ -272,9 +283,10 @@ impl Job {
                     .collect()
             })
             .collect();
-        let ink_asked = ink(&on_paper, drawing.domain);
-        let ink_plotted = ink(&plotted, drawing.domain);
-        if small <= SMALL_SHARE || ink_plotted - ink_asked < INK_RISE {
+        let model = self.ink_model(drawing)?;
+        let grey_asked = mean_grey(&on_paper, drawing.domain, &model)?;
+        let grey_plotted = mean_grey(&plotted, drawing.domain, &model)?;
+        if small <= SMALL_SHARE || grey_asked - grey_plotted < GREY_DROP {
             return Ok(None);
         }
         // The radii scale as 1/√count: the count whose dots, but for
@@ -290,8 +302,8 @@ impl Job {
         Ok(Some(PenCheck {
             pen: pen.clone(),
             small,
-            asked: ink_asked,
-            plotted: ink_plotted,
+            asked: grey_asked,
+            plotted: grey_plotted,
             true_count,
             count,
         }))
@@ -332,31 +344,19 @@ impl Job {
     }
 }
 
-/// The paper's mean ink under `layers` (domain px) over `domain`: each
-/// layer's dots' area summed on a coarse grid, as independent inks per cell
-/// (1 − e^(−area)), the layers multiplied.
-fn ink(layers: &[Vec<Dot>], (w, h): (u32, u32)) -> f64 {
-    let (cw, ch) = (
-        (f64::from(w) / GRID as f64).max(1.0),
-        (f64::from(h) / GRID as f64).max(1.0),
-    );
-    let (cols, rows) = (
-        (f64::from(w) / cw).ceil() as usize,
-        (f64::from(h) / ch).ceil() as usize,
-    );
-    let mut paper = vec![1.0f64; cols * rows];
-    for layer in layers {
-        let mut area = vec![0.0f64; cols * rows];
-        for d in layer {
-            let x = ((f64::from(d.x) / cw) as usize).min(cols - 1);
-            let y = ((f64::from(d.y) / ch) as usize).min(rows - 1);
-            area[y * cols + x] += std::f64::consts::PI * f64::from(d.radius).powi(2);
-        }
-        for (p, a) in paper.iter_mut().zip(&area) {
-            *p *= (-a / (cw * ch)).exp();
-        }
-    }
-    1.0 - paper.iter().sum::<f64>() / paper.len() as f64
+/// The mean grey (0 black, 1 white; the mean of the display's R, G and B)
+/// of `layers` (domain px, one per pen of `model`) over `domain`, rendered
+/// with the inks multiplied at [`CHECK_SIDE`] pixels on the longer side
+/// (dots thinner than a pixel count by their area).
+fn mean_grey(layers: &[Vec<Dot>], domain: (u32, u32), model: &RenderModel) -> crate::Result<f64> {
+    let scale = (CHECK_SIDE / domain.0.max(domain.1) as f32).min(1.0);
+    let papers = layers
+        .iter()
+        .map(|d| raster::render(d, domain, scale))
+        .collect::<Result<Vec<_>, _>>()?;
+    let img = raster::composite(&papers, model)?;
+    let raw = img.as_raw();
+    Ok(raw.iter().map(|&v| f64::from(v)).sum::<f64>() / (255.0 * raw.len().max(1) as f64))
 }
 
 #[cfg(test)]
@@ -385,16 +385,17 @@ mod tests {
     }
 
     #[test]
-    fn the_coarse_ink_is_the_area_while_dots_are_sparse() {
+    fn the_mean_grey_is_the_paper_left_by_sparse_dots() {
         let dots: Vec<Dot> = (0..100)
             .map(|i| Dot {
                 x: (i % 10) as f32 * 64.0 + 32.0,
                 y: (i / 10) as f32 * 64.0 + 32.0,
-                radius: 2.0,
+                radius: 8.0,
             })
             .collect();
-        let want = 100.0 * std::f64::consts::PI * 4.0 / (640.0 * 640.0);
-        let got = ink(&[dots], (640, 640));
-        assert!((got - want).abs() < 0.1 * want, "{got} vs {want}");
+        let model = RenderModel::new(&PenSet::black(), false);
+        let want = 1.0 - 100.0 * std::f64::consts::PI * 64.0 / (640.0 * 640.0);
+        let got = mean_grey(&[dots], (640, 640), &model).unwrap();
+        assert!((got - want).abs() < 0.01, "{got} vs {want}");
     }
 }
