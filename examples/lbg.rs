@@ -16,6 +16,9 @@
 //! ```sh
 //! cargo run --release --example lbg -- assets/astronaut.jpg 10000 lbg.svg
 //! pixelpie fidelity assets/astronaut.jpg lbg.svg
+//! # LBG started from a PixelPie set instead of one point:
+//! pixelpie stipple assets/astronaut.jpg --points 10000 -o start.csv
+//! cargo run --release --example lbg -- assets/astronaut.jpg 10000 seeded.svg start.csv
 //! ```
 
 use std::path::Path;
@@ -233,9 +236,16 @@ fn iterate(points: &[[f64; 2]], density: &Density, area: f64, h: f64) -> (Vec<[f
 /// LBG stippling of `density` toward `n` dots: the points, the dots'
 /// radius, and the iterations run.
 fn lbg(density: &Density, n: usize) -> (Vec<[f64; 2]>, f64, usize) {
+    let centre = vec![[density.width as f64 / 2.0, density.height as f64 / 2.0]];
+    lbg_from(density, n, centre)
+}
+
+/// [`lbg`] from the points `start` (LBG's own start is one point; a
+/// PixelPie set starts it near its end).
+fn lbg_from(density: &Density, n: usize, start: Vec<[f64; 2]>) -> (Vec<[f64; 2]>, f64, usize) {
     let mass: f64 = density.values.iter().map(|&v| f64::from(v)).sum();
     let area = mass / n.max(1) as f64;
-    let mut points = vec![[density.width as f64 / 2.0, density.height as f64 / 2.0]];
+    let mut points = start;
     let mut h = HYSTERESIS;
     let mut iterations = 0;
     while iterations < MAX_ITERATIONS {
@@ -252,8 +262,10 @@ fn lbg(density: &Density, n: usize) -> (Vec<[f64; 2]>, f64, usize) {
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let [photo, n, out] = args.as_slice() else {
-        return Err("usage: lbg PHOTO DOTS OUT.svg".into());
+    let (photo, n, out, seed) = match args.as_slice() {
+        [photo, n, out] => (photo, n, out, None),
+        [photo, n, out, seed] => (photo, n, out, Some(seed)),
+        _ => return Err("usage: lbg PHOTO DOTS OUT.svg [START.csv]".into()),
     };
     let n: usize = n.parse()?;
     let t0 = std::time::Instant::now();
@@ -270,7 +282,22 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .map(|&v| 1.0 - linear_to_srgb(v))
             .collect(),
     };
-    let (points, radius, iterations) = lbg(&density, n);
+    // A start: the x,y columns of a point set on the same domain (e.g.
+    // `pixelpie stipple PHOTO --points N -o start.csv`).
+    let (points, radius, iterations) = match seed {
+        None => lbg(&density, n),
+        Some(csv) => {
+            let start: Vec<[f64; 2]> = std::fs::read_to_string(csv)?
+                .lines()
+                .skip(1)
+                .filter_map(|l| {
+                    let mut f = l.split(',');
+                    Some([f.next()?.parse().ok()?, f.next()?.parse().ok()?])
+                })
+                .collect();
+            lbg_from(&density, n, start)
+        }
+    };
     let dots: Vec<Dot> = points
         .iter()
         .map(|p| Dot {
