@@ -169,8 +169,9 @@ pub struct Job {
     pub dot_path: DotPath,
     /// Pen-down length in mm after which a plotter's pen wants a refill:
     /// each pen's layer is split into sub-layers of at most this much
-    /// drawing ("cyan 1/3", …), in order, to change pens between them
-    /// (needs --pen-mm).
+    /// drawing, labelled "L name k/n" with L the layer's place (vpype and
+    /// plotter tools number layers by a label's first digits), in order, to
+    /// change pens between them (needs --pen-mm).
     #[cfg_attr(feature = "cli", arg(long, value_name = "MM", requires = "pen_mm"))]
     #[serde(skip_serializing_if = "Option::is_none")]
     pub refill_mm: Option<f64>,
