@@ -1,37 +1,11 @@
 //! `pixelpie stipple`'s saved jobs (`--save-job`, `--job`) and batches
 //! (several pictures, `-o DIR/`), through the binary.
 
+mod fixtures;
+
 use std::path::Path;
-use std::process::{Command, Output};
 
-fn pixelpie(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pixelpie"))
-        .args(args)
-        .output()
-        .expect("run pixelpie")
-}
-
-fn ok(args: &[&str]) -> Output {
-    let out = pixelpie(args);
-    assert!(
-        out.status.success(),
-        "{args:?} failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    out
-}
-
-fn asset(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("assets")
-        .join(name)
-        .display()
-        .to_string()
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().expect("utf-8 path")
-}
+use fixtures::{asset, ok, pixelpie, s};
 
 #[test]
 fn a_saved_job_replays_byte_for_byte_and_flags_override_it() {

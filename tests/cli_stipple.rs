@@ -7,39 +7,10 @@ mod fixtures;
 
 use std::f64::consts::FRAC_1_SQRT_2;
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Command;
 
-use fixtures::{exr_y, file, halves_gray8};
+use fixtures::{asset, exr_y, file, halves_gray8, ok, pixelpie, s};
 use quick_xml::events::Event;
-
-fn pixelpie(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pixelpie"))
-        .args(args)
-        .output()
-        .expect("run pixelpie")
-}
-
-fn ok(args: &[&str]) -> Output {
-    let out = pixelpie(args);
-    assert!(
-        out.status.success(),
-        "{args:?} failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    out
-}
-
-fn asset(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("assets")
-        .join(name)
-        .display()
-        .to_string()
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().expect("utf-8 path")
-}
 
 /// The circles of an SVG file as (cx, cy, r); panics unless well-formed.
 fn circles(path: &Path) -> Vec<[f64; 3]> {

@@ -90,9 +90,10 @@ fn parse_stat(text: &str) -> Stat {
     }
 }
 
-/// `vpype read --no-crop FILE stat`. Without `--no-crop` vpype cuts the
-/// dots that reach over the page's edge into several paths.
-fn stat(vpype: &Path, svg: &Path) -> Stat {
+/// The text of `vpype read --no-crop FILE stat`, which must succeed.
+/// Without `--no-crop` vpype cuts the dots that reach over the page's edge
+/// into several paths.
+fn stat_text(vpype: &Path, svg: &Path) -> String {
     let out = Command::new(vpype)
         .arg("read")
         .arg("--no-crop")
@@ -100,14 +101,19 @@ fn stat(vpype: &Path, svg: &Path) -> Stat {
         .arg("stat")
         .output()
         .unwrap_or_else(|e| panic!("cannot run {}: {e}", vpype.display()));
-    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
     assert!(
         out.status.success(),
         "vpype read {} stat failed: {}\n{stdout}",
         svg.display(),
         String::from_utf8_lossy(&out.stderr)
     );
-    parse_stat(&stdout)
+    stdout
+}
+
+/// `vpype read --no-crop FILE stat`'s totals.
+fn stat(vpype: &Path, svg: &Path) -> Stat {
+    parse_stat(&stat_text(vpype, svg))
 }
 
 /// Runs `pixelpie stipple` on the default asset into `svg`, drawing with a
@@ -267,14 +273,7 @@ fn vpype_reads_one_layer_per_pen_in_its_colour() {
     }
     assert_eq!(d.layers.len(), 4);
     assert_eq!(text.matches("data-dot=").count(), d.dots.len());
-    let out = Command::new(&vpype)
-        .arg("read")
-        .arg("--no-crop")
-        .arg(&svg)
-        .arg("stat")
-        .output()
-        .expect("run vpype");
-    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    let stdout = stat_text(&vpype, &svg);
     assert_eq!(parse_stat(&stdout).layers, 4, "{stdout}");
     // Each "Layer N" section's path count is that pen's dot count.
     let counts: Vec<usize> = stdout
@@ -299,15 +298,7 @@ fn vpype_reads_one_layer_per_pen_in_its_colour() {
 /// Each layer's `(path count, length in CSS px)` from `vpype read --no-crop
 /// FILE stat`, in vpype's layer order.
 fn layer_stats(vpype: &Path, svg: &Path) -> Vec<(usize, f64)> {
-    let out = Command::new(vpype)
-        .arg("read")
-        .arg("--no-crop")
-        .arg(svg)
-        .arg("stat")
-        .output()
-        .unwrap_or_else(|e| panic!("cannot run {}: {e}", vpype.display()));
-    let text = String::from_utf8_lossy(&out.stdout).to_string();
-    assert!(out.status.success(), "vpype stat failed:\n{text}");
+    let text = stat_text(vpype, svg);
     let body = text.split_once("\nTotals\n").map_or(text.as_str(), |t| t.0);
     body.split("\nLayer ")
         .skip(1)

@@ -145,7 +145,16 @@ pub fn decode_file(path: &Path) -> Result<image::DynamicImage> {
 /// why).
 #[must_use]
 pub fn cut_short(path: &Path) -> Option<String> {
-    let bytes = std::fs::read(path).ok()?;
+    use std::io::{Read, Seek, SeekFrom};
+    // The first two bytes and the last few KiB: not the file again.
+    let mut file = std::fs::File::open(path).ok()?;
+    let len = file.metadata().ok()?.len();
+    let mut head = [0u8; 2];
+    file.read_exact(&mut head).ok()?;
+    let from = len.saturating_sub(TAIL as u64).max(2);
+    file.seek(SeekFrom::Start(from)).ok()?;
+    let mut bytes = head.to_vec();
+    file.read_to_end(&mut bytes).ok()?;
     cut_short_bytes(&bytes).then(|| {
         format!(
             "{} ends early (no JPEG end marker): part of the picture is missing and is \
@@ -155,6 +164,10 @@ pub fn cut_short(path: &Path) -> Option<String> {
     })
 }
 
+/// How far from its end a JPEG's end marker is looked for (writers may pad
+/// after it).
+const TAIL: usize = 4096;
+
 /// Whether `bytes` are a JPEG cut short: a JPEG start marker without the
 /// end marker (padding after it allowed).
 #[must_use]
@@ -163,7 +176,7 @@ pub fn cut_short_bytes(bytes: &[u8]) -> bool {
         return false;
     }
     // Writers may pad after the end marker; look for it near the end.
-    let tail = &bytes[bytes.len().saturating_sub(4096)..];
+    let tail = &bytes[bytes.len().saturating_sub(TAIL)..];
     !tail.windows(2).any(|w| w == [0xFF, 0xD9])
 }
 
