@@ -8,7 +8,7 @@ use std::sync::Arc;
 use rayon::prelude::*;
 
 use super::{ImportanceMap, Mapping, RadiusRange};
-use crate::sampler::{ClassRadii, Params, RadiusMap};
+use crate::sampler::{Params, RadiusMap};
 
 /// An adjusted importance map with its mapping, radius range and cutoff.
 pub struct Prepared {
@@ -156,13 +156,16 @@ impl Knots {
 /// within 2.5%.
 pub const COUNT_BIAS: f64 = 1.015;
 
-/// The sampler's count over the union's prediction ([`Classes`]: the RSA
-/// density at the cross radius R, times the density of maximal sets at R/2
-/// over RSA's, unbiased) is 1.07 to 1.12 at 5K, 20K, 100K and 1M dots on
-/// `assets/astronaut.jpg` and `assets/rocket.jpg` (`--pens cmyk`, the first
-/// run's count in `stipple --verbose`); 1.09 puts seven of the eight
-/// within 3% (astronaut at 5K: +3.1%, a second run).
-pub const CLASS_COUNT_BIAS: f64 = 1.09;
+/// The sampler's count over the union's prediction ([`Classes::union_predictor`]:
+/// the density-corrected RSA estimate at the union radius R, unbiased) for
+/// the predicted count `raw`, fitted to the first runs of 2K to 1M dots:
+/// from 1.23–1.28 at 2K down to 1.14 at 1M on `assets/astronaut.jpg`,
+/// `assets/rocket.jpg` and two held-out photos (`--pens cmyk`, the first
+/// run's count in `stipple --verbose`): the union's radius changes faster
+/// than one pen's, and the Smaller policy packs more where it does.
+fn union_count_bias(raw: f64) -> f64 {
+    1.235 - 0.039 * (raw.max(1.0) / 16_500.0).log10()
+}
 
 /// Bins of [`UnionRadii`]' histogram over log R.
 const UNION_BINS: usize = 2048;
@@ -188,22 +191,11 @@ impl UnionRadii {
         let (lo, hi) = (UNION_RANGE.0.ln(), UNION_RANGE.1.ln());
         (lo + (bin as f64 + 0.5) / UNION_BINS as f64 * (hi - lo)).exp()
     }
-
-    /// The count at radius `scale`: the RSA density at each pixel's R,
-    /// times the density of maximal sets at R/2 over RSA's (the measured
-    /// best of R/2, R and 2R), as [`Prepared::predicted_points`] does one
-    /// map's.
-    fn predicted(&self, scale: f64) -> f64 {
-        let sum = over_bins(&self.bins, |i, n| {
-            let r = (Self::radius(i) * scale).max(1.0);
-            super::ink::rsa_per_pixel(r) * super::ink::density(0.5 * r) * n as f64
-        });
-        sum * self.scale * CLASS_COUNT_BIAS
-    }
 }
 
-/// The sampling of several importance maps at once, one class each
-/// ([`crate::sampler::classes`]): the pens of a colour drawing. The maps
+/// Several importance maps drawn together, one class each: the pens of a
+/// colour drawing, sampled as their union ([`Self::union_params`]) whose
+/// points are then given pens by their shares ([`Self::shares`]). The maps
 /// share the mapping and the radius range; where a map asks for less ink
 /// than half of what its lightest dots put down, its class has no samples.
 pub struct Classes<'a> {
@@ -221,19 +213,6 @@ impl Classes<'_> {
             f64::from(self.maps[0].mapping.dot_radius(1.0, range)) / white,
             white,
         )
-    }
-
-    /// `base` with every class's radii at `scale`.
-    pub fn params(&self, base: &Params, scale: f64) -> crate::sampler::Result<Params> {
-        let first = &self.maps[0];
-        let radius = self.class_radius(first.range.scaled(scale));
-        let classes = ClassRadii::from_fn(
-            first.map.width(),
-            first.map.height(),
-            self.maps.len(),
-            radius,
-        )?;
-        Ok(base.clone().with_classes(Arc::new(classes)))
     }
 
     /// The radius of class `c` at pixel `i` for the radius range `range`,
@@ -258,23 +237,100 @@ impl Classes<'_> {
         }
     }
 
-    /// The count a run of the classes at radius `scale` is predicted to
-    /// give ([`UnionRadii`]), as a function of the scale, its table made
-    /// once.
-    pub fn predictor(&self) -> impl Fn(f64) -> f64 + '_ {
+    /// `base` with the union of the classes as one radius map at `scale`:
+    /// R = 1/√(Σ 1/r_c²) over the classes that have samples at a pixel (at
+    /// least 1 px), the lightest dots' radius where none has (the points
+    /// there carry no pen and are dropped). Its maximal set has the
+    /// classes' summed density: the colour drawing's one sample, whose
+    /// points are then given pens ([`Self::shares`]).
+    pub fn union_params(&self, base: &Params, scale: f64) -> crate::sampler::Result<Params> {
+        let first = &self.maps[0];
+        let range = first.range.scaled(scale);
+        let density = self.densities(range);
+        let values: Vec<&[f32]> = self.maps.iter().map(|m| m.map.values()).collect();
+        let m = RadiusMap::from_fn(first.map.width(), first.map.height(), |i| {
+            let inv: f32 = values.iter().zip(&density).map(|(v, d)| d(v[i])).sum();
+            if inv > 0.0 {
+                (1.0 / inv.sqrt()).max(1.0)
+            } else {
+                range.max
+            }
+        })?;
+        Ok(base.clone().with_radius_map(Arc::new(m)))
+    }
+
+    /// Per class, its density 1/r² as a function of the map's value for
+    /// the radius range `range` (0 where it has no samples,
+    /// [`Self::lightest`]), tabulated once.
+    fn densities(&self, range: RadiusRange) -> Vec<impl Fn(f32) -> f32 + Sync + use<>> {
+        const STEPS: usize = 4096;
+        let lightest = self.lightest(range);
+        self.maps
+            .iter()
+            .map(|m| {
+                let radius = ImportanceMap::radius_fn(m.mapping, range);
+                let lut: Vec<f32> = (0..=STEPS)
+                    .map(|k| {
+                        let v = k as f32 / STEPS as f32;
+                        if f64::from(1.0 - v) < lightest / 2.0 {
+                            0.0
+                        } else {
+                            let r = radius(v);
+                            1.0 / (r * r)
+                        }
+                    })
+                    .collect();
+                move |v: f32| lut[((v.clamp(0.0, 1.0) * STEPS as f32).round()) as usize]
+            })
+            .collect()
+    }
+
+    /// Each class's share of the union's points at pixel `i` (row-major)
+    /// for the radius range `range`: its density 1/r_c² over the sum, in
+    /// `out`; false where no class has samples.
+    pub(crate) fn shares(
+        &self,
+        range: RadiusRange,
+    ) -> impl Fn(usize, &mut [f32]) -> bool + Sync + '_ {
+        let density = self.densities(range);
+        move |i, out| {
+            let mut sum = 0f32;
+            for ((o, d), m) in out.iter_mut().zip(&density).zip(self.maps) {
+                *o = d(m.map.values()[i]);
+                sum += *o;
+            }
+            if sum <= 0.0 {
+                return false;
+            }
+            out.iter_mut().for_each(|o| *o /= sum);
+            true
+        }
+    }
+
+    /// The count one run of the union ([`Self::union_params`]) at radius
+    /// `scale` is predicted to give, as [`Prepared::predicted_points`] does
+    /// one map's, as a function of the scale, its table made once.
+    pub fn union_predictor(&self) -> impl Fn(f64) -> f64 + '_ {
         let union = self.union_radii();
-        move |scale| union.predicted(scale)
+        move |scale| {
+            let sum = over_bins(&union.bins, |i, n| {
+                let r = (UnionRadii::radius(i) * scale).max(1.0);
+                super::ink::rsa_per_pixel(r) * super::ink::density(r) * n as f64
+            });
+            let raw = sum * union.scale;
+            raw * union_count_bias(raw)
+        }
     }
 
     /// The union's radius R = 1/√(Σ 1/r_k²) at scale 1 (the cross radius
-    /// of [`ClassRadii`]) over every `step`-th pixel of every `step`-th row,
+    /// of [`crate::sampler::ClassRadii`]) over every `step`-th pixel of every `step`-th row,
     /// as a histogram over log R: the count at any scale in a few
     /// thousand products.
     fn union_radii(&self) -> UnionRadii {
         let first = &self.maps[0];
         let (w, h) = (first.map.width() as usize, first.map.height() as usize);
         let step = ((w * h) as f64 / 250_000.0).sqrt().floor().max(1.0) as usize;
-        let radius = self.class_radius(first.range);
+        let density = self.densities(first.range);
         let bins = (0..h)
             .into_par_iter()
             .step_by(step)
@@ -283,19 +339,14 @@ impl Classes<'_> {
                 |mut acc, y| {
                     for x in (0..w).step_by(step) {
                         let i = y * w + x;
-                        let inv: f64 = (0..self.maps.len())
-                            .map(|c| {
-                                let r = radius(c, i);
-                                if r == f32::INFINITY {
-                                    0.0
-                                } else {
-                                    let r = f64::from(r);
-                                    1.0 / (r * r)
-                                }
-                            })
+                        let inv: f32 = self
+                            .maps
+                            .iter()
+                            .zip(&density)
+                            .map(|(m, d)| d(m.map.values()[i]))
                             .sum();
                         if inv > 0.0 {
-                            acc[UnionRadii::bin(1.0 / inv.sqrt())] += 1;
+                            acc[UnionRadii::bin(1.0 / f64::from(inv).sqrt())] += 1;
                         }
                     }
                     acc

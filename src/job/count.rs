@@ -1,10 +1,12 @@
 //! Point-count targeting, written once for every job: finds the radius
 //! scale that yields about N points, for a uniform radius or a radius map
 //! ([`sample_scaled`], `pixelpie sample`), a picture ([`sample_map`]) and the
-//! pens of a colour drawing ([`sample_classes`]).
+//! pens of a colour drawing ([`sample_union`]).
 //!
 //! The count of a maximal set goes as 1/r², so each run corrects the scale by
 //! sqrt(count / target), starting from the RSA density estimate.
+
+use rayon::prelude::*;
 
 use crate::importance::{Classes, Error as ImportanceError, Prepared, RadiusRange};
 use crate::sampler::{Error, Params, SampleSet};
@@ -71,7 +73,7 @@ pub fn sample_scaled<E: From<Error>>(
     Ok((set, runs))
 }
 
-/// The result of [`sample_map`] and [`sample_classes`].
+/// The result of [`sample_map`] and [`sample_union`].
 pub struct Fitted {
     /// The run, its points after the white cutoff.
     pub set: SampleSet,
@@ -122,34 +124,56 @@ pub fn sample_map<E: From<Error> + From<ImportanceError>>(
     )
 }
 
-/// Samples `classes` (the pens of a colour drawing) with `run`, fitting
-/// their common radius scale to `points` in all (±3%) when given, from
-/// their predicted count ([`Classes::predictor`]), as [`sample_map`] does.
-pub fn sample_classes<E: From<Error> + From<ImportanceError>>(
+/// Samples the union of `classes` (the pens of a colour drawing) as one
+/// map ([`Classes::union_params`]) with `run`, then gives each point a pen
+/// ([`super::assign::pens`]), fitting the radius scale to `points` in all
+/// (±3%) when given, from the union's predicted count, as [`sample_map`]
+/// does. One run costs what a grey drawing's does.
+pub fn sample_union<E: From<Error> + From<ImportanceError>>(
     classes: &Classes<'_>,
     base: &Params,
     points: Option<usize>,
     mut run: impl FnMut(&Params) -> Result<SampleSet, E>,
 ) -> Result<Fitted, E> {
     let range = classes.maps[0].range;
+    let first = &classes.maps[0].map;
+    let domain = (first.width(), first.height());
+    let mut pen_run = |s: f64| -> Result<SampleSet, E> {
+        let set = run(&classes.union_params(base, s)?)?;
+        let shares = classes.shares(range.scaled(s));
+        let mut given = super::assign::pens(&set.points, domain, classes.maps.len(), &shares);
+        // Each point's radius: its pen's own at its pixel, as a pen's
+        // sample (and relaxation) has it, not the union's.
+        let radius = classes.class_radius(range.scaled(s));
+        given.par_iter_mut().for_each(|p| {
+            let px = (p.x.max(0.0) as u32).min(domain.0 - 1) as usize;
+            let py = (p.y.max(0.0) as u32).min(domain.1 - 1) as usize;
+            let r = radius(p.class as usize, py * domain.0 as usize + px);
+            if r.is_finite() {
+                p.radius = r;
+            }
+        });
+        Ok(set.with_points(given))
+    };
     let Some(n) = points else {
         return Ok(Fitted {
-            set: run(&classes.params(base, 1.0)?)?,
+            set: pen_run(1.0)?,
             range,
             runs: 1,
             short_of: None,
         });
     };
-    let first = &classes.maps[0].map;
     let target = Target {
         n,
         range,
-        domain: (first.width(), first.height()),
+        domain,
         periodic: base.periodic,
     };
-    target.fit(classes.predictor(), "the picture needs no ink", |s| {
-        run(&classes.params(base, s)?)
-    })
+    target.fit(
+        classes.union_predictor(),
+        "the picture needs no ink",
+        pen_run,
+    )
 }
 
 /// A count to fit on a map of radii `range` (scale 1) over `domain`.

@@ -17,6 +17,7 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
+mod assign;
 mod colour;
 pub mod count;
 pub mod file;

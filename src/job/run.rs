@@ -198,7 +198,7 @@ impl Job {
             .sampler
             .apply(Params::new(domain.0, domain.1).with_policy(self.policy));
         let fitted = if separated.is_some() {
-            count::sample_classes(&Classes { maps }, &base, points, sample)?
+            count::sample_union(&Classes { maps }, &base, points, sample)?
         } else {
             count::sample_map(&maps[0], &base, points, sample)?
         };
