@@ -178,12 +178,7 @@ fn pixelpie_row(
     relax_steps: u32,
 ) -> Result<Row> {
     let t = Instant::now();
-    let prepared = Prepared {
-        map: map.clone(),
-        mapping,
-        range: RadiusRange::new(1.0, 8.0)?,
-        cutoff: None,
-    };
+    let prepared = Prepared::new(map.clone(), mapping, RadiusRange::new(1.0, 8.0)?, None);
     let base = Params::new(map.width(), map.height()).with_policy(Policy::Smaller);
     let fitted =
         pixelpie::job::count::sample_map(&prepared, &base, Some(n), |p| -> pixelpie::Result<_> {

@@ -10,9 +10,12 @@ use rayon::prelude::*;
 use super::{ImportanceMap, Mapping, RadiusRange};
 use crate::sampler::{Params, RadiusMap};
 
-/// An adjusted importance map with its mapping, radius range and cutoff.
+/// An adjusted importance map with its mapping, radius range and cutoff,
+/// read at the domain's pixels: the map's own, or, where the map is smaller
+/// than the domain ([`Self::stretched`]), read bilinearly (the triangle
+/// filter's upsampling) without a copy at the domain's size.
 pub struct Prepared {
-    /// The adjusted map, at the domain's size.
+    /// The adjusted map, at the domain's size or smaller.
     pub map: ImportanceMap,
     /// The mapping.
     pub mapping: Mapping,
@@ -20,14 +23,119 @@ pub struct Prepared {
     pub range: RadiusRange,
     /// The white cutoff.
     pub cutoff: Option<f32>,
+    /// Where the map is read at a larger domain.
+    stretch: Option<Stretch>,
+}
+
+/// A map read at a larger domain: per domain column and row, the two map
+/// pixels between which it lies and the weight of the second.
+struct Stretch {
+    domain: (u32, u32),
+    xs: Vec<(u32, u32, f32)>,
+    ys: Vec<(u32, u32, f32)>,
+}
+
+impl Stretch {
+    /// The value at domain pixel (`x`, `y`) of `values`, a map `width`
+    /// pixels wide.
+    fn read(&self, values: &[f32], width: u32, x: u32, y: u32) -> f32 {
+        let (x0, x1, fx) = self.xs[x as usize];
+        let (y0, y1, fy) = self.ys[y as usize];
+        let v = |x: u32, y: u32| values[y as usize * width as usize + x as usize];
+        let top = v(x0, y0) + fx * (v(x1, y0) - v(x0, y0));
+        let bottom = v(x0, y1) + fx * (v(x1, y1) - v(x0, y1));
+        top + fy * (bottom - top)
+    }
+}
+
+/// The two pixels of `from` under each of `to` pixels (centres aligned, as
+/// the triangle filter upsamples) and the weight of the second.
+fn stretch_axis(from: u32, to: u32) -> Vec<(u32, u32, f32)> {
+    let ratio = from as f32 / to as f32;
+    (0..to)
+        .map(|o| {
+            let s = ((o as f32 + 0.5) * ratio - 0.5).max(0.0);
+            let i0 = (s as u32).min(from - 1);
+            let i1 = (i0 + 1).min(from - 1);
+            (i0, i1, s - i0 as f32)
+        })
+        .collect()
 }
 
 impl Prepared {
+    /// A map prepared for a domain of its own size.
+    #[must_use]
+    pub fn new(
+        map: ImportanceMap,
+        mapping: Mapping,
+        range: RadiusRange,
+        cutoff: Option<f32>,
+    ) -> Self {
+        Self {
+            map,
+            mapping,
+            range,
+            cutoff,
+            stretch: None,
+        }
+    }
+
+    /// The map read at a `domain` larger than itself (bilinearly); the
+    /// same map where the sizes are equal.
+    #[must_use]
+    pub fn stretched(mut self, domain: (u32, u32)) -> Self {
+        let own = (self.map.width(), self.map.height());
+        self.stretch = (domain != own).then(|| Stretch {
+            domain,
+            xs: stretch_axis(own.0, domain.0),
+            ys: stretch_axis(own.1, domain.1),
+        });
+        self
+    }
+
+    /// The domain's size in pixels.
+    #[must_use]
+    pub fn domain(&self) -> (u32, u32) {
+        self.stretch
+            .as_ref()
+            .map_or((self.map.width(), self.map.height()), |s| s.domain)
+    }
+
+    /// The value at domain pixel (`x`, `y`).
+    #[must_use]
+    pub fn value(&self, x: u32, y: u32) -> f32 {
+        match &self.stretch {
+            None => self.map.value(x, y),
+            Some(s) => s.read(self.map.values(), self.map.width(), x, y),
+        }
+    }
+
+    /// The value at domain pixel `i` (row-major).
+    #[must_use]
+    pub fn value_index(&self, i: usize) -> f32 {
+        match &self.stretch {
+            None => self.map.values()[i],
+            Some(s) => {
+                let w = s.domain.0 as usize;
+                self.value((i % w) as u32, (i / w) as u32)
+            }
+        }
+    }
+
+    /// The value at the domain pixel under (`x`, `y`).
+    #[must_use]
+    pub fn value_at(&self, x: f32, y: f32) -> f32 {
+        let (w, h) = self.domain();
+        let px = (x.max(0.0) as u32).min(w - 1);
+        let py = (y.max(0.0) as u32).min(h - 1);
+        self.value(px, py)
+    }
+
     /// The calibrated dot radius at `p` for the radius range `range`
     /// ([`Mapping::dot_radius`] of the value at `p`'s pixel).
     #[must_use]
     pub fn dot_radius(&self, p: &crate::sampler::Point, range: RadiusRange) -> f32 {
-        self.mapping.dot_radius(self.map.value_at(p.x, p.y), range)
+        self.mapping.dot_radius(self.value_at(p.x, p.y), range)
     }
 
     /// The calibrated dot radii of `points` for the radius range `range`,
@@ -37,7 +145,7 @@ impl Prepared {
         let radius = self.mapping.dot_radii(range);
         points
             .par_iter()
-            .map(|p| radius(self.map.value_at(p.x, p.y)))
+            .map(|p| radius(self.value_at(p.x, p.y)))
             .collect()
     }
 
@@ -45,8 +153,8 @@ impl Prepared {
     pub fn params(&self, base: &Params, scale: f64) -> crate::sampler::Result<Params> {
         // The radii of `map.radii(..)`, quantized as they are made.
         let radius = ImportanceMap::radius_fn(self.mapping, self.range.scaled(scale));
-        let values = self.map.values();
-        let m = RadiusMap::from_fn(self.map.width(), self.map.height(), |i| radius(values[i]))?;
+        let (w, h) = self.domain();
+        let m = RadiusMap::from_fn(w, h, |i| radius(self.value_index(i)))?;
         Ok(base.clone().with_radius_map(Arc::new(m)))
     }
 
@@ -144,8 +252,10 @@ impl Knots {
             let density = super::ink::rsa_per_pixel(r) * super::ink::density(r);
             density * (w as f64 / KNOT_ONE)
         });
-        let (w, h) = (map.map.width() as usize, map.map.height() as usize);
-        sum * (w * h) as f64 / self.sampled as f64 * COUNT_BIAS
+        // The map's own pixels stand for the domain's (a stretched map's
+        // values are spread as its pixels').
+        let (w, h) = map.domain();
+        sum * (f64::from(w) * f64::from(h)) / self.sampled as f64 * COUNT_BIAS
     }
 }
 
@@ -228,7 +338,7 @@ impl Classes<'_> {
             .map(|m| ImportanceMap::radius_fn(m.mapping, range))
             .collect();
         move |c, i| {
-            let v = self.maps[c].map.values()[i];
+            let v = self.maps[c].value_index(i);
             if f64::from(1.0 - v) < lightest / 2.0 {
                 f32::INFINITY
             } else {
@@ -247,11 +357,36 @@ impl Classes<'_> {
         let first = &self.maps[0];
         let range = first.range.scaled(scale);
         let density = self.densities(range);
-        let values: Vec<&[f32]> = self.maps.iter().map(|m| m.map.values()).collect();
-        let m = RadiusMap::from_fn(first.map.width(), first.map.height(), |i| {
-            let inv: f32 = values.iter().zip(&density).map(|(v, d)| d(v[i])).sum();
+        let (w, h) = first.domain();
+        // Σ 1/r_c² at the maps' own pixels, read at the domain's (one map
+        // read, not one per pen, where the maps are stretched).
+        let own = (first.map.width(), first.map.height());
+        let sum = |i: usize| -> f32 {
+            self.maps
+                .iter()
+                .zip(&density)
+                .map(|(m, d)| d(m.map.values()[i]))
+                .sum()
+        };
+        let summed: Vec<f32> = match &first.stretch {
+            Some(_) => (0..own.0 as usize * own.1 as usize)
+                .into_par_iter()
+                .map(sum)
+                .collect(),
+            None => Vec::new(),
+        };
+        let m = RadiusMap::from_fn(w, h, |i| {
+            let inv = match &first.stretch {
+                None => sum(i),
+                Some(s) => {
+                    let (x, y) = ((i % w as usize) as u32, (i / w as usize) as u32);
+                    s.read(&summed, own.0, x, y)
+                }
+            };
             if inv > 0.0 {
-                (1.0 / inv.sqrt()).max(1.0)
+                // At most the lightest dots' radius (where a stretched
+                // map's sum fades out between pixels with and without ink).
+                (1.0 / inv.sqrt()).clamp(1.0, range.max)
             } else {
                 range.max
             }
@@ -296,7 +431,7 @@ impl Classes<'_> {
         move |i, out| {
             let mut sum = 0f32;
             for ((o, d), m) in out.iter_mut().zip(&density).zip(self.maps) {
-                *o = d(m.map.values()[i]);
+                *o = d(m.value_index(i));
                 sum += *o;
             }
             if sum <= 0.0 {
@@ -328,7 +463,8 @@ impl Classes<'_> {
     /// thousand products.
     fn union_radii(&self) -> UnionRadii {
         let first = &self.maps[0];
-        let (w, h) = (first.map.width() as usize, first.map.height() as usize);
+        let (w, h) = first.domain();
+        let (w, h) = (w as usize, h as usize);
         let step = ((w * h) as f64 / 250_000.0).sqrt().floor().max(1.0) as usize;
         let density = self.densities(first.range);
         let bins = (0..h)
@@ -338,12 +474,11 @@ impl Classes<'_> {
                 || vec![0u64; UNION_BINS],
                 |mut acc, y| {
                     for x in (0..w).step_by(step) {
-                        let i = y * w + x;
                         let inv: f32 = self
                             .maps
                             .iter()
                             .zip(&density)
-                            .map(|(m, d)| d(m.map.values()[i]))
+                            .map(|(m, d)| d(m.value(x as u32, y as u32)))
                             .sum();
                         if inv > 0.0 {
                             acc[UnionRadii::bin(1.0 / f64::from(inv).sqrt())] += 1;

@@ -175,18 +175,14 @@ impl ImportanceOptions {
         let tones = self.tones;
         let map = map.resized_with(w, h, |v| adjust.apply(tones.tone(v)))?;
         let range = self.radius_range(count_target)?;
-        Ok(Prepared {
-            map,
-            mapping: match (self.mapping, default_mapping) {
-                (Some(MappingKind::Linear), _) => Mapping::Linear,
-                // Calibrated for the drawing's dots: a job's own tone
-                // mapping (sized dots stay sized), else equal dots.
-                (Some(MappingKind::Tone), Mapping::Linear) => Mapping::Tone,
-                (Some(MappingKind::Tone) | None, m) => m,
-            },
-            range,
-            cutoff: self.white_cutoff,
-        })
+        let mapping = match (self.mapping, default_mapping) {
+            (Some(MappingKind::Linear), _) => Mapping::Linear,
+            // Calibrated for the drawing's dots: a job's own tone mapping
+            // (sized dots stay sized), else equal dots.
+            (Some(MappingKind::Tone), Mapping::Linear) => Mapping::Tone,
+            (Some(MappingKind::Tone) | None, m) => m,
+        };
+        Ok(Prepared::new(map, mapping, range, self.white_cutoff))
     }
 }
 

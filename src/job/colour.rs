@@ -81,11 +81,7 @@ impl Job {
                 .map(|map| map.with_values_where(|i| tone[i] > cut, 1.0))
                 .collect();
         }
-        if upscaled {
-            for map in &mut inks {
-                *map = map.resized(width, height)?;
-            }
-        }
+
         let mapping = match imp.mapping {
             Some(MappingKind::Linear) => Mapping::Linear,
             _ => self.dot_mode().mapping(self.dot_ratio),
@@ -93,12 +89,7 @@ impl Job {
         let range = self.dot_range(imp.radius_range(count_target)?, domain)?;
         let maps = inks
             .into_iter()
-            .map(|map| Prepared {
-                map,
-                mapping,
-                range,
-                cutoff: None,
-            })
+            .map(|map| Prepared::new(map, mapping, range, None).stretched(domain))
             .collect();
         Ok(Separated {
             maps,
@@ -131,7 +122,7 @@ impl Job {
         stage("size: calibration")?;
         let inks: Vec<f64> = points
             .par_iter()
-            .map(|p| f64::from(1.0 - maps[p.class as usize].map.value_at(p.x, p.y)))
+            .map(|p| f64::from(1.0 - maps[p.class as usize].value_at(p.x, p.y)))
             .collect();
         // Each pen's dots lie at the spacing of a maximal set of that pen
         // alone, up to how much more tightly the union packs than the
@@ -156,7 +147,7 @@ impl Job {
             .zip(&spacing)
             .map(|((p, &ink), &r_eff)| {
                 let c = p.class as usize;
-                dot_radius[c](maps[c].map.value_at(p.x, p.y))
+                dot_radius[c](maps[c].value_at(p.x, p.y))
                     * dot_factor(ink, f64::from(p.radius), r_eff)
             })
             .collect();

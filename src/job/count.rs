@@ -114,7 +114,7 @@ pub fn sample_map<E: From<Error> + From<ImportanceError>>(
     let target = Target {
         n,
         range: map.range,
-        domain: (map.map.width(), map.map.height()),
+        domain: map.domain(),
         periodic: base.periodic,
     };
     target.fit(
@@ -136,8 +136,7 @@ pub fn sample_union<E: From<Error> + From<ImportanceError>>(
     mut run: impl FnMut(&Params) -> Result<SampleSet, E>,
 ) -> Result<Fitted, E> {
     let range = classes.maps[0].range;
-    let first = &classes.maps[0].map;
-    let domain = (first.width(), first.height());
+    let domain = classes.maps[0].domain();
     let mut pen_run = |s: f64| -> Result<SampleSet, E> {
         let set = run(&classes.union_params(base, s)?)?;
         let shares = classes.shares(range.scaled(s));

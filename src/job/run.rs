@@ -182,7 +182,7 @@ impl Job {
                 self.dot_mode().mapping(self.dot_ratio),
                 count_target,
             )?;
-            let domain = (prepared.map.width(), prepared.map.height());
+            let domain = prepared.domain();
             prepared.range = self.dot_range(prepared.range, domain)?;
             (None, Some(prepared))
         };
@@ -191,7 +191,7 @@ impl Job {
             (None, Some(g)) => std::slice::from_ref(g),
             (None, None) => unreachable!("a drawing prepares a grey or a colour picture"),
         };
-        let domain = (maps[0].map.width(), maps[0].map.height());
+        let domain = maps[0].domain();
         let t_load = lap();
         stage(&mut progress, "sample")?;
         let base = self

@@ -273,7 +273,8 @@ impl SampleJob {
             Mapping::Linear,
             self.points.is_some(),
         )?;
-        let base = self.base(prepared.map.width(), prepared.map.height());
+        let (w, h) = prepared.domain();
+        let base = self.base(w, h);
         let fitted = super::count::sample_map(&prepared, &base, self.points, sample)?;
         Ok(Sampled {
             set: fitted.set,

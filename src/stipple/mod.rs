@@ -134,7 +134,8 @@ pub fn relax_points(
     let Some(first) = maps.first() else {
         return Err(Error::InvalidParameter("nothing to relax".into()));
     };
-    let weights: Vec<f32> = if let [prepared] = maps {
+    let own = (first.map.width(), first.map.height());
+    let weights: Vec<f32> = if let ([prepared], true) = (maps, first.domain() == own) {
         prepared
             .map
             .radii(prepared.mapping, range)
@@ -149,11 +150,12 @@ pub fn relax_points(
             })
             .collect()
     } else {
-        // The pens' own radii, none where a pen has no samples: the rule
-        // the sampler ran under.
+        // The pens' own radii (a pen's map read at the domain's pixels),
+        // none where a pen has no samples: the rule the sampler ran under.
         let classes = crate::importance::Classes { maps };
         let radius = classes.class_radius(range);
-        (0..first.map.values().len())
+        let (w, h) = first.domain();
+        (0..w as usize * h as usize)
             .into_par_iter()
             .map(|i| {
                 let inv: f64 = (0..maps.len())
@@ -165,7 +167,7 @@ pub fn relax_points(
             })
             .collect()
     };
-    let (w, h) = (first.map.width(), first.map.height());
+    let (w, h) = first.domain();
     let density = relax::Density {
         width: w,
         height: h,
@@ -187,11 +189,10 @@ pub fn relax_points(
             let px = (x.max(0.0) as u32).min(w - 1);
             let py = (y.max(0.0) as u32).min(h - 1);
             let class = if maps.len() == 1 { 0 } else { p.class };
-            let map = &maps[class as usize].map;
             Point {
                 x,
                 y,
-                radius: radius[class as usize](map.value(px, py)),
+                radius: radius[class as usize](maps[class as usize].value(px, py)),
                 class,
             }
         })
