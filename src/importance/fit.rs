@@ -500,3 +500,31 @@ impl Classes<'_> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_stretched_map_reads_as_the_map_resized_to_the_domain() {
+        let (w, h) = (7u32, 5u32);
+        let values: Vec<f32> = (0..w * h).map(|i| ((i * 37) % 11) as f32 / 10.0).collect();
+        let map = ImportanceMap::from_values(w, h, values).unwrap();
+        let range = RadiusRange::new(2.0, 8.0).unwrap();
+        let domain = (23, 16);
+        let resized = map.resized(domain.0, domain.1).unwrap();
+        let stretched = Prepared::new(map, Mapping::Tone, range, None).stretched(domain);
+        assert_eq!(stretched.domain(), domain);
+        for y in 0..domain.1 {
+            for x in 0..domain.0 {
+                let (a, b) = (stretched.value(x, y), resized.value(x, y));
+                assert!((a - b).abs() < 1e-5, "({x}, {y}): {a} against {b}");
+                let i = (y * domain.0 + x) as usize;
+                assert_eq!(stretched.value_index(i), a);
+            }
+        }
+        // A map of the domain's own size is read as it is.
+        let own = Prepared::new(resized.clone(), Mapping::Tone, range, None).stretched(domain);
+        assert_eq!(own.value(3, 4), resized.value(3, 4));
+    }
+}

@@ -293,7 +293,7 @@ impl Job {
 #[non_exhaustive]
 pub enum Step {
     /// A stage begins: `prepare`, `sample`, `relax`, `order` or `size`, and
-    /// within a colour drawing's sizing each part (`size: density`, `size:
+    /// within a colour drawing's sizing each part (`size: calibration`, `size:
     /// correction 1 of 3`, …), so that long work reports at least once a
     /// second.
     Stage(&'static str),
