@@ -741,3 +741,38 @@ fn too_few_dots_get_a_plain_message_with_the_least_that_fits() {
         std::fs::remove_file(&out).unwrap();
     }
 }
+
+/// Sized dots for the spacing they have (`--spacing local`, the default)
+/// hold the photo's tones better than dots sized for their sample radius
+/// alone (`--spacing radius`), under every policy: edges, and the Prior and
+/// Bigger policies, thin the dots out.
+#[test]
+fn local_spacing_draws_truer_tones_under_every_policy() {
+    let dir = tempfile::tempdir().unwrap();
+    let photo = asset("astronaut.jpg");
+    for policy in ["smaller", "prior", "current", "bigger"] {
+        let psnr = |spacing: &str| {
+            let svg = dir.path().join(format!("{policy}-{spacing}.svg"));
+            ok(&[
+                "stipple",
+                &photo,
+                "--points",
+                "10000",
+                "--policy",
+                policy,
+                "--spacing",
+                spacing,
+                "-q",
+                "-o",
+                s(&svg),
+            ]);
+            fidelity(&photo, &svg, &[])["psnr"].as_f64().unwrap()
+        };
+        let (local, radius) = (psnr("local"), psnr("radius"));
+        println!("{policy}: local {local:.2} dB, radius {radius:.2} dB");
+        assert!(
+            local > radius + 0.3,
+            "{policy}: local {local:.2} dB against radius {radius:.2} dB"
+        );
+    }
+}

@@ -26,12 +26,14 @@ use pixelpie::sampler::{ClassRadii, Control, Params, Point, Policy, RadiusMap, S
 /// (case, points, hash): the pinned outputs. Update as the module doc says.
 #[rustfmt::skip]
 const GOLDEN: &[(&str, usize, u64)] = &[
-    ("grey stipple", 3083, 0x78312ad7edb7ddd6),
-    ("grey stipple, SVG", 3083, 0x9f8eeae70ee687ad),
-    ("grey stipple, relax 3", 3083, 0xed6bac84a7206340),
-    ("grey stipple, relax 3, SVG", 3083, 0x5fd7a185ec8b0c56),
-    ("grey stipple, TSP", 3083, 0x1a0f5399944d81f2),
-    ("grey stipple, TSP, SVG", 3083, 0x6671982dd574a407),
+    ("grey stipple", 3083, 0x9c61291de225f230),
+    ("grey stipple, SVG", 3083, 0x94b824d67c6d7e4f),
+    ("grey stipple, spacing radius", 3083, 0x78312ad7edb7ddd6),
+    ("grey stipple, spacing radius, SVG", 3083, 0x9f8eeae70ee687ad),
+    ("grey stipple, relax 3", 3083, 0xfaeff78bf58dea6f),
+    ("grey stipple, relax 3, SVG", 3083, 0x4a48e1cbccf91f5f),
+    ("grey stipple, TSP", 3083, 0x0a7f7767b28f79d0),
+    ("grey stipple, TSP, SVG", 3083, 0x59862e778ca63cdd),
     ("CMYK stipple", 3046, 0xea07740c1450b625),
     ("CMYK stipple, SVG", 3046, 0x6dc2947bdd16cc0b),
     ("uniform", 1897, 0xdbb96cf27fff9ec9),
@@ -137,7 +139,8 @@ fn sampler_cases() -> Vec<(String, Params)> {
     cases
 }
 
-/// The drawings' cases: grey, grey relaxed, grey in TSP order, CMYK.
+/// The drawings' cases: grey, grey sized for the sample radius, grey
+/// relaxed, grey in TSP order, CMYK.
 fn drawing_cases() -> Vec<(String, &'static str, Job)> {
     let job = |f: &dyn Fn(&mut Job)| {
         let mut j = Job::default();
@@ -146,11 +149,19 @@ fn drawing_cases() -> Vec<(String, &'static str, Job)> {
         j
     };
     let grey = job(&|_| {});
+    // The drawing before sizing for the local spacing: its hashes are the
+    // grey stipple's of before (the points unchanged, the sizes as then).
+    let radius = job(&|j| j.spacing = pixelpie::job::Spacing::Radius);
     let relaxed = job(&|j| j.relax = 3);
     let tsp = job(&|j| j.order = Order::Tsp);
     let cmyk = job(&|j| j.pens = Some(PenSet::cmyk()));
     vec![
         ("grey stipple".into(), "assets/default.png", grey),
+        (
+            "grey stipple, spacing radius".into(),
+            "assets/default.png",
+            radius,
+        ),
         (
             "grey stipple, relax 3".into(),
             "assets/default.png",

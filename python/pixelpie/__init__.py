@@ -222,7 +222,9 @@ def stipple(
     ``height``, ``dot`` (``"sized"``: small dots in light areas, the
     default; ``"fixed"``: all alike; ``"proportional"``: a fraction of each
     disk, a texture that does not reproduce tones), ``dot_factor``,
-    ``dot_ratio``, ``dot_radius``, ``relax`` (weighted Lloyd steps),
+    ``dot_ratio``, ``dot_radius``, ``spacing`` (``"local"``: sized dots
+    for the spacing they have; ``"radius"``: for their sample radius, as
+    earlier versions), ``relax`` (weighted Lloyd steps),
     ``order`` (``"tsp"``: a short pen-plotter path), ``scale`` (PNG pixels
     per domain pixel), ``width_mm`` and ``pen_mm`` (SVG in millimetres,
     drawn with a pen), ``paper`` (``"a4"``, ``"letter"``, ``"WxHmm"``, ...:

@@ -283,6 +283,7 @@ fn job_options() -> serde_json::Result<serde_json::Value> {
             ("rotate", serde_json::Value::Null),
             ("refill_mm", serde_json::Value::Null),
             ("layer_order", serde_json::to_value(job.layer_order)?),
+            ("spacing", serde_json::to_value(job.spacing)?),
         ] {
             m.entry(name).or_insert(default);
         }

@@ -161,6 +161,7 @@ EVERY_OPTION = [
     ("rotate", 90, "a.svg"),
     ("refill_mm", 300.0, "a.svg"),
     ("layer_order", "pens", "a.svg"),
+    ("spacing", "radius", "a.svg"),
 ]
 
 

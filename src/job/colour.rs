@@ -246,7 +246,7 @@ impl Job {
 /// The factor on a calibrated dot radius (for ink `ink` on a maximal set
 /// of radius `r`) that puts down the same ink at the spacing of a maximal
 /// set of radius `r_eff`.
-fn dot_factor(ink: f64, r: f64, r_eff: f64) -> f32 {
+pub(crate) fn dot_factor(ink: f64, r: f64, r_eff: f64) -> f32 {
     let k = ink.clamp(0.0, K_MAX);
     let want = ink::dot_ratio(k, r_eff) * r_eff;
     let had = ink::dot_ratio(k, r) * r;

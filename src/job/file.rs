@@ -47,6 +47,7 @@ pub const KEYS: &[&str] = &[
     "dot_path",
     "refill_mm",
     "layer_order",
+    "spacing",
     "ink",
     "pens",
     "policy",

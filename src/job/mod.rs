@@ -20,6 +20,7 @@ use serde::{Deserialize, Serialize};
 mod assign;
 mod colour;
 pub mod count;
+mod density;
 pub mod file;
 mod layers;
 mod options;
@@ -30,7 +31,7 @@ mod run;
 mod sample;
 
 pub use layers::PenLayer;
-pub use options::{DotMode, Format, Ink, LayerOrder, Order};
+pub use options::{DotMode, Format, Ink, LayerOrder, Order, Spacing};
 pub use preview::{PenCheck, PlotPen, plotted_dot};
 pub use ramp::{RampError, ramp_error};
 pub use run::{Picture, Step, Stipple};
@@ -128,6 +129,13 @@ pub struct Job {
     )]
     #[serde(skip_serializing_if = "Option::is_none")]
     pub dot_mm: Option<f64>,
+    /// The spacing sized dots are calibrated for: local (the dots' own
+    /// spacing around each, counted: edges and the Prior and Bigger
+    /// policies thin dots out) or radius (a maximal set's at the sample
+    /// radius: the drawings of earlier versions).
+    #[cfg_attr(feature = "cli", arg(long, value_enum, default_value_t = Spacing::Local))]
+    #[serde(skip_serializing_if = "Spacing::is_default")]
+    pub spacing: Spacing,
     /// Weighted Lloyd (Voronoi) relaxation steps after sampling: moves each
     /// dot to the centroid of its Voronoi cell, weighted to keep the
     /// calibrated density. A few steps make the spacing more even.
@@ -225,6 +233,7 @@ impl Default for Job {
             dot_path: DotPath::Spiral,
             refill_mm: None,
             layer_order: LayerOrder::LightFirst,
+            spacing: Spacing::Local,
             ink: Ink::BLACK,
             pens: None,
             policy: DEFAULT_POLICY,

@@ -77,6 +77,29 @@ impl LayerOrder {
     }
 }
 
+/// The spacing a sized dot is calibrated for (`--spacing`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
+#[serde(rename_all = "lowercase")]
+pub enum Spacing {
+    /// The spacing the dots have around each dot, counted against what a
+    /// maximal set of their radii has: where an edge or the policy thins
+    /// the dots out, each is drawn bigger for it, so the tones hold.
+    #[default]
+    Local,
+    /// The spacing a maximal set of the dot's sample radius has, whatever
+    /// the dots around it (the drawings of earlier versions).
+    Radius,
+}
+
+impl Spacing {
+    /// Whether this is the default (left out of the job's files).
+    #[must_use]
+    pub fn is_default(&self) -> bool {
+        *self == Self::default()
+    }
+}
+
 /// Drawing order.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[cfg_attr(feature = "cli", derive(clap::ValueEnum))]

@@ -224,7 +224,36 @@ impl Job {
             Some(s) => self.colour_sizes(s, &points, range, domain, &mut |name| {
                 stage(&mut progress, name)
             })?,
-            None => maps[0].dot_radii(&points, range),
+            None => {
+                let mut radii = maps[0].dot_radii(&points, range);
+                // Sized dots for the spacing they have ([`Spacing::Local`]).
+                if self.spacing == super::Spacing::Local
+                    && matches!(maps[0].mapping, crate::importance::Mapping::ToneSized(_))
+                {
+                    use rayon::prelude::*;
+                    let density = super::density::Density::new(&points, maps, range, domain);
+                    // Within the mapping's own sizes: the darkest dots keep
+                    // their size (`--dot-mm`), the lightest their ratio.
+                    let mapping = maps[0].mapping;
+                    let (lo, hi) = (
+                        mapping.dot_radius(1.0, range),
+                        mapping.dot_radius(0.0, range),
+                    );
+                    points
+                        .par_iter()
+                        .zip(radii.par_iter_mut())
+                        .for_each(|(p, r)| {
+                            let ink = f64::from(1.0 - maps[0].value_at(p.x, p.y));
+                            let factor = super::colour::dot_factor(
+                                ink,
+                                f64::from(p.radius),
+                                density.effective_radius(p),
+                            );
+                            *r = (*r * factor).clamp(lo.min(*r), hi.max(*r));
+                        });
+                }
+                radii
+            }
         };
         let t_size = lap();
         let mut drawing = Stipple {

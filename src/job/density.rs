@@ -1,0 +1,140 @@
+//! The local density of a drawing's dots against the density a maximal
+//! set of their radii has: where the policy or an edge thins the dots out,
+//! each dot is sized for the spacing it has.
+
+use rayon::prelude::*;
+
+use crate::importance::ink;
+use crate::importance::{Prepared, RadiusRange};
+use crate::sampler::Point;
+
+/// Each pen's dots as sampled against the count a maximal set of that pen
+/// alone would have: the other pens' cross spacing thins every pen out, so
+/// its dots are enlarged until they put down the ink they were calibrated
+/// for ([`crate::importance::ink`]), at the spacing they actually have.
+///
+/// Counts are taken in a square window of half-side [`WINDOW`] × the dot's
+/// sample radius (about thirty neighbours), from summed-area tables of the
+/// pens' points and of the density a maximal set of one pen has at the
+/// sampled radii ([`ink::density`]).
+pub(crate) struct Density {
+    /// The grid's cells per row and column.
+    cols: usize,
+    rows: usize,
+    /// Per pen: summed-area table of point counts, (cols+1)×(rows+1).
+    counts: Vec<Vec<u32>>,
+    /// Per pen: summed-area table of the expected point count.
+    expected: Vec<Vec<f64>>,
+}
+
+/// Steps of [`Density`]'s table of the expected count over the map's value.
+const DENSITY_STEPS: usize = 4096;
+
+/// The counting window's half-side in sample radii.
+const WINDOW: f32 = 3.0;
+/// The side in px of the cells the counts are kept in (windows are tens of
+/// pixels wide: the sample radii are).
+const CELL: usize = 4;
+
+/// The summed-area table of `cols`×`rows` values `f(cell)`.
+fn summed<T: Copy + Default + std::ops::Add<Output = T>>(
+    cols: usize,
+    rows: usize,
+    f: impl Fn(usize) -> T,
+) -> Vec<T> {
+    let mut t = vec![T::default(); (cols + 1) * (rows + 1)];
+    for y in 0..rows {
+        let mut row = T::default();
+        for x in 0..cols {
+            row = row + f(y * cols + x);
+            t[(y + 1) * (cols + 1) + x + 1] = t[y * (cols + 1) + x + 1] + row;
+        }
+    }
+    t
+}
+
+impl Density {
+    pub(crate) fn new(
+        points: &[Point],
+        maps: &[Prepared],
+        range: RadiusRange,
+        (w, h): (u32, u32),
+    ) -> Self {
+        let (w, h) = (w as usize, h as usize);
+        let (cols, rows) = (w.div_ceil(CELL), h.div_ceil(CELL));
+        let cell_of = |x: usize, y: usize| (y / CELL) * cols + x / CELL;
+        let expected = maps
+            .par_iter()
+            .map(|m| {
+                // The expected count per pixel is a function of its value:
+                // tabulated once, as the radii are.
+                let radius = crate::importance::ImportanceMap::radius_fn(m.mapping, range);
+                let per_px: Vec<f64> = (0..=DENSITY_STEPS)
+                    .map(|i| {
+                        let r = f64::from(radius(i as f32 / DENSITY_STEPS as f32));
+                        ink::density(r) * crate::sampler::RSA_DENSITY
+                            / (std::f64::consts::PI * r * r / 4.0)
+                    })
+                    .collect();
+                // Cell rows in parallel, each summing its pixels in order.
+                let mut per_cell = vec![0f64; cols * rows];
+                per_cell
+                    .par_chunks_mut(cols)
+                    .enumerate()
+                    .for_each(|(cy, row)| {
+                        for y in cy * CELL..((cy + 1) * CELL).min(h) {
+                            for x in 0..w {
+                                let v = m.value(x as u32, y as u32);
+                                let t = v.clamp(0.0, 1.0) * DENSITY_STEPS as f32;
+                                let j = (t as usize).min(DENSITY_STEPS - 1);
+                                let f = f64::from(t - j as f32);
+                                row[x / CELL] += per_px[j] + f * (per_px[j + 1] - per_px[j]);
+                            }
+                        }
+                    });
+                summed(cols, rows, |c| per_cell[c])
+            })
+            .collect();
+        let counts = (0..maps.len() as u32)
+            .map(|c| {
+                let mut n = vec![0u32; cols * rows];
+                for p in points.iter().filter(|p| p.class == c) {
+                    let (x, y) = ((p.x as usize).min(w - 1), (p.y as usize).min(h - 1));
+                    n[cell_of(x, y)] += 1;
+                }
+                summed(cols, rows, |c| n[c])
+            })
+            .collect();
+        Self {
+            cols,
+            rows,
+            counts,
+            expected,
+        }
+    }
+
+    /// The radius of the single-pen maximal set that has point `p`'s pen's
+    /// local density: its sample radius, or more where the other pens thin
+    /// it out.
+    pub(crate) fn effective_radius(&self, p: &Point) -> f64 {
+        let half = WINDOW * p.radius;
+        let cell = CELL as f32;
+        let x0 = ((p.x - half).max(0.0) / cell) as usize;
+        let y0 = ((p.y - half).max(0.0) / cell) as usize;
+        let x1 = (((p.x + half).max(0.0) / cell) as usize + 1).min(self.cols);
+        let y1 = (((p.y + half).max(0.0) / cell) as usize + 1).min(self.rows);
+        let stride = self.cols + 1;
+        let c = p.class as usize;
+        let n = self.counts[c][y1 * stride + x1] + self.counts[c][y0 * stride + x0]
+            - self.counts[c][y0 * stride + x1]
+            - self.counts[c][y1 * stride + x0];
+        let e = self.expected[c][y1 * stride + x1] + self.expected[c][y0 * stride + x0]
+            - self.expected[c][y0 * stride + x1]
+            - self.expected[c][y1 * stride + x0];
+        let r = f64::from(p.radius);
+        if n == 0 || e <= 0.0 {
+            return r;
+        }
+        r / (f64::from(n) / e).clamp(0.1, 4.0).sqrt()
+    }
+}
