@@ -141,6 +141,8 @@ impl Job {
         // Each pen's calibrated dot radius as a function of its value, made
         // once (the black dots' radius inverts the ink curve).
         let dot_radius: Vec<_> = maps.iter().map(|m| m.mapping.dot_radii(range)).collect();
+        let ratios =
+            super::density::Ratios::new(f64::from(range.min) * 0.5, f64::from(range.max) * 3.2);
         let mut calibrated: Vec<f32> = points
             .par_iter()
             .zip(&inks)
@@ -148,7 +150,7 @@ impl Job {
             .map(|((p, &ink), &r_eff)| {
                 let c = p.class as usize;
                 dot_radius[c](maps[c].value_at(p.x, p.y))
-                    * dot_factor(ink, f64::from(p.radius), r_eff)
+                    * ratios.factor(ink, f64::from(p.radius), r_eff)
             })
             .collect();
         if matches!(self.dot_size(), crate::stipple::DotSize::Calibrated(_)) {
@@ -241,16 +243,6 @@ impl Job {
         }
         Ok(())
     }
-}
-
-/// The factor on a calibrated dot radius (for ink `ink` on a maximal set
-/// of radius `r`) that puts down the same ink at the spacing of a maximal
-/// set of radius `r_eff`.
-pub(crate) fn dot_factor(ink: f64, r: f64, r_eff: f64) -> f32 {
-    let k = ink.clamp(0.0, K_MAX);
-    let want = ink::dot_ratio(k, r_eff) * r_eff;
-    let had = ink::dot_ratio(k, r) * r;
-    if had > 0.0 { (want / had) as f32 } else { 1.0 }
 }
 
 /// The correction of the calibrated dots toward the separation's colours,

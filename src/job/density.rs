@@ -138,3 +138,107 @@ impl Density {
         r / (f64::from(n) / e).clamp(0.1, 4.0).sqrt()
     }
 }
+
+/// [`ink::dot_ratio`] tabulated over the ink (in steps of its square root:
+/// the ratio grows as √k from no ink) and the log of the radius, read
+/// bilinearly: the sizing reads it twice per dot.
+pub(crate) struct Ratios {
+    /// ln of the smallest radius, and the step between radius rows.
+    ln_r: f64,
+    ln_step: f64,
+    rows: usize,
+    /// rows × (INK_STEPS + 1) values.
+    values: Vec<f32>,
+}
+
+/// Steps of [`Ratios`] over √k.
+const INK_STEPS: usize = 512;
+/// Rows of [`Ratios`] over ln r.
+const RADIUS_ROWS: usize = 64;
+
+impl Ratios {
+    /// The table over radii from `lo` to `hi` px.
+    pub(crate) fn new(lo: f64, hi: f64) -> Self {
+        let (lo, hi) = if lo.is_finite() && lo > 0.0 && hi.is_finite() {
+            (lo, hi.max(lo))
+        } else {
+            (1.0, 1.0)
+        };
+        let (ln_r, span) = (lo.ln(), (hi / lo).ln());
+        let rows = if span > 0.0 { RADIUS_ROWS } else { 1 };
+        let ln_step = if rows > 1 {
+            span / (rows - 1) as f64
+        } else {
+            1.0
+        };
+        let values = (0..rows * (INK_STEPS + 1))
+            .into_par_iter()
+            .map(|i| {
+                let (row, u) = (i / (INK_STEPS + 1), i % (INK_STEPS + 1));
+                let k = (u as f64 / INK_STEPS as f64).powi(2);
+                ink::dot_ratio(k, (ln_r + row as f64 * ln_step).exp()) as f32
+            })
+            .collect();
+        Self {
+            ln_r,
+            ln_step,
+            rows,
+            values,
+        }
+    }
+
+    /// [`ink::dot_ratio`]`(k, r)`, interpolated (radii outside the table's
+    /// read at its ends).
+    pub(crate) fn at(&self, k: f64, r: f64) -> f64 {
+        if k.is_nan() || k <= 0.0 {
+            return 0.0;
+        }
+        let u = k.min(1.0).sqrt() * INK_STEPS as f64;
+        let ui = (u as usize).min(INK_STEPS - 1);
+        let fu = u - ui as f64;
+        let row = |ri: usize| {
+            let v = &self.values[ri * (INK_STEPS + 1)..];
+            f64::from(v[ui]) + fu * (f64::from(v[ui + 1]) - f64::from(v[ui]))
+        };
+        if self.rows == 1 {
+            return row(0);
+        }
+        let t = ((r.ln() - self.ln_r) / self.ln_step).clamp(0.0, (self.rows - 1) as f64);
+        let ri = (t as usize).min(self.rows - 2);
+        let a = row(ri);
+        a + (t - ri as f64) * (row(ri + 1) - a)
+    }
+
+    /// The factor on a calibrated dot radius (for ink `ink` on a maximal
+    /// set of radius `r`) that puts down the same ink at the spacing of a
+    /// maximal set of radius `r_eff`.
+    pub(crate) fn factor(&self, ink: f64, r: f64, r_eff: f64) -> f32 {
+        let k = ink.clamp(0.0, ink::K_MAX);
+        let had = self.at(k, r) * r;
+        if had > 0.0 {
+            (self.at(k, r_eff) * r_eff / had) as f32
+        } else {
+            1.0
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_ratio_table_reads_as_the_ink_curve() {
+        let t = Ratios::new(2.0, 40.0);
+        for &r in &[2.0, 3.3, 7.0, 19.5, 40.0] {
+            for &k in &[0.01, 0.1, 0.37, 0.6, 0.9] {
+                let (a, b) = (t.at(k, r), ink::dot_ratio(k, r));
+                assert!(
+                    (a - b).abs() < 2e-3 * b.max(0.05),
+                    "k {k}, r {r}: {a} against {b}"
+                );
+            }
+        }
+        assert_eq!(t.at(0.0, 5.0), 0.0);
+    }
+}

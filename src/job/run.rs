@@ -239,12 +239,18 @@ impl Job {
                         mapping.dot_radius(1.0, range),
                         mapping.dot_radius(0.0, range),
                     );
+                    // The effective radii lie within a factor of 1/√4 and
+                    // 1/√0.1 of the sample radii ([`Density`]).
+                    let ratios = super::density::Ratios::new(
+                        f64::from(range.min) * 0.5,
+                        f64::from(range.max) * 3.2,
+                    );
                     points
                         .par_iter()
                         .zip(radii.par_iter_mut())
                         .for_each(|(p, r)| {
                             let ink = f64::from(1.0 - maps[0].value_at(p.x, p.y));
-                            let factor = super::colour::dot_factor(
+                            let factor = ratios.factor(
                                 ink,
                                 f64::from(p.radius),
                                 density.effective_radius(p),
