@@ -1791,3 +1791,32 @@ fn dots_sized_in_mm_and_warnings_that_name_a_count() {
     let w = h.state().dot_size_warning().expect("a warning");
     assert!(w.contains("dots reach it"), "{w}");
 }
+
+/// The Dot size section's "Size for local spacing" box is the CLI's
+/// `--spacing`: on by default; unticked, the dots are sized for their
+/// sample radius alone (the same points, other sizes), and the job says so.
+#[test]
+fn the_local_spacing_box_switches_the_dot_sizing() {
+    let (_dir, _png, mut h) = ready(240, 160);
+    assert_eq!(
+        h.state().settings.job.spacing,
+        pixelpie::job::Spacing::Local
+    );
+    let before = h.state().outcome.as_ref().unwrap().drawing.clone();
+    h.get_by_label("Size for local spacing").click();
+    h.run_steps(2);
+    settle(&mut h);
+    let job = h.state().settings.job();
+    assert_eq!(job.spacing, pixelpie::job::Spacing::Radius);
+    let after = &h.state().outcome.as_ref().unwrap().drawing;
+    assert_eq!(before.points.len(), after.points.len());
+    assert!(
+        before
+            .points
+            .iter()
+            .zip(&after.points)
+            .all(|(a, b)| (a.x, a.y) == (b.x, b.y)),
+        "the same points"
+    );
+    assert_ne!(before.calibrated, after.calibrated, "other sizes");
+}

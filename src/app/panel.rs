@@ -485,6 +485,26 @@ impl PixelPieApp {
         )
         .on_hover_text("The lightest dots' radius as a fraction of the darkest dots'")
         .on_disabled_hover_text("Sized dots only");
+        let mut local = job.spacing == crate::job::Spacing::Local;
+        if ui
+            .add_enabled(
+                mode == DotMode::Sized && job.pens.is_none(),
+                egui::Checkbox::new(&mut local, "Size for local spacing"),
+            )
+            .on_hover_text(
+                "Size each dot for the spacing the dots have around it (--spacing local): \
+                 where an edge or the policy thins them out, bigger, so the tones hold. Off: \
+                 for its sample radius alone, as earlier versions drew.",
+            )
+            .on_disabled_hover_text("Sized dots in one ink only")
+            .changed()
+        {
+            job.spacing = if local {
+                crate::job::Spacing::Local
+            } else {
+                crate::job::Spacing::Radius
+            };
+        }
         ui.add(egui::Slider::new(&mut job.relax, 0..=30).text("Relax (Lloyd steps)"))
             .on_hover_text("Weighted Voronoi relaxation after sampling: more even spacing.");
         // One ink's colour; with pens each pen has its own.
