@@ -305,7 +305,7 @@ impl UnionRadii {
 
 /// Several importance maps drawn together, one class each: the pens of a
 /// colour drawing, sampled as their union ([`Self::union_params`]) whose
-/// points are then given pens by their shares ([`Self::shares`]). The maps
+/// points are then given pens by their shares of its density. The maps
 /// share the mapping and the radius range; where a map asks for less ink
 /// than half of what its lightest dots put down, its class has no samples.
 pub struct Classes<'a> {

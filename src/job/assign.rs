@@ -1,11 +1,12 @@
 //! The pen of each point of a colour drawing's union sample
-//! ([`super::count::sample_union`]): the points taken along a Hilbert curve
-//! through the domain, each pen's share of the union's density at a point
-//! added to its running sum, and the point given the pen whose sum is
-//! largest (which then gives back one point). Along the curve each pen gets
-//! its share of the points, spread as evenly as the shares allow, and the
-//! curve keeps near points near: each pen's dots are spread over the
-//! picture with its density.
+//! ([`super::count::sample_union`]), by error diffusion over the point set:
+//! the points are taken along a Hilbert curve through the domain; each
+//! takes the pen whose share of the union's density there, plus what its
+//! neighbours passed on, is largest, and passes what is left over (its
+//! shares less one for the pen it took) on to the neighbours within
+//! [`REACH`] sample radii not yet taken, by nearness. Each pen gets its
+//! share of the points, spread evenly with its own density (a diffusion
+//! along the curve alone, without the neighbours, was 1 ΔE00 worse).
 
 use rayon::prelude::*;
 

@@ -8,23 +8,22 @@ use crate::importance::ink;
 use crate::importance::{Prepared, RadiusRange};
 use crate::sampler::Point;
 
-/// Each pen's dots as sampled against the count a maximal set of that pen
-/// alone would have: the other pens' cross spacing thins every pen out, so
-/// its dots are enlarged until they put down the ink they were calibrated
-/// for ([`crate::importance::ink`]), at the spacing they actually have.
+/// The dots' local density against what a maximal set of their sample
+/// radii has there: where an edge or the policy thins the dots out, each is
+/// sized for the spacing it has ([`local_spacing`]).
 ///
 /// Counts are taken in a square window of half-side [`WINDOW`] × the dot's
 /// sample radius (about thirty neighbours), from summed-area tables of the
-/// pens' points and of the density a maximal set of one pen has at the
-/// sampled radii ([`ink::density`]).
+/// points and of the density a maximal set has at the map's sample radii
+/// ([`ink::density`]).
 pub(crate) struct Density {
     /// The grid's cells per row and column.
     cols: usize,
     rows: usize,
-    /// Per pen: summed-area table of point counts, (cols+1)×(rows+1).
-    counts: Vec<Vec<u32>>,
-    /// Per pen: summed-area table of the expected point count.
-    expected: Vec<Vec<f64>>,
+    /// Summed-area table of point counts, (cols+1)×(rows+1).
+    counts: Vec<u32>,
+    /// Summed-area table of the expected point count.
+    expected: Vec<f64>,
 }
 
 /// Steps of [`Density`]'s table of the expected count over the map's value.
@@ -54,68 +53,56 @@ fn summed<T: Copy + Default + std::ops::Add<Output = T>>(
 }
 
 impl Density {
+    /// The density of `points`, sampled on `map` at radius range `range`,
+    /// over the `(w, h)` domain.
     pub(crate) fn new(
         points: &[Point],
-        maps: &[Prepared],
+        map: &Prepared,
         range: RadiusRange,
         (w, h): (u32, u32),
     ) -> Self {
         let (w, h) = (w as usize, h as usize);
         let (cols, rows) = (w.div_ceil(CELL), h.div_ceil(CELL));
-        let cell_of = |x: usize, y: usize| (y / CELL) * cols + x / CELL;
-        let expected = maps
-            .par_iter()
-            .map(|m| {
-                // The expected count per pixel is a function of its value:
-                // tabulated once, as the radii are.
-                let radius = crate::importance::ImportanceMap::radius_fn(m.mapping, range);
-                let per_px: Vec<f64> = (0..=DENSITY_STEPS)
-                    .map(|i| {
-                        let r = f64::from(radius(i as f32 / DENSITY_STEPS as f32));
-                        ink::density(r) * crate::sampler::RSA_DENSITY
-                            / (std::f64::consts::PI * r * r / 4.0)
-                    })
-                    .collect();
-                // Cell rows in parallel, each summing its pixels in order.
-                let mut per_cell = vec![0f64; cols * rows];
-                per_cell
-                    .par_chunks_mut(cols)
-                    .enumerate()
-                    .for_each(|(cy, row)| {
-                        for y in cy * CELL..((cy + 1) * CELL).min(h) {
-                            for x in 0..w {
-                                let v = m.value(x as u32, y as u32);
-                                let t = v.clamp(0.0, 1.0) * DENSITY_STEPS as f32;
-                                let j = (t as usize).min(DENSITY_STEPS - 1);
-                                let f = f64::from(t - j as f32);
-                                row[x / CELL] += per_px[j] + f * (per_px[j + 1] - per_px[j]);
-                            }
-                        }
-                    });
-                summed(cols, rows, |c| per_cell[c])
+        // The expected count per pixel is a function of its value:
+        // tabulated once, as the radii are.
+        let radius = crate::importance::ImportanceMap::radius_fn(map.mapping, range);
+        let per_px: Vec<f64> = (0..=DENSITY_STEPS)
+            .map(|i| {
+                let r = f64::from(radius(i as f32 / DENSITY_STEPS as f32));
+                ink::density(r) * crate::sampler::RSA_DENSITY / (std::f64::consts::PI * r * r / 4.0)
             })
             .collect();
-        let counts = (0..maps.len() as u32)
-            .map(|c| {
-                let mut n = vec![0u32; cols * rows];
-                for p in points.iter().filter(|p| p.class == c) {
-                    let (x, y) = ((p.x as usize).min(w - 1), (p.y as usize).min(h - 1));
-                    n[cell_of(x, y)] += 1;
+        // Cell rows in parallel, each summing its pixels in order.
+        let mut per_cell = vec![0f64; cols * rows];
+        per_cell
+            .par_chunks_mut(cols)
+            .enumerate()
+            .for_each(|(cy, row)| {
+                for y in cy * CELL..((cy + 1) * CELL).min(h) {
+                    for x in 0..w {
+                        let v = map.value(x as u32, y as u32);
+                        let t = v.clamp(0.0, 1.0) * DENSITY_STEPS as f32;
+                        let j = (t as usize).min(DENSITY_STEPS - 1);
+                        let f = f64::from(t - j as f32);
+                        row[x / CELL] += per_px[j] + f * (per_px[j + 1] - per_px[j]);
+                    }
                 }
-                summed(cols, rows, |c| n[c])
-            })
-            .collect();
+            });
+        let mut n = vec![0u32; cols * rows];
+        for p in points {
+            let (x, y) = ((p.x as usize).min(w - 1), (p.y as usize).min(h - 1));
+            n[(y / CELL) * cols + x / CELL] += 1;
+        }
         Self {
             cols,
             rows,
-            counts,
-            expected,
+            counts: summed(cols, rows, |c| n[c]),
+            expected: summed(cols, rows, |c| per_cell[c]),
         }
     }
 
-    /// The radius of the single-pen maximal set that has point `p`'s pen's
-    /// local density: its sample radius, or more where the other pens thin
-    /// it out.
+    /// The radius of the maximal set that has the local density around
+    /// point `p`: its sample radius, or more where the dots are thinned out.
     pub(crate) fn effective_radius(&self, p: &Point) -> f64 {
         let half = WINDOW * p.radius;
         let cell = CELL as f32;
@@ -124,19 +111,46 @@ impl Density {
         let x1 = (((p.x + half).max(0.0) / cell) as usize + 1).min(self.cols);
         let y1 = (((p.y + half).max(0.0) / cell) as usize + 1).min(self.rows);
         let stride = self.cols + 1;
-        let c = p.class as usize;
-        let n = self.counts[c][y1 * stride + x1] + self.counts[c][y0 * stride + x0]
-            - self.counts[c][y0 * stride + x1]
-            - self.counts[c][y1 * stride + x0];
-        let e = self.expected[c][y1 * stride + x1] + self.expected[c][y0 * stride + x0]
-            - self.expected[c][y0 * stride + x1]
-            - self.expected[c][y1 * stride + x0];
+        let n = self.counts[y1 * stride + x1] + self.counts[y0 * stride + x0]
+            - self.counts[y0 * stride + x1]
+            - self.counts[y1 * stride + x0];
+        let e = self.expected[y1 * stride + x1] + self.expected[y0 * stride + x0]
+            - self.expected[y0 * stride + x1]
+            - self.expected[y1 * stride + x0];
         let r = f64::from(p.radius);
         if n == 0 || e <= 0.0 {
             return r;
         }
         r / (f64::from(n) / e).clamp(0.1, 4.0).sqrt()
     }
+}
+
+/// `radii`, the calibrated dots of `points` sampled on `map` (sized dots),
+/// each resized for the spacing the dots have around it ([`Density`]),
+/// within the mapping's own sizes: the darkest dots keep their size
+/// (`--dot-mm`), the lightest their ratio (`--dot-ratio`).
+pub(crate) fn local_spacing(
+    map: &Prepared,
+    points: &[Point],
+    range: RadiusRange,
+    domain: (u32, u32),
+    radii: &mut [f32],
+) {
+    let density = Density::new(points, map, range, domain);
+    let (lo, hi) = (
+        map.mapping.dot_radius(1.0, range),
+        map.mapping.dot_radius(0.0, range),
+    );
+    // The effective radii lie within 1/√4 and 1/√0.1 of the sample radii.
+    let ratios = Ratios::new(f64::from(range.min) * 0.5, f64::from(range.max) * 3.2);
+    points
+        .par_iter()
+        .zip(radii.par_iter_mut())
+        .for_each(|(p, r)| {
+            let ink = f64::from(1.0 - map.value_at(p.x, p.y));
+            let factor = ratios.factor(ink, f64::from(p.radius), density.effective_radius(p));
+            *r = (*r * factor).clamp(lo.min(*r), hi.max(*r));
+        });
 }
 
 /// [`ink::dot_ratio`] tabulated over the ink (in steps of its square root:

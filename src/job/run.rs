@@ -230,33 +230,7 @@ impl Job {
                 if self.spacing == super::Spacing::Local
                     && matches!(maps[0].mapping, crate::importance::Mapping::ToneSized(_))
                 {
-                    use rayon::prelude::*;
-                    let density = super::density::Density::new(&points, maps, range, domain);
-                    // Within the mapping's own sizes: the darkest dots keep
-                    // their size (`--dot-mm`), the lightest their ratio.
-                    let mapping = maps[0].mapping;
-                    let (lo, hi) = (
-                        mapping.dot_radius(1.0, range),
-                        mapping.dot_radius(0.0, range),
-                    );
-                    // The effective radii lie within a factor of 1/√4 and
-                    // 1/√0.1 of the sample radii ([`Density`]).
-                    let ratios = super::density::Ratios::new(
-                        f64::from(range.min) * 0.5,
-                        f64::from(range.max) * 3.2,
-                    );
-                    points
-                        .par_iter()
-                        .zip(radii.par_iter_mut())
-                        .for_each(|(p, r)| {
-                            let ink = f64::from(1.0 - maps[0].value_at(p.x, p.y));
-                            let factor = ratios.factor(
-                                ink,
-                                f64::from(p.radius),
-                                density.effective_radius(p),
-                            );
-                            *r = (*r * factor).clamp(lo.min(*r), hi.max(*r));
-                        });
+                    super::density::local_spacing(&maps[0], &points, range, domain, &mut radii);
                 }
                 radii
             }
