@@ -303,6 +303,13 @@ impl UnionRadii {
     }
 }
 
+/// Whether a class whose map holds `v` has samples there: where it asks
+/// for at least half the ink of the lightest dots (`lightest`,
+/// [`Classes::lightest`]).
+fn has_samples(v: f32, lightest: f64) -> bool {
+    f64::from(1.0 - v) >= lightest / 2.0
+}
+
 /// Several importance maps drawn together, one class each: the pens of a
 /// colour drawing, sampled as their union ([`Self::union_params`]) whose
 /// points are then given pens by their shares of its density. The maps
@@ -339,10 +346,10 @@ impl Classes<'_> {
             .collect();
         move |c, i| {
             let v = self.maps[c].value_index(i);
-            if f64::from(1.0 - v) < lightest / 2.0 {
-                f32::INFINITY
-            } else {
+            if has_samples(v, lightest) {
                 radius[c](v)
+            } else {
+                f32::INFINITY
             }
         }
     }
@@ -407,11 +414,11 @@ impl Classes<'_> {
                 let lut: Vec<f32> = (0..=STEPS)
                     .map(|k| {
                         let v = k as f32 / STEPS as f32;
-                        if f64::from(1.0 - v) < lightest / 2.0 {
-                            0.0
-                        } else {
+                        if has_samples(v, lightest) {
                             let r = radius(v);
                             1.0 / (r * r)
+                        } else {
+                            0.0
                         }
                     })
                     .collect();

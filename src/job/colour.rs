@@ -405,7 +405,7 @@ impl Correction {
                     }
                 }
             });
-        let sigma = fine_sigma / f64::from(block);
+        let sigma = sigma_cells;
         let src_sigma = sigma * f64::from(src.0) / f64::from(work.0);
         let mut target = Vec::with_capacity(3);
         for k in 0..3 {
