@@ -193,6 +193,8 @@ fn the_canvas_renders_dots_and_backgrounds() {
     let _ = paper.save(concat!(env!("CARGO_TARGET_TMPDIR"), "/app-paper.png"));
     let dots = dark(&paper);
     assert!(dots > 200, "only {dots} dark pixels: no dots drawn");
+    // The view's section comes into sight below the dots' controls.
+    fold(&mut h, &["Dot size"]);
     h.get_by_label("Photo").click();
     h.run_steps(3);
     let photo = h.render().expect("render");
@@ -222,7 +224,7 @@ fn relaxation_runs_on_the_worker_and_can_be_cancelled() {
         .clone();
     // A long relaxation, then Cancel: the worker stops, the drawing stays.
     h.state_mut().settings.points = 60_000;
-    h.state_mut().settings.job.relax = 30;
+    h.state_mut().settings.job.relax = Some(30);
     let start = Instant::now();
     while !h.state().busy() {
         h.step();
@@ -239,12 +241,12 @@ fn relaxation_runs_on_the_worker_and_can_be_cancelled() {
     );
     // The controls show the drawing's settings again, not the cancelled ones.
     assert_eq!(h.state().settings.points, 10_000);
-    assert_eq!(h.state().settings.job.relax, 0);
+    assert_eq!(h.state().settings.job.relax, None);
     h.run_steps(3);
     assert!(!h.state().busy(), "going back re-sampled");
     // A short relaxation finishes, with the count asked for.
     h.state_mut().settings.points = 2000;
-    h.state_mut().settings.job.relax = 3;
+    h.state_mut().settings.job.relax = Some(3);
     h.step();
     settle(&mut h);
     let relaxed = &h.state().outcome.as_ref().unwrap().drawing.set.points;
@@ -619,6 +621,11 @@ fn the_status_follows_the_job_on_the_gpu_backend() {
 fn exact_spacing_gives_sets_without_slack() {
     let (_dir, _png, mut h) = ready(200, 150);
     assert!(!h.state().outcome.as_ref().unwrap().drawing.set.stats.exact);
+    // Relaxation moves the points off the sampler's set: none here.
+    h.state_mut().settings.job.relax = Some(0);
+    h.step();
+    settle(&mut h);
+    fold(&mut h, &["Dot size"]);
     h.get_by_label("Exact spacing").click();
     settle(&mut h);
     let set = &h.state().outcome.as_ref().unwrap().drawing.set;
@@ -727,7 +734,7 @@ fn the_app_draws_and_exports_what_the_cli_does() {
         st.points = 3000;
         let job = &mut st.job;
         job.dot = Some(pixelpie::job::DotMode::Fixed);
-        job.relax = 2;
+        job.relax = Some(2);
         job.order = pixelpie::job::Order::Tsp;
         job.width_mm = Some(150.0);
         job.pen_mm = Some(0.4);
@@ -1656,7 +1663,7 @@ fn counts_out_of_range_are_refused_in_words_and_nothing_fails_silently() {
 fn presets_crop_and_turn_round_trip_through_job_files() {
     let (dir, png, mut h) = ready(300, 200);
     h.state_mut().settings.points = 1500;
-    h.state_mut().settings.job.relax = 1;
+    h.state_mut().settings.job.relax = Some(1);
     h.step();
     settle(&mut h);
     // Turn a quarter and crop: the drawing takes the framed picture's shape.
@@ -1711,7 +1718,7 @@ fn presets_crop_and_turn_round_trip_through_job_files() {
     h.step();
     assert_eq!(h.state().settings.points, 1500);
     assert_eq!(h.state().settings.job.rotate, Some(90));
-    assert_eq!(h.state().settings.job.relax, 1);
+    assert_eq!(h.state().settings.job.relax, Some(1));
     // A file that is not a job says so.
     std::fs::write(&preset, "points = 5\n").unwrap();
     h.get_by_label("Load").click();
@@ -1819,4 +1826,72 @@ fn the_local_spacing_box_switches_the_dot_sizing() {
         "the same points"
     );
     assert_ne!(before.calibrated, after.calibrated, "other sizes");
+}
+
+/// The Dot size section's "Correct tones by rendering" box is the CLI's
+/// `--correction`: on by default; unticked, the same points with the
+/// calibration's sizes alone.
+#[test]
+fn the_correction_box_switches_the_correction() {
+    let (_dir, _png, mut h) = ready(240, 160);
+    assert_eq!(
+        h.state().settings.job.correction,
+        pixelpie::job::Correction::On
+    );
+    let before = h.state().outcome.as_ref().unwrap().drawing.clone();
+    h.get_by_label("Correct tones by rendering").click();
+    h.run_steps(2);
+    settle(&mut h);
+    assert_eq!(
+        h.state().settings.job().correction,
+        pixelpie::job::Correction::Off
+    );
+    let after = &h.state().outcome.as_ref().unwrap().drawing;
+    assert_eq!(before.points.len(), after.points.len());
+    assert!(
+        before
+            .points
+            .iter()
+            .zip(&after.points)
+            .all(|(a, b)| (a.x, a.y) == (b.x, b.y)),
+        "the same points"
+    );
+    assert_ne!(before.calibrated, after.calibrated, "other sizes");
+}
+
+/// "Auto relax" is the default (three Lloyd steps at the app's counts);
+/// unticked, the slider sets the steps, and none gives the sampler's set.
+#[test]
+fn auto_relax_relaxes_and_the_slider_takes_over_when_unticked() {
+    let (_dir, _png, mut h) = ready(240, 160);
+    assert_eq!(h.state().settings.job.relax, None);
+    let relaxed = h.state().outcome.as_ref().unwrap().drawing.clone();
+    h.get_by_label("Auto relax").click();
+    h.run_steps(2);
+    assert_eq!(
+        h.state().settings.job.relax,
+        Some(pixelpie::job::AUTO_RELAX_STEPS),
+        "unticked, the slider starts at the steps auto took"
+    );
+    h.state_mut().settings.job.relax = Some(0);
+    h.step();
+    settle(&mut h);
+    let plain = &h.state().outcome.as_ref().unwrap().drawing;
+    assert!(
+        plain.set.maximal(),
+        "not relaxed: the sampler's maximal set"
+    );
+    // The same sample, moved by the relaxation.
+    assert_eq!(plain.set.points.len(), relaxed.set.points.len());
+    let moved = plain
+        .set
+        .points
+        .iter()
+        .zip(&relaxed.set.points)
+        .filter(|(a, b)| (a.x, a.y) != (b.x, b.y))
+        .count();
+    assert!(
+        moved > plain.set.points.len() / 2,
+        "relaxed: only {moved} points moved"
+    );
 }

@@ -762,6 +762,11 @@ fn local_spacing_draws_truer_tones_under_every_policy() {
                 policy,
                 "--spacing",
                 spacing,
+                // The sizing alone: neither relaxed nor corrected.
+                "--relax",
+                "0",
+                "--correction",
+                "off",
                 "-q",
                 "-o",
                 s(&svg),
@@ -773,6 +778,41 @@ fn local_spacing_draws_truer_tones_under_every_policy() {
         assert!(
             local > radius + 0.3,
             "{policy}: local {local:.2} dB against radius {radius:.2} dB"
+        );
+    }
+}
+
+/// The default drawing is corrected toward the photo's tones by rendering
+/// it (`--correction on`): truer in tone and structure than the
+/// calibration's curves alone, under every policy.
+#[test]
+fn the_correction_draws_truer_tones_under_every_policy() {
+    let dir = tempfile::tempdir().unwrap();
+    let photo = asset("astronaut.jpg");
+    for policy in ["smaller", "prior", "current", "bigger"] {
+        let measure = |correction: &str| {
+            let svg = dir.path().join(format!("{policy}-{correction}.svg"));
+            ok(&[
+                "stipple",
+                &photo,
+                "--points",
+                "10000",
+                "--policy",
+                policy,
+                "--correction",
+                correction,
+                "-q",
+                "-o",
+                s(&svg),
+            ]);
+            let f = fidelity(&photo, &svg, &[]);
+            (f["psnr"].as_f64().unwrap(), f["ssim"].as_f64().unwrap())
+        };
+        let (on, off) = (measure("on"), measure("off"));
+        println!("{policy}: on {on:.3?}, off {off:.3?}");
+        assert!(
+            on.0 > off.0 + 0.5 && on.1 > off.1,
+            "{policy}: corrected {on:.3?} against {off:.3?} (PSNR dB, SSIM)"
         );
     }
 }

@@ -350,11 +350,11 @@ fn colour_takes_every_grey_control() {
         f(&mut j);
         j
     };
-    let plain = cmyk(&|_| {});
+    let plain = cmyk(&|j| j.relax = Some(0));
     let d0 = run(&plain, &photo);
     // Relaxation moves all pens together: every dot keeps its pen, and the
     // union's spacing evens out.
-    let relaxed = cmyk(&|j| j.relax = 4);
+    let relaxed = cmyk(&|j| j.relax = Some(4));
     let d1 = run(&relaxed, &photo);
     let counts = |d: &Stipple| {
         let mut c = [0usize; 4];
@@ -553,7 +553,7 @@ fn plot_stats_count_each_pens_dots_lifts_and_time() {
 fn the_run_reports_every_stage_and_the_sizing_parts() {
     let photo = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/rocket.jpg");
     let mut job = cmyk(1500);
-    job.relax = 1;
+    job.relax = Some(1);
     let mut seen = Vec::new();
     job.run(
         &photo,
@@ -586,7 +586,7 @@ fn the_run_reports_every_stage_and_the_sizing_parts() {
             "size: correction 3 of 3"
         ]
     );
-    assert!(seen.contains(&Relaxed(1)));
+    assert!(seen.contains(&Relaxed(1, 1)));
     // Saying stop at a stage cancels the run.
     let stopped = job.run(
         &photo,

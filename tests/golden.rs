@@ -20,22 +20,24 @@ use std::sync::Arc;
 
 use common::smooth_radii;
 use pixelpie::colour::PenSet;
-use pixelpie::job::{Job, Order, Stipple};
+use pixelpie::job::{Correction, Job, Order, Stipple};
 use pixelpie::sampler::{ClassRadii, Control, Params, Point, Policy, RadiusMap, SampleSet, cpu};
 
 /// (case, points, hash): the pinned outputs. Update as the module doc says.
 #[rustfmt::skip]
 const GOLDEN: &[(&str, usize, u64)] = &[
-    ("grey stipple", 3083, 0x5c3ba00fe583e2b1),
-    ("grey stipple, SVG", 3083, 0x818b9dcad0326e7d),
-    ("grey stipple, spacing radius", 3083, 0x78312ad7edb7ddd6),
-    ("grey stipple, spacing radius, SVG", 3083, 0x9f8eeae70ee687ad),
-    ("grey stipple, relax 3", 3083, 0xefe3f25010419778),
-    ("grey stipple, relax 3, SVG", 3083, 0xdce888ef8d73c131),
-    ("grey stipple, TSP", 3083, 0x47e65cf49fff6835),
-    ("grey stipple, TSP, SVG", 3083, 0x18a9633af3b7b16f),
-    ("CMYK stipple", 3046, 0x0bcb23bc14c93ed2),
-    ("CMYK stipple, SVG", 3046, 0x26d85690bc4acfdc),
+    ("grey stipple", 3083, 0xa157944e78dd2a89),
+    ("grey stipple, SVG", 3083, 0x02b56276152c46b0),
+    ("grey stipple, spacing radius, relax 0, correction off", 3083, 0x78312ad7edb7ddd6),
+    ("grey stipple, spacing radius, relax 0, correction off, SVG", 3083, 0x9f8eeae70ee687ad),
+    ("grey stipple, relax 3, correction off", 3083, 0xefe3f25010419778),
+    ("grey stipple, relax 3, correction off, SVG", 3083, 0xdce888ef8d73c131),
+    ("grey stipple, TSP", 3083, 0x832b59a200e5a599),
+    ("grey stipple, TSP, SVG", 3083, 0x351093a3ca6dfa6a),
+    ("CMYK stipple", 3046, 0x6f4fc9f68e08d6f3),
+    ("CMYK stipple, SVG", 3046, 0x35c2912d66f94506),
+    ("CMYK stipple, relax 0", 3046, 0x0bcb23bc14c93ed2),
+    ("CMYK stipple, relax 0, SVG", 3046, 0x26d85690bc4acfdc),
     ("uniform", 1897, 0xdbb96cf27fff9ec9),
     ("uniform, periodic", 1849, 0x7704e67eaecaa3f4),
     ("uniform, no sub-pixel bits", 1847, 0x8c3e8515ae42bd94),
@@ -139,8 +141,9 @@ fn sampler_cases() -> Vec<(String, Params)> {
     cases
 }
 
-/// The drawings' cases: grey, grey sized for the sample radius, grey
-/// relaxed, grey in TSP order, CMYK.
+/// The drawings' cases: grey, grey as earlier versions drew it, grey
+/// relaxed without the correction, grey in TSP order, CMYK, CMYK not
+/// relaxed.
 fn drawing_cases() -> Vec<(String, &'static str, Job)> {
     let job = |f: &dyn Fn(&mut Job)| {
         let mut j = Job::default();
@@ -149,26 +152,43 @@ fn drawing_cases() -> Vec<(String, &'static str, Job)> {
         j
     };
     let grey = job(&|_| {});
-    // The drawing before sizing for the local spacing: its hashes are the
-    // grey stipple's of before (the points unchanged, the sizes as then).
-    let radius = job(&|j| j.spacing = pixelpie::job::Spacing::Radius);
-    let relaxed = job(&|j| j.relax = 3);
+    // The drawings of earlier versions: sized for the sample radius, not
+    // relaxed, not corrected by rendering (their hashes are the grey
+    // stipple's of before: the points unchanged, the sizes as then).
+    let old = job(&|j| {
+        j.spacing = pixelpie::job::Spacing::Radius;
+        j.relax = Some(0);
+        j.correction = Correction::Off;
+    });
+    let relaxed = job(&|j| {
+        j.relax = Some(3);
+        j.correction = Correction::Off;
+    });
     let tsp = job(&|j| j.order = Order::Tsp);
     let cmyk = job(&|j| j.pens = Some(PenSet::cmyk()));
+    let cmyk_unrelaxed = job(&|j| {
+        j.pens = Some(PenSet::cmyk());
+        j.relax = Some(0);
+    });
     vec![
         ("grey stipple".into(), "assets/default.png", grey),
         (
-            "grey stipple, spacing radius".into(),
+            "grey stipple, spacing radius, relax 0, correction off".into(),
             "assets/default.png",
-            radius,
+            old,
         ),
         (
-            "grey stipple, relax 3".into(),
+            "grey stipple, relax 3, correction off".into(),
             "assets/default.png",
             relaxed,
         ),
         ("grey stipple, TSP".into(), "assets/default.png", tsp),
         ("CMYK stipple".into(), "assets/astronaut.jpg", cmyk),
+        (
+            "CMYK stipple, relax 0".into(),
+            "assets/astronaut.jpg",
+            cmyk_unrelaxed,
+        ),
     ]
 }
 

@@ -224,7 +224,10 @@ def stipple(
     disk, a texture that does not reproduce tones), ``dot_factor``,
     ``dot_ratio``, ``dot_radius``, ``spacing`` (``"local"``: sized dots
     for the spacing they have; ``"radius"``: for their sample radius, as
-    earlier versions), ``relax`` (weighted Lloyd steps),
+    earlier versions), ``correction`` (``"on"``: sized dots corrected
+    toward the picture's tones by rendering; ``"off"``: the curves alone,
+    as earlier versions), ``relax`` (weighted Lloyd steps; by default 3 up
+    to 200 000 dots, none past),
     ``order`` (``"tsp"``: a short pen-plotter path), ``scale`` (PNG pixels
     per domain pixel), ``width_mm`` and ``pen_mm`` (SVG in millimetres,
     drawn with a pen), ``paper`` (``"a4"``, ``"letter"``, ``"WxHmm"``, ...:

@@ -94,6 +94,7 @@ def stipple(
     refill_mm: Optional[float] = ...,
     layer_order: Optional[str] = ...,
     spacing: Optional[str] = ...,
+    correction: Optional[str] = ...,
 ) -> Any:
     """A stipple drawing of ``image`` (a path, an array or a PIL image),
     written to ``output``; its dots (x, y, radius), with ``pens`` also each

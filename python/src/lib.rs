@@ -284,6 +284,8 @@ fn job_options() -> serde_json::Result<serde_json::Value> {
             ("refill_mm", serde_json::Value::Null),
             ("layer_order", serde_json::to_value(job.layer_order)?),
             ("spacing", serde_json::to_value(job.spacing)?),
+            ("correction", serde_json::to_value(job.correction)?),
+            ("relax", serde_json::Value::Null),
         ] {
             m.entry(name).or_insert(default);
         }

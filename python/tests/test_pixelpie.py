@@ -162,6 +162,7 @@ EVERY_OPTION = [
     ("refill_mm", 300.0, "a.svg"),
     ("layer_order", "pens", "a.svg"),
     ("spacing", "radius", "a.svg"),
+    ("correction", "off", "a.svg"),
 ]
 
 

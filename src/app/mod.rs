@@ -102,7 +102,7 @@ pub struct PixelPieApp {
     pending: Option<Instant>,
     last_key: Option<settings::SamplingKey>,
     progress: Option<Progress>,
-    relaxed: Option<u32>,
+    relaxed: Option<(u32, u32)>,
     /// The stage the running job is in, as its run last reported it.
     stage: Option<&'static str>,
     dots_generation: u64,
@@ -556,7 +556,9 @@ impl PixelPieApp {
             match reply {
                 Reply::Progress(id, p) if id == self.next_job => self.progress = Some(p),
                 Reply::Progress(..) => {}
-                Reply::Relaxed(id, done) if id == self.next_job => self.relaxed = Some(done),
+                Reply::Relaxed(id, done, of) if id == self.next_job => {
+                    self.relaxed = Some((done, of));
+                }
                 Reply::Relaxed(..) => {}
                 Reply::Stage(id, name) if id == self.next_job => self.stage = Some(name),
                 Reply::Stage(..) => {}

@@ -505,8 +505,53 @@ impl PixelPieApp {
                 crate::job::Spacing::Radius
             };
         }
-        ui.add(egui::Slider::new(&mut job.relax, 0..=30).text("Relax (Lloyd steps)"))
-            .on_hover_text("Weighted Voronoi relaxation after sampling: more even spacing.");
+        let mut correct = job.correction == crate::job::Correction::On;
+        if ui
+            .add_enabled(
+                mode == DotMode::Sized,
+                egui::Checkbox::new(&mut correct, "Correct tones by rendering"),
+            )
+            .on_hover_text(
+                "Render the drawing, blur it by the dot spacing, compare it with the picture and \
+                 resize each dot for the ink its neighbourhood lacks (--correction on). Off: the \
+                 calibration's curves alone, as earlier versions drew.",
+            )
+            .on_disabled_hover_text("Sized dots only")
+            .changed()
+        {
+            job.correction = if correct {
+                crate::job::Correction::On
+            } else {
+                crate::job::Correction::Off
+            };
+        }
+        // Relaxation: by default three steps up to 200K dots, none past.
+        let mut auto = job.relax.is_none();
+        let dots = job.points.unwrap_or(0);
+        if ui
+            .checkbox(&mut auto, "Auto relax")
+            .on_hover_text(format!(
+                "{} Lloyd steps up to {}K dots, none past (a step costs about as much as \
+                 sampling at 1M dots)",
+                crate::job::AUTO_RELAX_STEPS,
+                crate::job::AUTO_RELAX_DOTS / 1000
+            ))
+            .changed()
+        {
+            job.relax = (!auto).then(|| job.relax_steps(dots));
+        }
+        let mut steps = job.relax_steps(dots);
+        if ui
+            .add_enabled(
+                !auto,
+                egui::Slider::new(&mut steps, 0..=30).text("Relax (Lloyd steps)"),
+            )
+            .on_hover_text("Weighted Voronoi relaxation after sampling: more even spacing.")
+            .on_disabled_hover_text("Untick Auto relax to choose the steps")
+            .changed()
+        {
+            job.relax = Some(steps);
+        }
         // One ink's colour; with pens each pen has its own.
         ui.add_enabled_ui(job.pens.is_none(), |ui| ink_ui(ui, &mut job.ink.0));
     }

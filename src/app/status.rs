@@ -144,12 +144,7 @@ impl PixelPieApp {
             return Some(format!("{what}{elapsed}"));
         }
         Some(match (&self.progress, self.relaxed) {
-            (_, Some(done)) => {
-                format!(
-                    "relaxing: {done} of {} steps{elapsed}",
-                    self.settings.job.relax
-                )
-            }
+            (_, Some((done, of))) => format!("relaxing: {done} of {of} steps{elapsed}"),
             (Some(p), None) => format!(
                 "iteration {}, {:.0}% covered{elapsed}",
                 p.iteration,

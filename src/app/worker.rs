@@ -109,8 +109,8 @@ fn ink_median(v: &mut [f32]) -> f32 {
 pub enum Reply {
     /// An iteration finished.
     Progress(u64, Progress),
-    /// This many relaxation steps are done.
-    Relaxed(u64, u32),
+    /// This many relaxation steps are done, of how many.
+    Relaxed(u64, u32, u32),
     /// A stage of the drawing begins (after sampling: relax, order, size
     /// and its parts).
     Stage(u64, &'static str),
@@ -242,7 +242,7 @@ fn run(
         let ctl = Control::new().with_progress(&progress).with_cancel(&cancel);
         let step = |step: Step| {
             let _ = replies.send(match step {
-                Step::Relaxed(done) => Reply::Relaxed(id, done),
+                Step::Relaxed(done, of) => Reply::Relaxed(id, done, of),
                 Step::Stage(name) => Reply::Stage(id, name),
             });
         };

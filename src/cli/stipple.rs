@@ -212,13 +212,12 @@ fn draw(a: &StippleArgs, o: &Job, image: &Path, output: &Path) -> Result<()> {
     a.run.apply_gpu_path();
     let t0 = Instant::now();
     let bar = sampling_bar(a.run.quiet);
-    let relax_bar = progress_bar(a.run.quiet || o.relax == 0);
+    let relax_bar = progress_bar(a.run.quiet || o.relax == Some(0));
     let stage_bar = progress_bar(a.run.quiet);
     stage_bar.set_style(
         indicatif::ProgressStyle::with_template("{spinner} {msg} ({elapsed})")
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_spinner()),
     );
-    relax_bar.set_length(u64::from(o.relax));
     relax_bar.set_style(
         indicatif::ProgressStyle::with_template("{spinner} relaxing [{bar:30}] {pos}/{len}")
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
@@ -235,7 +234,8 @@ fn draw(a: &StippleArgs, o: &Job, image: &Path, output: &Path) -> Result<()> {
         },
         |step| {
             match step {
-                Step::Relaxed(done) => {
+                Step::Relaxed(done, of) => {
+                    relax_bar.set_length(u64::from(of));
                     relax_bar.set_position(u64::from(done));
                 }
                 // After sampling, a spinner names the stage, and ticks.

@@ -17,6 +17,8 @@ use crate::importance::ink::{self, K_MAX};
 use crate::importance::{Adjust, ColourMap, Mapping, MappingKind, Prepared, RadiusRange, Tones};
 use crate::sampler::Point;
 
+use super::correct::{ERROR_BLUR, Grid, MAX_INK, damping, rounds};
+
 /// A colour picture prepared for drawing: one map per pen, and what the
 /// size stage's correction compares the drawing with.
 pub(crate) struct Separated {
@@ -256,14 +258,8 @@ impl Job {
 /// model's Jacobian (damped least norm), and each dot is resized by the ink
 /// curve to put down its pen's new ink, in [`rounds`].
 struct Correction {
-    /// The render grid's size (the drawing, at most [`CORRECTION_SIDE`]).
-    size: (u32, u32),
-    /// Render-grid pixels per domain pixel.
-    scale: f32,
-    /// Render-grid pixels per side of a work-grid cell.
-    block: u32,
-    /// The work grid's size: the render grid in blocks.
-    work: (u32, u32),
+    /// The render and work grids.
+    grid: Grid,
     /// Pens.
     pens: usize,
     /// At every cell of the `src` grid, the ink change per pen for a unit
@@ -274,51 +270,19 @@ struct Correction {
     src: (u32, u32),
     /// The target, blurred, one plane per channel (work grid).
     target: [crate::analyze::fidelity::Grey; 3],
-    /// The blur's σ in work-grid cells.
-    sigma: f64,
     /// The render model.
     model: RenderModel,
 }
 
 /// The ink below which a pen is taken to have no dots in a correction.
 const MIN_INK: f64 = 0.005;
-/// The most ink a correction asks of a pen: past the separation's
-/// [`K_MAX`], since overlaps with other pens' dots hide some of it.
-const MAX_CORRECTED_INK: f64 = 0.995;
-/// The fraction of each round's ink change that is made, by the blur's σ
-/// in work-grid cells: 1.15 (a little past the linear model's step, which
-/// falls short) where σ spans 1.5 cells or more, 0.7 at one cell and less
-/// (the work grid then finer than the dots' noise). Measured by `pixelpie
-/// fidelity` on two photos at 20K, 100K, 300K and 1M dots (docs/colour.md).
-fn damping(sigma_cells: f64) -> f64 {
-    (0.7 + 0.9 * (sigma_cells - 1.0)).clamp(0.7, 1.15)
-}
 /// Render pixels between neighbouring dots in the correction's drawing
 /// (fewer where [`CORRECTION_SIDE`] caps it): the same colours within
 /// ΔE00 0.02 as a finer render on five photos at 20K dots, at a quarter of
 /// its pixels.
 const PX_PER_SPACING: f64 = 5.0;
-/// The error's own blur, in σ.
-const ERROR_BLUR: f64 = 1.0;
-/// The rounds of a [`Correction`], each by its name in the run's progress:
-/// three, or two where the blur's σ spans less than 1.25 work-grid cells
-/// (dense drawings: there a third round chases the dots' own noise, ΔE00
-/// 0.03–0.2 worse on two photos at 1M dots).
-fn rounds(sigma_cells: f64) -> &'static [&'static str] {
-    if sigma_cells < 1.25 {
-        &["size: correction 1 of 2", "size: correction 2 of 2"]
-    } else {
-        &[
-            "size: correction 1 of 3",
-            "size: correction 2 of 3",
-            "size: correction 3 of 3",
-        ]
-    }
-}
 /// The render grid's longer side, at most.
 const CORRECTION_SIDE: u32 = 1024;
-/// The work grid's cells are blocks of render pixels at most σ / this wide.
-const CELLS_PER_SIGMA: f64 = 2.0;
 
 impl Correction {
     fn new(
@@ -328,21 +292,8 @@ impl Correction {
         dots: usize,
     ) -> crate::Result<Self> {
         use crate::analyze::fidelity::{Grey, blur};
-        let long = domain.0.max(domain.1);
-        // About PX_PER_SPACING render pixels between dots, at most
-        // CORRECTION_SIDE on the longer side.
-        let spacing = (f64::from(domain.0) * f64::from(domain.1) / dots.max(1) as f64).sqrt();
-        let scale = (CORRECTION_SIDE as f32 / long as f32)
-            .min(1.0)
-            .min((PX_PER_SPACING / spacing) as f32);
-        let size = (
-            ((domain.0 as f32 * scale).round() as u32).max(1),
-            ((domain.1 as f32 * scale).round() as u32).max(1),
-        );
-        // σ in render pixels; the work grid resolves it with a few cells.
-        let fine_sigma = spacing * f64::from(scale);
-        let block = ((fine_sigma / CELLS_PER_SIGMA).floor() as u32).clamp(1, 8);
-        let work = (size.0.div_ceil(block), size.1.div_ceil(block));
+        let grid = Grid::new(domain, dots, PX_PER_SPACING, CORRECTION_SIDE);
+        let work = grid.work;
         // The photo has no more detail than its own pixels: the target and
         // the gains are made at the smaller of its size and the work grid's,
         // and read off it at each work cell.
@@ -350,8 +301,8 @@ impl Correction {
             work.0.min(picture.width()).max(1),
             work.1.min(picture.height()).max(1),
         );
-        let grid = picture.resized(src.0, src.1)?;
-        let inks = separation.image(grid.rgb());
+        let photo = picture.resized(src.0, src.1)?;
+        let inks = separation.image(photo.rgb());
         let model = separation.model().clone();
         let n = (src.0 * src.1) as usize;
         // The photo's own colour where the pens make it (the separation's
@@ -365,7 +316,7 @@ impl Correction {
                     a[k] = f64::from(p[i]);
                 }
                 let made = model.mix(&a[..inks.len()]);
-                let linear = grid.rgb()[i].map(f64::from);
+                let linear = photo.rgb()[i].map(f64::from);
                 let photo = model.from_linear(linear);
                 let (lab_made, lab_photo) =
                     (model.lab(made), crate::colour::Lab::from_linear(linear));
@@ -387,8 +338,7 @@ impl Correction {
             })
             .collect();
         let pens = inks.len();
-        let sigma_cells = fine_sigma / f64::from(block);
-        let damping = damping(sigma_cells);
+        let damping = damping(grid.sigma);
         let mut gains = vec![0f32; n * pens * 3];
         gains
             .par_chunks_mut(pens * 3)
@@ -405,8 +355,7 @@ impl Correction {
                     }
                 }
             });
-        let sigma = sigma_cells;
-        let src_sigma = sigma * f64::from(src.0) / f64::from(work.0);
+        let src_sigma = grid.sigma * f64::from(src.0) / f64::from(work.0);
         let mut target = Vec::with_capacity(3);
         for k in 0..3 {
             let blurred = blur(
@@ -434,15 +383,11 @@ impl Correction {
             .try_into()
             .map_err(|_| crate::stipple::Error::InvalidParameter("three channels".into()))?;
         Ok(Self {
-            size,
-            scale,
-            block,
-            work,
+            grid,
             pens,
             gains,
             src,
             target,
-            sigma,
             model,
         })
     }
@@ -459,81 +404,42 @@ impl Correction {
         pens: usize,
         stage: &mut dyn FnMut(&'static str) -> crate::Result<()>,
     ) -> crate::Result<()> {
-        use crate::analyze::fidelity::{Grey, blur};
-        let (w, h) = self.size;
-        let (ww, wh) = self.work;
-        let block = self.block;
+        let grid = &self.grid;
+        let (ww, wh) = grid.work;
         let mut assumed = inks.to_vec();
-        for round in rounds(self.sigma) {
+        for round in rounds(grid.sigma) {
             stage(round)?;
             let layers = (0..pens as u32)
                 .into_par_iter()
-                .map(|k| {
-                    let dots: Vec<Dot> = points
-                        .iter()
-                        .zip(calibrated.iter())
-                        .filter(|(p, _)| p.class == k)
-                        .map(|(p, &r)| Dot {
-                            x: p.x * self.scale,
-                            y: p.y * self.scale,
-                            radius: r * self.scale,
-                        })
-                        .collect();
-                    crate::stipple::raster::render(&dots, self.size, 1.0)
-                })
+                .map(|k| grid.render(points, calibrated, |p| p.class == k))
                 .collect::<Result<Vec<_>, _>>()?;
             // What the drawing shows, in the model's space, averaged over
             // each work-grid cell (the render pixels' colours, so that the
             // overlaps within a cell count).
-            let shown: Vec<[f32; 3]> = (0..(ww * wh) as usize)
-                .into_par_iter()
-                .map(|c| {
-                    let (cx, cy) = (c as u32 % ww, c as u32 / ww);
-                    let mut sum = [0f64; 3];
-                    let mut n = 0.0;
-                    for y in cy * block..((cy + 1) * block).min(h) {
-                        for x in cx * block..((cx + 1) * block).min(w) {
-                            let i = (y * w + x) as usize;
-                            // Where every pen covers the pixel wholly or
-                            // not at all (most pixels), the mix is that
-                            // overlap's colour itself, exactly.
-                            let mut whole = 0usize;
-                            let mut partial = false;
-                            for (k, l) in layers.iter().enumerate() {
-                                match l.as_raw()[i] {
-                                    0 => whole |= 1 << k,
-                                    255 => {}
-                                    _ => partial = true,
-                                }
-                            }
-                            let m = if partial {
-                                let mut a = [0f64; MAX_PENS];
-                                for (k, l) in layers.iter().enumerate() {
-                                    a[k] = 1.0 - f64::from(l.as_raw()[i]) / 255.0;
-                                }
-                                self.model.mix(&a[..pens])
-                            } else {
-                                self.model.primary(whole)
-                            };
-                            for (s, v) in sum.iter_mut().zip(m) {
-                                *s += v;
-                            }
-                            n += 1.0;
-                        }
+            let shown = grid.cell_means(|i| {
+                // Where every pen covers the pixel wholly or not at all
+                // (most pixels), the mix is that overlap's colour itself,
+                // exactly.
+                let mut whole = 0usize;
+                let mut partial = false;
+                for (k, l) in layers.iter().enumerate() {
+                    match l.as_raw()[i] {
+                        0 => whole |= 1 << k,
+                        255 => {}
+                        _ => partial = true,
                     }
-                    sum.map(|s| (s / n) as f32)
-                })
-                .collect();
-            let drawn = [0, 1, 2].map(|k| {
-                blur(
-                    &Grey {
-                        width: ww,
-                        height: wh,
-                        values: shown.iter().map(|c| c[k]).collect(),
-                    },
-                    self.sigma,
-                )
+                }
+                if partial {
+                    let mut a = [0f64; MAX_PENS];
+                    for (k, l) in layers.iter().enumerate() {
+                        a[k] = 1.0 - f64::from(l.as_raw()[i]) / 255.0;
+                    }
+                    self.model.mix(&a[..pens])
+                } else {
+                    self.model.primary(whole)
+                }
             });
+            let drawn = [0, 1, 2].map(|k| grid.blurred(shown.iter().map(|c| c[k]).collect(), 1.0));
             // The error, smoothed once more: corrections follow the local
             // bias, not each dot's own noise.
             let error = [0, 1, 2].map(|k| {
@@ -543,14 +449,7 @@ impl Correction {
                     .zip(&drawn[k].values)
                     .map(|(t, d)| t - d)
                     .collect();
-                blur(
-                    &Grey {
-                        width: ww,
-                        height: wh,
-                        values,
-                    },
-                    ERROR_BLUR * self.sigma,
-                )
+                grid.blurred(values, ERROR_BLUR)
             });
             // Each dot's own update: in parallel, the same values.
             points
@@ -559,9 +458,8 @@ impl Correction {
                 .zip(assumed.par_iter_mut())
                 .zip(spacing.par_iter())
                 .for_each(|(((p, cal), assumed), &r)| {
-                    let gx = ((p.x * self.scale) as u32 / block).min(ww - 1);
-                    let gy = ((p.y * self.scale) as u32 / block).min(wh - 1);
-                    let g = (gy * ww + gx) as usize;
+                    let g = grid.cell(p);
+                    let (gx, gy) = (g as u32 % ww, g as u32 / ww);
                     let k = p.class as usize;
                     // The ink change of the dot's pen at its work cell.
                     let e = [0, 1, 2].map(|c| error[c].values[g]);
@@ -572,7 +470,7 @@ impl Correction {
                     if before < 1e-3 {
                         return;
                     }
-                    let after = (before + f64::from(delta)).clamp(0.5 * before, MAX_CORRECTED_INK);
+                    let after = (before + f64::from(delta)).clamp(0.5 * before, MAX_INK);
                     let had = ink::dot_ratio(before, r);
                     if had <= 0.0 {
                         return;

@@ -48,6 +48,7 @@ pub const KEYS: &[&str] = &[
     "refill_mm",
     "layer_order",
     "spacing",
+    "correction",
     "ink",
     "pens",
     "policy",
@@ -216,7 +217,7 @@ mod tests {
     fn a_job_survives_its_file() {
         let mut job = Job {
             points: Some(12_345),
-            relax: 3,
+            relax: Some(3),
             dot_ratio: 0.3,
             pens: Some("cmyk".parse().unwrap()),
             paper: Some("a4".parse().unwrap()),

@@ -77,6 +77,29 @@ impl LayerOrder {
     }
 }
 
+/// Whether a drawing's dots are corrected toward the picture's tones by
+/// rendering it (`--correction`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
+#[serde(rename_all = "lowercase")]
+pub enum Correction {
+    /// The drawing is rendered, blurred by its mean dot spacing and
+    /// compared with the picture, blurred alike; each sized dot is resized
+    /// for the ink its neighbourhood lacks, in two or three rounds.
+    #[default]
+    On,
+    /// The calibration's curves alone (the drawings of earlier versions).
+    Off,
+}
+
+impl Correction {
+    /// Whether this is the default (left out of the job's files).
+    #[must_use]
+    pub fn is_default(&self) -> bool {
+        *self == Self::default()
+    }
+}
+
 /// The spacing a sized dot is calibrated for (`--spacing`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[cfg_attr(feature = "cli", derive(clap::ValueEnum))]

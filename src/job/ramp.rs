@@ -20,7 +20,8 @@ pub struct RampError {
 /// Stipples a ramp of display grey, black (left) to white (right), 1536 ×
 /// 384 px, with `job` (sampled on the CPU), plots it with a pen of dot gain
 /// `gain` ([`plotted`]), and compares each band of 1/32 of the width with
-/// the ramp: the band's grey is 1 − its mean ink (a blur across the band).
+/// the ramp: the band's grey is 1 − its mean ink (a blur across the band),
+/// rendered at four times the size.
 pub fn ramp_error(job: &Job, gain: f64) -> crate::Result<RampError> {
     let (w, h) = (1536u32, 384u32);
     // The map holds linear light; the ramp is even in display grey.
@@ -33,12 +34,16 @@ pub fn ramp_error(job: &Job, gain: f64) -> crate::Result<RampError> {
     job.height = Some(h);
     let drawing = job.run_map(&map, |p| Ok(p.generate()?), |_| true)?;
     let dots = plotted(&job.dots(&drawing), gain);
-    let img = crate::stipple::raster::render(&dots, (w, h), 1.0)?;
+    // At four times the size: dots a pixel or two wide are measured by
+    // their true coverage.
+    const K: u32 = 4;
+    let img = crate::stipple::raster::render(&dots, (w, h), K as f32)?;
     let bands: Vec<(f64, f64)> = (0..32)
         .map(|b| {
             let (x0, x1) = (b * w / 32, (b + 1) * w / 32);
             let target = f64::from(x0 + x1) / 2.0 / f64::from(w);
-            let grey = 1.0 - crate::stipple::raster::mean_ink(&img, x0, 16, x1, h - 16);
+            let grey =
+                1.0 - crate::stipple::raster::mean_ink(&img, K * x0, K * 16, K * x1, K * (h - 16));
             (target, grey)
         })
         .collect();

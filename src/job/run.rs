@@ -204,14 +204,15 @@ impl Job {
         };
         let (mut set, range) = (fitted.set, fitted.range);
         let t_sample = lap();
-        if self.relax > 0 {
+        let steps = self.relax_steps(set.points.len());
+        if steps > 0 {
             stage(&mut progress, "relax")?;
             let options = relax::RelaxOptions {
-                iterations: self.relax,
+                iterations: steps,
                 periodic: self.sampler.periodic,
             };
             let moved = crate::stipple::relax_points(maps, range, &set.points, options, |n| {
-                progress(Step::Relaxed(n))
+                progress(Step::Relaxed(n, steps))
             })?;
             set = set.with_points(moved);
         }
@@ -231,6 +232,24 @@ impl Job {
                     && matches!(maps[0].mapping, crate::importance::Mapping::ToneSized(_))
                 {
                     super::density::local_spacing(&maps[0], &points, range, domain, &mut radii);
+                }
+                // Corrected toward the map's tones by rendering.
+                if self.correction == super::Correction::On
+                    && matches!(maps[0].mapping, crate::importance::Mapping::ToneSized(_))
+                    && matches!(self.dot_size(), crate::stipple::DotSize::Calibrated(_))
+                {
+                    let limits = (
+                        maps[0].mapping.dot_radius(1.0, range),
+                        maps[0].mapping.dot_radius(0.0, range),
+                    );
+                    super::correct::correct_grey(
+                        &maps[0],
+                        &points,
+                        range,
+                        &mut radii,
+                        limits,
+                        &mut |name| stage(&mut progress, name),
+                    )?;
                 }
                 radii
             }
@@ -306,8 +325,8 @@ pub enum Step {
     /// correction 1 of 3`, …), so that long work reports at least once a
     /// second.
     Stage(&'static str),
-    /// Relaxation steps done so far.
-    Relaxed(u32),
+    /// Relaxation steps done so far, of how many.
+    Relaxed(u32, u32),
 }
 
 /// Reports stage `name`; an `Err` (cancelled) when `progress` says stop.

@@ -146,6 +146,31 @@ pub fn render_view(dots: &[Dot], view: (f64, f64), size: (u32, u32)) -> Result<G
 /// The PNG text keyword that marks our drawings and holds their dot count.
 pub const DOTS_KEYWORD: &str = "pixelpie:dots";
 
+/// The paper's display grey of `dots` (in a `view`) at `size`, each pixel
+/// the mean of `k`×`k` pixels rendered at `k` times the size: the pixels'
+/// true coverage where dots are only a pixel or two wide (one pixel's
+/// coverage is then approximate, and overlaps within it are not seen).
+pub fn render_mean(dots: &[Dot], view: (f64, f64), size: (u32, u32), k: u32) -> Result<Vec<f32>> {
+    let k = k.max(1);
+    let fine = render_view(dots, view, (size.0 * k, size.1 * k))?;
+    let (fw, raw) = (size.0 * k, fine.as_raw());
+    let norm = 1.0 / (255.0 * (k * k) as f32);
+    Ok((0..size.0 as usize * size.1 as usize)
+        .into_par_iter()
+        .map(|i| {
+            let (x, y) = (i as u32 % size.0, i as u32 / size.0);
+            let mut sum = 0u32;
+            for fy in y * k..(y + 1) * k {
+                let row = (fy * fw) as usize;
+                for fx in x * k..(x + 1) * k {
+                    sum += u32::from(raw[row + fx as usize]);
+                }
+            }
+            sum as f32 * norm
+        })
+        .collect())
+}
+
 /// Encodes `img` as an 8-bit grey PNG into `w`, with text chunks naming
 /// the software and the drawing's number of `dots` ([`DOTS_KEYWORD`]), so
 /// that [`read_png_dots`] recognises our drawings.
