@@ -361,12 +361,30 @@ impl Classes<'_> {
     /// classes' summed density: the colour drawing's one sample, whose
     /// points are then given pens ([`Self::shares`]).
     pub fn union_params(&self, base: &Params, scale: f64) -> crate::sampler::Result<Params> {
+        let range = self.maps[0].range.scaled(scale);
+        let (w, h) = self.maps[0].domain();
+        let inv = self.union_density(range);
+        let m = RadiusMap::from_fn(w, h, |i| {
+            if inv[i] > 0.0 {
+                // At most the lightest dots' radius (where a stretched
+                // map's sum fades out between pixels with and without ink).
+                (1.0 / inv[i].sqrt()).clamp(1.0, range.max)
+            } else {
+                range.max
+            }
+        })?;
+        Ok(base.clone().with_radius_map(Arc::new(m)))
+    }
+
+    /// Σ 1/r_c² over the classes that have samples, at each of the
+    /// domain's pixels, for the radius range `range`: the union's density
+    /// (its radius map's 1/R², the weight of its relaxation). Summed at the
+    /// maps' own pixels and read at the domain's (one map read, not one per
+    /// pen, where the maps are stretched).
+    pub(crate) fn union_density(&self, range: RadiusRange) -> Vec<f32> {
         let first = &self.maps[0];
-        let range = first.range.scaled(scale);
         let density = self.densities(range);
         let (w, h) = first.domain();
-        // Σ 1/r_c² at the maps' own pixels, read at the domain's (one map
-        // read, not one per pen, where the maps are stretched).
         let own = (first.map.width(), first.map.height());
         let sum = |i: usize| -> f32 {
             self.maps
@@ -375,30 +393,25 @@ impl Classes<'_> {
                 .map(|(m, d)| d(m.map.values()[i]))
                 .sum()
         };
-        let summed: Vec<f32> = match &first.stretch {
-            Some(_) => (0..own.0 as usize * own.1 as usize)
+        match &first.stretch {
+            None => (0..w as usize * h as usize)
                 .into_par_iter()
                 .map(sum)
                 .collect(),
-            None => Vec::new(),
-        };
-        let m = RadiusMap::from_fn(w, h, |i| {
-            let inv = match &first.stretch {
-                None => sum(i),
-                Some(s) => {
-                    let (x, y) = ((i % w as usize) as u32, (i / w as usize) as u32);
-                    s.read(&summed, own.0, x, y)
-                }
-            };
-            if inv > 0.0 {
-                // At most the lightest dots' radius (where a stretched
-                // map's sum fades out between pixels with and without ink).
-                (1.0 / inv.sqrt()).clamp(1.0, range.max)
-            } else {
-                range.max
+            Some(s) => {
+                let summed: Vec<f32> = (0..own.0 as usize * own.1 as usize)
+                    .into_par_iter()
+                    .map(sum)
+                    .collect();
+                (0..w as usize * h as usize)
+                    .into_par_iter()
+                    .map(|i| {
+                        let (x, y) = ((i % w as usize) as u32, (i / w as usize) as u32);
+                        s.read(&summed, own.0, x, y)
+                    })
+                    .collect()
             }
-        })?;
-        Ok(base.clone().with_radius_map(Arc::new(m)))
+        }
     }
 
     /// Per class, its density 1/r² as a function of the map's value for

@@ -265,8 +265,10 @@ struct Correction {
     /// At every cell of the `src` grid, the ink change per pen for a unit
     /// error in each channel ([`gain`]): pens × 3 values per cell.
     gains: Vec<f32>,
-    /// The grid the gains are made on: the work grid, or the photo's size
-    /// when smaller.
+    /// The gains' grid: the `src` grid in blocks of [`GAIN_BLOCK`].
+    gain_grid: (u32, u32),
+    /// The grid the target and the gains' inks are made on: the work grid,
+    /// or the photo's size when smaller.
     src: (u32, u32),
     /// The target, blurred, one plane per channel (work grid).
     target: [crate::analyze::fidelity::Grey; 3],
@@ -283,6 +285,8 @@ const MIN_INK: f64 = 0.005;
 const PX_PER_SPACING: f64 = 5.0;
 /// The render grid's longer side, at most.
 const CORRECTION_SIDE: u32 = 1024;
+/// The side, in `src` cells, of the blocks the gains are made on.
+const GAIN_BLOCK: u32 = 2;
 
 impl Correction {
     fn new(
@@ -339,14 +343,28 @@ impl Correction {
             .collect();
         let pens = inks.len();
         let damping = damping(grid.sigma);
-        let mut gains = vec![0f32; n * pens * 3];
+        // The gains vary with the inks more smoothly than the colours do:
+        // made on blocks of GAIN_BLOCK² cells (the blocks' mean inks).
+        let gain_grid = (src.0.div_ceil(GAIN_BLOCK), src.1.div_ceil(GAIN_BLOCK));
+        let mut gains = vec![0f32; (gain_grid.0 * gain_grid.1) as usize * pens * 3];
         gains
             .par_chunks_mut(pens * 3)
             .enumerate()
             .for_each(|(i, out)| {
+                let (bx, by) = (i as u32 % gain_grid.0, i as u32 / gain_grid.0);
                 let mut a = [0f64; MAX_PENS];
-                for (k, p) in inks.iter().enumerate() {
-                    a[k] = f64::from(p[i]);
+                let mut n = 0.0;
+                for y in by * GAIN_BLOCK..((by + 1) * GAIN_BLOCK).min(src.1) {
+                    for x in bx * GAIN_BLOCK..((bx + 1) * GAIN_BLOCK).min(src.0) {
+                        let j = (y * src.0 + x) as usize;
+                        for (k, p) in inks.iter().enumerate() {
+                            a[k] += f64::from(p[j]);
+                        }
+                        n += 1.0;
+                    }
+                }
+                for v in &mut a[..pens] {
+                    *v /= n;
                 }
                 let g = gain(&model, &a[..pens], damping);
                 for (k, o) in out.chunks_mut(3).enumerate() {
@@ -384,6 +402,7 @@ impl Correction {
             .map_err(|_| crate::stipple::Error::InvalidParameter("three channels".into()))?;
         Ok(Self {
             grid,
+            gain_grid,
             pens,
             gains,
             src,
@@ -463,7 +482,8 @@ impl Correction {
                     let k = p.class as usize;
                     // The ink change of the dot's pen at its work cell.
                     let e = [0, 1, 2].map(|c| error[c].values[g]);
-                    let s = ((gy * self.src.1 / wh) * self.src.0 + gx * self.src.0 / ww) as usize;
+                    let (sx, sy) = (gx * self.src.0 / ww, gy * self.src.1 / wh);
+                    let s = ((sy / GAIN_BLOCK) * self.gain_grid.0 + sx / GAIN_BLOCK) as usize;
                     let gain = &self.gains[(s * self.pens + k) * 3..(s * self.pens + k + 1) * 3];
                     let delta = gain[0] * e[0] + gain[1] * e[1] + gain[2] * e[2];
                     let before = *assumed;

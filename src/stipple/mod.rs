@@ -130,7 +130,6 @@ pub fn relax_points(
     options: relax::RelaxOptions,
     progress: impl FnMut(u32) -> bool,
 ) -> Result<Vec<Point>> {
-    use rayon::prelude::*;
     let Some(first) = maps.first() else {
         return Err(Error::InvalidParameter("nothing to relax".into()));
     };
@@ -150,21 +149,12 @@ pub fn relax_points(
             })
             .collect()
     } else {
-        // The pens' own radii (a pen's map read at the domain's pixels),
-        // none where a pen has no samples: the rule the sampler ran under.
-        let classes = crate::importance::Classes { maps };
-        let radius = classes.class_radius(range);
-        let (w, h) = first.domain();
-        (0..w as usize * h as usize)
-            .into_par_iter()
-            .map(|i| {
-                let inv: f64 = (0..maps.len())
-                    .map(|c| radius(c, i))
-                    .filter(|r| r.is_finite())
-                    .map(|r| 1.0 / f64::from(r).powi(2))
-                    .sum();
-                (inv * inv) as f32
-            })
+        // The union's density (Σ 1/r_c² over the pens that have samples,
+        // the rule the sampler ran under), squared as a radius's 1/r⁴.
+        crate::importance::Classes { maps }
+            .union_density(range)
+            .into_iter()
+            .map(|inv| inv * inv)
             .collect()
     };
     let (w, h) = first.domain();
