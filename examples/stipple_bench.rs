@@ -1,5 +1,5 @@
-//! The drawings side by side: PixelPie's default stipple, PixelPie with
-//! `--relax`, weighted Voronoi stippling from a random start (Secord 2002,
+//! The drawings side by side: PixelPie's default stipple, without its
+//! correction, as earlier versions drew, with equal dots, weighted Voronoi stippling from a random start (Secord 2002,
 //! StippleGen's method: 30 Lloyd iterations) and i.i.d. random dots, at the
 //! same dot count, measured as `pixelpie fidelity` measures (blurred PSNR
 //! and SSIM on display grey, σ = the mean dot spacing).
@@ -11,23 +11,18 @@
 //! Every row of equal dots is scored with its own best constant dot radius
 //! (a sweep), as the comparison asks; PixelPie's rows also show the
 //! calibrated dots (no sweep: what `pixelpie stipple` draws), and rows of
-//! dots sized by tone only those. Seconds are the placement's
-//! time from the loaded photo (sampling and count fitting, relaxation),
-//! not the scoring's.
+//! dots sized by tone only those. Seconds are the drawing's time from the
+//! loaded photo (PixelPie: the whole job; the others: placement), not the
+//! scoring's.
 
 use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::Result;
 use pixelpie::analyze::fidelity::{self, Grey};
-use pixelpie::importance::{
-    Adjust, ImportanceMap, Mapping, Prepared, RadiusRange, Tones, linear_to_srgb,
-};
-use pixelpie::sampler::{Params, Point, Policy, cpu};
+use pixelpie::importance::{Adjust, ImportanceMap, Tones, linear_to_srgb};
+use pixelpie::job::{Correction, DotMode, Job, Spacing};
 use pixelpie::stipple::{Dot, raster, relax};
-
-/// `pixelpie stipple`'s default `--dot-ratio`.
-const DEFAULT_DOT_RATIO: f32 = 0.3;
 
 /// The default domain's longer side, as `pixelpie stipple` picks it.
 fn domain(w: u32, h: u32, n: usize) -> (u32, u32) {
@@ -78,7 +73,6 @@ fn main() -> Result<()> {
             .resized(w, h)?
             .toned(Tones::Display)
             .adjusted(&Adjust::default())?;
-        let sized = Mapping::ToneSized(DEFAULT_DOT_RATIO);
         let darkness: Vec<f32> = map.values().iter().map(|v| 1.0 - v).collect();
         let density = relax::Density {
             width: w,
@@ -86,9 +80,24 @@ fn main() -> Result<()> {
             weights: &darkness,
         };
         let rows = [
-            pixelpie_row("PixelPie default (sized dots)", &map, n, sized, 0)?,
-            pixelpie_row("PixelPie --dot fixed", &map, n, Mapping::Tone, 0)?,
-            pixelpie_row("PixelPie --relax 10", &map, n, sized, 10)?,
+            pixelpie_row("PixelPie default", &photo_map, n, w, |_| {})?,
+            pixelpie_row("PixelPie --correction off", &photo_map, n, w, |j| {
+                j.correction = Correction::Off;
+            })?,
+            pixelpie_row(
+                "PixelPie --spacing radius --relax 0 --correction off (earlier versions)",
+                &photo_map,
+                n,
+                w,
+                |j| {
+                    j.spacing = Spacing::Radius;
+                    j.relax = Some(0);
+                    j.correction = Correction::Off;
+                },
+            )?,
+            pixelpie_row("PixelPie --dot fixed", &photo_map, n, w, |j| {
+                j.dot = Some(DotMode::Fixed);
+            })?,
             voronoi_row(&density, n),
             random_row(&density, n),
         ];
@@ -99,11 +108,10 @@ fn main() -> Result<()> {
         for row in &rows {
             let score = |dots: &[Dot]| -> Result<fidelity::Fidelity> {
                 let view = (f64::from(w), f64::from(h));
-                let img = raster::render_view(dots, view, (pw, ph))?;
                 let drawing = Grey {
                     width: pw,
                     height: ph,
-                    values: img.as_raw().iter().map(|&g| f32::from(g) / 255.0).collect(),
+                    values: raster::render_mean(dots, view, (pw, ph))?,
                 };
                 Ok(fidelity::compare(&photo, &drawing, sigma)?)
             };
@@ -168,47 +176,36 @@ fn main() -> Result<()> {
     Ok(())
 }
 
-/// `pixelpie stipple`'s placement: calibrated tone mapping, count fitting,
-/// then `relax` Lloyd steps.
+/// `pixelpie stipple`'s drawing of `photo` at `n` dots, with the default
+/// job changed by `set`: its dots, in a domain `w` pixels wide.
 fn pixelpie_row(
     name: &'static str,
-    map: &ImportanceMap,
+    photo: &ImportanceMap,
     n: usize,
-    mapping: Mapping,
-    relax_steps: u32,
+    w: u32,
+    set: impl Fn(&mut Job),
 ) -> Result<Row> {
+    let mut job = Job::default();
+    job.points = Some(n);
+    set(&mut job);
     let t = Instant::now();
-    let prepared = Prepared::new(map.clone(), mapping, RadiusRange::new(1.0, 8.0)?, None);
-    let base = Params::new(map.width(), map.height()).with_policy(Policy::Smaller);
-    let fitted =
-        pixelpie::job::count::sample_map(&prepared, &base, Some(n), |p| -> pixelpie::Result<_> {
-            Ok(cpu::sample(p, Default::default())?)
-        })?;
-    let mut points: Vec<Point> = fitted.set.points;
-    if relax_steps > 0 {
-        let options = relax::RelaxOptions {
-            iterations: relax_steps,
-            periodic: false,
-        };
-        points = pixelpie::stipple::relax_points(
-            std::slice::from_ref(&prepared),
-            fitted.range,
-            &points,
-            options,
-            |_| true,
-        )?;
-    }
+    let drawing = job.run_map(photo, |p| Ok(p.generate()?), |_| true)?;
     let seconds = t.elapsed().as_secs_f64();
-    let calibrated = points
-        .iter()
-        .map(|p| prepared.dot_radius(p, fitted.range))
-        .collect();
+    let k = f64::from(w) / f64::from(drawing.domain.0);
+    let dots = job.dots(&drawing);
     Ok(Row {
         name,
         seconds,
-        points: points.iter().map(|p| [p.x, p.y]).collect(),
-        calibrated: Some(calibrated),
-        sized: matches!(mapping, Mapping::ToneSized(_)),
+        points: dots
+            .iter()
+            .map(|d| [(f64::from(d.x) * k) as f32, (f64::from(d.y) * k) as f32])
+            .collect(),
+        calibrated: Some(
+            dots.iter()
+                .map(|d| (f64::from(d.radius) * k) as f32)
+                .collect(),
+        ),
+        sized: job.dot_mode() == DotMode::Sized,
     })
 }
 

@@ -1829,8 +1829,8 @@ fn the_local_spacing_box_switches_the_dot_sizing() {
 }
 
 /// The Dot size section's "Correct tones by rendering" box is the CLI's
-/// `--correction`: on by default; unticked, the same points with the
-/// calibration's sizes alone.
+/// `--correction`: on by default; unticked, the same points (relaxed as
+/// asked) with the calibration's sizes alone.
 #[test]
 fn the_correction_box_switches_the_correction() {
     let (_dir, _png, mut h) = ready(240, 160);
@@ -1838,6 +1838,10 @@ fn the_correction_box_switches_the_correction() {
         h.state().settings.job.correction,
         pixelpie::job::Correction::On
     );
+    // Relaxed by choice, not by default (which needs the correction).
+    h.state_mut().settings.job.relax = Some(3);
+    h.step();
+    settle(&mut h);
     let before = h.state().outcome.as_ref().unwrap().drawing.clone();
     h.get_by_label("Correct tones by rendering").click();
     h.run_steps(2);

@@ -531,8 +531,9 @@ impl PixelPieApp {
         if ui
             .checkbox(&mut auto, "Auto relax")
             .on_hover_text(format!(
-                "{} Lloyd steps up to {}K dots, none past (a step costs about as much as \
-                 sampling at 1M dots)",
+                "{} Lloyd steps up to {}K dots where the dots are corrected (sized, tones \
+                 corrected by rendering), else none (a step costs about as much as sampling at \
+                 1M dots)",
                 crate::job::AUTO_RELAX_STEPS,
                 crate::job::AUTO_RELAX_DOTS / 1000
             ))

@@ -88,11 +88,9 @@ fn load_drawing(path: &Path, (w, h): (u32, u32)) -> Result<(Grey, usize)> {
                 .map_err(|e| anyhow::anyhow!("cannot read drawing '{name}': {e}"))?;
             let view = (d.view_width, d.view_height);
             check_aspect(&name, view, (w, h))?;
-            // At up to four times the photo's size (at most 4096 px on the
-            // longer side), averaged down: dots a pixel or two wide are
-            // measured by their true coverage.
-            let k = (4096 / w.max(h).max(1)).clamp(1, 4);
-            let values = raster::render_mean(&d.dots, view, (w, h), k)?;
+            // Rendered finer and averaged down: dots a pixel or two wide
+            // are measured by their true coverage.
+            let values = raster::render_mean(&d.dots, view, (w, h))?;
             return Ok((
                 Grey {
                     width: w,

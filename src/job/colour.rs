@@ -155,7 +155,9 @@ impl Job {
                     * ratios.factor(ink, f64::from(p.radius), r_eff)
             })
             .collect();
-        if matches!(self.dot_size(), crate::stipple::DotSize::Calibrated(_)) {
+        if self.correction == super::Correction::On
+            && matches!(self.dot_size(), crate::stipple::DotSize::Calibrated(_))
+        {
             Correction::new(
                 &separated.picture,
                 &separated.separation,

@@ -155,8 +155,9 @@ pub struct Job {
     /// Weighted Lloyd (Voronoi) relaxation steps after sampling: moves each
     /// dot to the centroid of its Voronoi cell, weighted to keep the
     /// calibrated density; a few steps make the spacing more even
-    /// [default: 3 up to 200 000 dots, none past (a step costs about 0.45 s
-    /// at 1M dots on two cores)].
+    /// [default: 3 for corrected dots (sized, --correction on) up to 200 000
+    /// dots, else none (a step costs about 0.45 s at 1M dots on two
+    /// cores)].
     #[cfg_attr(feature = "cli", arg(long))]
     #[serde(skip_serializing_if = "Option::is_none")]
     pub relax: Option<u32>,
@@ -400,15 +401,18 @@ impl Job {
     }
 
     /// The relaxation steps of a drawing of `dots` dots: `relax`, or by
-    /// default [`AUTO_RELAX_STEPS`] up to [`AUTO_RELAX_DOTS`] dots and none
-    /// past them.
+    /// default [`AUTO_RELAX_STEPS`] up to [`AUTO_RELAX_DOTS`] dots where
+    /// the dots are corrected ([`Self::corrected`]: relaxed sets are
+    /// evener than the calibration's, so their dots overlap less and draw
+    /// darker, which only the correction makes up), and none elsewhere.
     #[must_use]
     pub fn relax_steps(&self, dots: usize) -> u32 {
-        self.relax.unwrap_or(if dots <= AUTO_RELAX_DOTS {
-            AUTO_RELAX_STEPS
-        } else {
-            0
-        })
+        self.relax
+            .unwrap_or(if dots <= AUTO_RELAX_DOTS && self.corrected() {
+                AUTO_RELAX_STEPS
+            } else {
+                0
+            })
     }
 
     /// How big the dots are drawn: the dot mode and its factor.
@@ -476,7 +480,16 @@ impl Job {
         key
     }
 
-    /// The dot mode, with its default.
+    /// Whether the drawing's dots are corrected toward the picture's tones
+    /// by rendering it: `--correction on`, sized dots, a tone mapping.
+    #[must_use]
+    pub fn corrected(&self) -> bool {
+        self.correction == Correction::On
+            && self.dot_mode() == DotMode::Sized
+            && self.importance.mapping != Some(crate::importance::MappingKind::Linear)
+    }
+
+    /// The dot mode: `dot`, or fixed with a pen, else sized.
     #[must_use]
     pub fn dot_mode(&self) -> DotMode {
         self.dot.unwrap_or(if self.pen_mm.is_some() {

@@ -234,7 +234,7 @@ impl Job {
                     super::density::local_spacing(&maps[0], &points, range, domain, &mut radii);
                 }
                 // Corrected toward the map's tones by rendering.
-                if self.correction == super::Correction::On
+                if self.corrected()
                     && matches!(maps[0].mapping, crate::importance::Mapping::ToneSized(_))
                     && matches!(self.dot_size(), crate::stipple::DotSize::Calibrated(_))
                 {

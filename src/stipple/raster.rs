@@ -147,11 +147,12 @@ pub fn render_view(dots: &[Dot], view: (f64, f64), size: (u32, u32)) -> Result<G
 pub const DOTS_KEYWORD: &str = "pixelpie:dots";
 
 /// The paper's display grey of `dots` (in a `view`) at `size`, each pixel
-/// the mean of `k`×`k` pixels rendered at `k` times the size: the pixels'
-/// true coverage where dots are only a pixel or two wide (one pixel's
-/// coverage is then approximate, and overlaps within it are not seen).
-pub fn render_mean(dots: &[Dot], view: (f64, f64), size: (u32, u32), k: u32) -> Result<Vec<f32>> {
-    let k = k.max(1);
+/// the mean of k×k pixels rendered at k times the size (k up to 4, at most
+/// 4096 px on the longer side): the pixels' true coverage where dots are
+/// only a pixel or two wide (one pixel's coverage is then approximate, and
+/// overlaps within it are not seen). What `pixelpie fidelity` measures.
+pub fn render_mean(dots: &[Dot], view: (f64, f64), size: (u32, u32)) -> Result<Vec<f32>> {
+    let k = (4096 / size.0.max(size.1).max(1)).clamp(1, 4);
     let fine = render_view(dots, view, (size.0 * k, size.1 * k))?;
     let (fw, raw) = (size.0 * k, fine.as_raw());
     let norm = 1.0 / (255.0 * (k * k) as f32);
