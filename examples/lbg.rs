@@ -24,7 +24,7 @@
 use std::path::Path;
 
 use pixelpie::importance::{ImportanceMap, linear_to_srgb};
-use pixelpie::stipple::{Dot, svg};
+use pixelpie::stipple::{Dot, raster, svg};
 use rayon::prelude::*;
 
 /// The hysteresis at the start (the authors' default).
@@ -265,7 +265,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (photo, n, out, seed) = match args.as_slice() {
         [photo, n, out] => (photo, n, out, None),
         [photo, n, out, seed] => (photo, n, out, Some(seed)),
-        _ => return Err("usage: lbg PHOTO DOTS OUT.svg [START.csv]".into()),
+        _ => return Err("usage: lbg PHOTO DOTS OUT.svg|OUT.png [START.csv]".into()),
     };
     let n: usize = n.parse()?;
     let t0 = std::time::Instant::now();
@@ -307,7 +307,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         })
         .collect();
     let mut file = std::io::BufWriter::new(std::fs::File::create(out)?);
-    svg::write(&mut file, &dots, &svg::SvgOptions::new((w, h)))?;
+    if out.ends_with(".png") {
+        // The drawing as `pixelpie stipple` draws a PNG.
+        let img = raster::render(&dots, (w, h), 1.0)?;
+        raster::write_png(&mut file, &img, dots.len())?;
+    } else {
+        svg::write(&mut file, &dots, &svg::SvgOptions::new((w, h)))?;
+    }
     eprintln!(
         "lbg: {} dots of radius {radius:.2} px on {w}x{h} in {iterations} iterations, {:.2} s",
         dots.len(),
