@@ -1799,6 +1799,20 @@ fn dots_sized_in_mm_and_warnings_that_name_a_count() {
     assert!(w.contains("dots reach it"), "{w}");
 }
 
+/// `after` has `before`'s points with other dot sizes.
+fn same_points_other_sizes(before: &pixelpie::job::Stipple, after: &pixelpie::job::Stipple) {
+    assert_eq!(before.points.len(), after.points.len());
+    assert!(
+        before
+            .points
+            .iter()
+            .zip(&after.points)
+            .all(|(a, b)| (a.x, a.y) == (b.x, b.y)),
+        "the same points"
+    );
+    assert_ne!(before.calibrated, after.calibrated, "other sizes");
+}
+
 /// The Dot size section's "Size for local spacing" box is the CLI's
 /// `--spacing`: on by default; unticked, the dots are sized for their
 /// sample radius alone (the same points, other sizes), and the job says so.
@@ -1815,17 +1829,7 @@ fn the_local_spacing_box_switches_the_dot_sizing() {
     settle(&mut h);
     let job = h.state().settings.job();
     assert_eq!(job.spacing, pixelpie::job::Spacing::Radius);
-    let after = &h.state().outcome.as_ref().unwrap().drawing;
-    assert_eq!(before.points.len(), after.points.len());
-    assert!(
-        before
-            .points
-            .iter()
-            .zip(&after.points)
-            .all(|(a, b)| (a.x, a.y) == (b.x, b.y)),
-        "the same points"
-    );
-    assert_ne!(before.calibrated, after.calibrated, "other sizes");
+    same_points_other_sizes(&before, &h.state().outcome.as_ref().unwrap().drawing);
 }
 
 /// The Dot size section's "Correct tones by rendering" box is the CLI's
@@ -1850,17 +1854,7 @@ fn the_correction_box_switches_the_correction() {
         h.state().settings.job().correction,
         pixelpie::job::Correction::Off
     );
-    let after = &h.state().outcome.as_ref().unwrap().drawing;
-    assert_eq!(before.points.len(), after.points.len());
-    assert!(
-        before
-            .points
-            .iter()
-            .zip(&after.points)
-            .all(|(a, b)| (a.x, a.y) == (b.x, b.y)),
-        "the same points"
-    );
-    assert_ne!(before.calibrated, after.calibrated, "other sizes");
+    same_points_other_sizes(&before, &h.state().outcome.as_ref().unwrap().drawing);
 }
 
 /// "Auto relax" is the default (three Lloyd steps at the app's counts);

@@ -742,6 +742,19 @@ fn too_few_dots_get_a_plain_message_with_the_least_that_fits() {
     }
 }
 
+/// `pixelpie fidelity` of a 10K-dot drawing of the astronaut under
+/// `policy`, with `args` added to the stipple command (the SVG named
+/// `name` in `dir`).
+fn astronaut_fidelity(dir: &Path, name: &str, policy: &str, args: &[&str]) -> serde_json::Value {
+    let photo = asset("astronaut.jpg");
+    let svg = dir.join(format!("{policy}-{name}.svg"));
+    let mut cmd = vec!["stipple", &photo, "--points", "10000", "--policy", policy];
+    cmd.extend_from_slice(args);
+    cmd.extend_from_slice(&["-q", "-o", s(&svg)]);
+    ok(&cmd);
+    fidelity(&photo, &svg, &[])
+}
+
 /// Sized dots for the spacing they have (`--spacing local`, the default)
 /// hold the photo's tones better than dots sized for their sample radius
 /// alone (`--spacing radius`), under every policy: edges, and the Prior and
@@ -749,29 +762,13 @@ fn too_few_dots_get_a_plain_message_with_the_least_that_fits() {
 #[test]
 fn local_spacing_draws_truer_tones_under_every_policy() {
     let dir = tempfile::tempdir().unwrap();
-    let photo = asset("astronaut.jpg");
     for policy in ["smaller", "prior", "current", "bigger"] {
+        // The sizing alone: neither relaxed nor corrected.
         let psnr = |spacing: &str| {
-            let svg = dir.path().join(format!("{policy}-{spacing}.svg"));
-            ok(&[
-                "stipple",
-                &photo,
-                "--points",
-                "10000",
-                "--policy",
-                policy,
-                "--spacing",
-                spacing,
-                // The sizing alone: neither relaxed nor corrected.
-                "--relax",
-                "0",
-                "--correction",
-                "off",
-                "-q",
-                "-o",
-                s(&svg),
-            ]);
-            fidelity(&photo, &svg, &[])["psnr"].as_f64().unwrap()
+            let args = ["--spacing", spacing, "--relax", "0", "--correction", "off"];
+            astronaut_fidelity(dir.path(), spacing, policy, &args)["psnr"]
+                .as_f64()
+                .unwrap()
         };
         let (local, radius) = (psnr("local"), psnr("radius"));
         println!("{policy}: local {local:.2} dB, radius {radius:.2} dB");
@@ -788,24 +785,14 @@ fn local_spacing_draws_truer_tones_under_every_policy() {
 #[test]
 fn the_correction_draws_truer_tones_under_every_policy() {
     let dir = tempfile::tempdir().unwrap();
-    let photo = asset("astronaut.jpg");
     for policy in ["smaller", "prior", "current", "bigger"] {
         let measure = |correction: &str| {
-            let svg = dir.path().join(format!("{policy}-{correction}.svg"));
-            ok(&[
-                "stipple",
-                &photo,
-                "--points",
-                "10000",
-                "--policy",
-                policy,
-                "--correction",
+            let f = astronaut_fidelity(
+                dir.path(),
                 correction,
-                "-q",
-                "-o",
-                s(&svg),
-            ]);
-            let f = fidelity(&photo, &svg, &[]);
+                policy,
+                &["--correction", correction],
+            );
             (f["psnr"].as_f64().unwrap(), f["ssim"].as_f64().unwrap())
         };
         let (on, off) = (measure("on"), measure("off"));

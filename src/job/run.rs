@@ -233,11 +233,9 @@ impl Job {
                 {
                     super::density::local_spacing(&maps[0], &points, range, domain, &mut radii);
                 }
-                // Corrected toward the map's tones by rendering.
-                if self.corrected()
-                    && matches!(maps[0].mapping, crate::importance::Mapping::ToneSized(_))
-                    && matches!(self.dot_size(), crate::stipple::DotSize::Calibrated(_))
-                {
+                // Corrected toward the map's tones by rendering (sized
+                // dots on a tone mapping, [`Job::corrected`]).
+                if self.corrected() {
                     let limits = (
                         maps[0].mapping.dot_radius(1.0, range),
                         maps[0].mapping.dot_radius(0.0, range),
