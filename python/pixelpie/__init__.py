@@ -249,25 +249,51 @@ def stipple(
     presets): its settings, with ``options`` over them, as ``--job`` takes
     it; a file from another version warns (``UserWarning``).
     """
-    given = {
-        k: os.fspath(v) if isinstance(v, os.PathLike) else v
-        for k, v in options.items()
-        if v is not None
-    }
-    if job is not None:
-        text, warning = _pixelpie.read_job(os.fspath(job))
-        if warning:
-            warnings.warn(f"{os.fspath(job)}: {warning}", stacklevel=2)
-        given = {**json.loads(text), **given}
+    given, job_file = _job(options, job)
     pixels = _picture(image)
     return _pixelpie.stipple(
         None if pixels is not None else os.fspath(image),
         pixels,
         _path(output),
-        json.dumps(_finite(given), default=_option),
+        given,
+        job_file,
         backend,
         bool(svg),
         progress,
+    )
+
+
+def _job(options: Dict[str, Any], job: Optional[PathLike]) -> Tuple[str, Optional[str]]:
+    """The keyword options as the native functions take them (JSON), and
+    the job file's path; a job file from another version warns. The
+    library lays the options over the file, as the command line does."""
+    given = {
+        k: os.fspath(v) if isinstance(v, os.PathLike) else v
+        for k, v in options.items()
+        if v is not None
+    }
+    job_file = None
+    if job is not None:
+        job_file = os.fspath(job)
+        _, warning = _pixelpie.read_job(job_file)
+        if warning:
+            warnings.warn(f"{job_file}: {warning}", stacklevel=3)
+    return json.dumps(_finite(given), default=_option), job_file
+
+
+def plan(image: Any, *, job: Optional[PathLike] = None, **options: Any) -> Dict[str, Any]:
+    """The plan of the drawing :func:`stipple` would make of ``image`` with
+    these ``options`` (and ``job`` file), as ``pixelpie stipple --plan``
+    prints it: every decision made once (``domain``, ``points``, ``dots``,
+    ``dot``, ``relax``, ``corrected`` and ``why``, the correction's
+    ``render``, ``order``, an estimated ``seconds``) and its one-line
+    summary, ``line``. Nothing is drawn."""
+    given, job_file = _job(options, job)
+    pixels = _picture(image)
+    return json.loads(
+        _pixelpie.plan(
+            None if pixels is not None else os.fspath(image), pixels, given, job_file
+        )
     )
 
 

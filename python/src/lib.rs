@@ -20,8 +20,8 @@ use pyo3::prelude::*;
 
 use pixelpie::analyze::{CoverRadius, Domain};
 use pixelpie::backend::{self, BackendChoice};
-use pixelpie::importance::{self, ColourMap, ImportanceMap, Tones};
-use pixelpie::job::{Format, Job, Picture, Radii, SampleJob};
+use pixelpie::importance::{self, ImportanceMap, Tones};
+use pixelpie::job::{Decoded, Format, Job, Radii, SampleJob};
 use pixelpie::sampler::{self, Control, Progress};
 
 /// The Python exception for a library error.
@@ -235,12 +235,60 @@ fn from_options<T: serde::de::DeserializeOwned>(
     }
 }
 
-/// The drawing job of `options` ([`from_options`]), checked.
-fn job_from(options: &str) -> PyResult<Job> {
+/// The drawing job of `options` ([`from_options`]), over the job file at
+/// `job_file` when given ([`Job::with_overrides`], as the CLI's `--job`
+/// takes its options), checked.
+fn job_from(options: &str, job_file: Option<&std::path::Path>) -> PyResult<Job> {
     let known = job_options().map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
     let job: Job = from_options(options, "stipple", &known)?;
+    let job = match job_file {
+        None => job,
+        Some(path) => {
+            let given: serde_json::Map<String, serde_json::Value> =
+                serde_json::from_str(options).map_err(|e| bad(format!("options: {e}")))?;
+            let file = pixelpie::job::file::JobFile::read(path).map_err(|e| py_err(&e))?;
+            Job::with_overrides(file.table, &job, given.keys().map(String::as_str))
+                .map_err(|e| py_err(&e))?
+        }
+    };
     job.check().map_err(|e| py_err(&e.into()))?;
     Ok(job)
+}
+
+/// The picture of `image` (a path) or `encoded` (an array's PNG bytes,
+/// [`encoded_png`]), decoded as `job` draws it ([`Decoded`]).
+fn decoded(
+    job: &Job,
+    image: Option<&std::path::Path>,
+    encoded: Option<&[u8]>,
+) -> pixelpie::Result<Decoded> {
+    match (encoded, image) {
+        (Some(bytes), _) => Decoded::decode(job, bytes, std::path::Path::new("<array>")),
+        (None, Some(path)) => Decoded::open(job, path),
+        (None, None) => Err(pixelpie::stipple::Error::InvalidParameter(
+            "give a picture: a path, an array or a PIL image".into(),
+        )
+        .into()),
+    }
+}
+
+/// The native `plan`; see `pixelpie.plan`: the drawing's plan as JSON.
+#[pyfunction(name = "plan")]
+#[pyo3(signature = (image, pixels, options, job_file))]
+fn plan_py(
+    py: Python<'_>,
+    image: Option<PathBuf>,
+    pixels: Option<PyReadonlyArrayDyn<'_, u16>>,
+    options: &str,
+    job_file: Option<PathBuf>,
+) -> PyResult<String> {
+    let job = job_from(options, job_file.as_deref())?;
+    let encoded = pixels.as_ref().map(encoded_png).transpose()?;
+    py.detach(|| {
+        let picture = decoded(&job, image.as_deref(), encoded.as_deref())?;
+        job.plan(picture.picture())?.plan.to_json()
+    })
+    .map_err(|e| py_err(&e))
 }
 
 /// The settings of the job file at `path` (`pixelpie stipple
@@ -335,7 +383,7 @@ fn encoded_png(a: &PyReadonlyArrayDyn<'_, u16>) -> PyResult<Vec<u8>> {
 /// (`image`) or an array (`pixels`); with `want_svg` the SVG comes back as
 /// text instead of the dots.
 #[pyfunction(name = "stipple")]
-#[pyo3(signature = (image, pixels, output, options, backend_name, want_svg, progress))]
+#[pyo3(signature = (image, pixels, output, options, job_file, backend_name, want_svg, progress))]
 #[expect(
     clippy::too_many_arguments,
     reason = "the Python function's arguments, one by one"
@@ -346,44 +394,24 @@ fn stipple_py<'py>(
     pixels: Option<PyReadonlyArrayDyn<'py, u16>>,
     output: Option<PathBuf>,
     options: &str,
+    job_file: Option<PathBuf>,
     backend_name: &str,
     want_svg: bool,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let job = job_from(options)?;
+    let job = job_from(options, job_file.as_deref())?;
     let choice: BackendChoice = named(backend_name, "backend")?;
     if let Some(out) = &output {
         let format = Format::from_path(out).map_err(|e| py_err(&e.into()))?;
         job.validate(format).map_err(|e| py_err(&e.into()))?;
     }
-    let encoded = match &pixels {
-        Some(a) => Some(encoded_png(a)?),
-        None => None,
-    };
+    let encoded = pixels.as_ref().map(encoded_png).transpose()?;
     let (drawing, svg) = cancellable(py, progress, |ctl| {
         let sample = |params: &pixelpie::sampler::Params| {
             Ok(backend::sample(params, choice, ctl, &mut |_| {})?)
         };
-        let drawing = match (&encoded, &image) {
-            (Some(bytes), _) => {
-                let name = std::path::Path::new("<array>");
-                let hdr = job.importance.hdr_white;
-                if job.colour() {
-                    let c = ColourMap::from_encoded(bytes, name, hdr)?;
-                    job.draw(Picture::Colour(&c), sample, |_| ctl.check().is_ok())?
-                } else {
-                    let m = ImportanceMap::from_encoded(bytes, name, hdr)?;
-                    job.draw(Picture::Grey(&m), sample, |_| ctl.check().is_ok())?
-                }
-            }
-            (None, Some(path)) => job.run_on(path, choice, ctl, &mut |_| {})?,
-            (None, None) => {
-                return Err(pixelpie::stipple::Error::InvalidParameter(
-                    "give a picture: a path, an array or a PIL image".into(),
-                )
-                .into());
-            }
-        };
+        let picture = decoded(&job, image.as_deref(), encoded.as_deref())?;
+        let drawing = job.draw(picture.picture(), sample, |_| ctl.check().is_ok())?;
         ctl.check()?;
         if let Some(out) = &output {
             job.write(&drawing, out)?;
@@ -485,6 +513,7 @@ fn analyze_py<'py>(
 fn _pixelpie(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(sample, m)?)?;
     m.add_function(wrap_pyfunction!(stipple_py, m)?)?;
+    m.add_function(wrap_pyfunction!(plan_py, m)?)?;
     m.add_function(wrap_pyfunction!(stipple_defaults, m)?)?;
     m.add_function(wrap_pyfunction!(read_job, m)?)?;
     m.add_function(wrap_pyfunction!(sample_defaults, m)?)?;

@@ -104,7 +104,7 @@ pub struct PixelPieApp {
     progress: Option<Progress>,
     relaxed: Option<(u32, u32)>,
     /// The stage the running job is in, as its run last reported it.
-    stage: Option<&'static str>,
+    stage: Option<crate::job::Stage>,
     dots_generation: u64,
     dot_instances: Arc<Vec<dots::DotInstance>>,
     /// Why the last pen edit was refused (duplicate colours).

@@ -407,6 +407,8 @@ impl PixelPieApp {
     /// Dot mode, size, ratio, relaxation and ink. Every row stays in place
     /// whatever the mode: rows that do not apply are greyed out.
     fn dots_ui(&mut self, ui: &mut egui::Ui) {
+        // The steps the last drawing's plan took, the job's own when set.
+        let planned = self.outcome.as_ref().map(|o| o.drawing.plan.relax);
         let job = &mut self.settings.job;
         let mut mode = job.dot_mode();
         egui::ComboBox::from_label("Dots")
@@ -527,7 +529,6 @@ impl PixelPieApp {
         }
         // Relaxation: by default three steps up to 200K dots, none past.
         let mut auto = job.relax.is_none();
-        let dots = job.points.unwrap_or(0);
         if ui
             .checkbox(&mut auto, "Auto relax")
             .on_hover_text(format!(
@@ -539,9 +540,12 @@ impl PixelPieApp {
             ))
             .changed()
         {
-            job.relax = (!auto).then(|| job.relax_steps(dots));
+            job.relax = (!auto).then(|| planned.unwrap_or(crate::job::AUTO_RELAX_STEPS));
         }
-        let mut steps = job.relax_steps(dots);
+        let mut steps = job
+            .relax
+            .or(planned)
+            .unwrap_or(crate::job::AUTO_RELAX_STEPS);
         if ui
             .add_enabled(
                 !auto,

@@ -36,7 +36,10 @@ impl PixelPieApp {
             Some(o) => {
                 let d = &o.drawing;
                 let st = &d.set.stats;
-                let (_, t_sample, t_relax) = d.seconds;
+                let (t_sample, t_relax) = (
+                    d.seconds(crate::job::Stage::Sample),
+                    d.seconds(crate::job::Stage::Relax),
+                );
                 (
                     format!(
                         "{} dots, {} iterations, {} run(s) in {:.2} s",
@@ -132,14 +135,18 @@ impl PixelPieApp {
             format!(", {:.1} s", t.elapsed().as_secs_f64())
         });
         // After sampling, the stage says what the job is doing.
+        use crate::job::Stage;
         let later = self
             .stage
-            .filter(|s| !matches!(*s, "prepare" | "sample" | "relax"));
+            .filter(|s| !matches!(s, Stage::Prepare | Stage::Sample | Stage::Relax));
         if let Some(stage) = later {
             let what = match stage {
-                "order" => "ordering the dots".to_owned(),
-                "size" => "sizing the dots".to_owned(),
-                s => format!("sizing the dots ({})", s.trim_start_matches("size: ")),
+                Stage::Order => "ordering the dots".to_owned(),
+                Stage::Size => "sizing the dots".to_owned(),
+                s => format!(
+                    "sizing the dots ({})",
+                    s.to_string().trim_start_matches("size: ")
+                ),
             };
             return Some(format!("{what}{elapsed}"));
         }

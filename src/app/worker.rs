@@ -113,7 +113,7 @@ pub enum Reply {
     Relaxed(u64, u32, u32),
     /// A stage of the drawing begins (after sampling: relax, order, size
     /// and its parts).
-    Stage(u64, &'static str),
+    Stage(u64, crate::job::Stage),
     /// A job ended.
     Done(u64, Box<Result<Outcome, String>>),
 }

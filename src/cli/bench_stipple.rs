@@ -12,7 +12,7 @@ use std::time::Instant;
 use anyhow::{Context, Result, bail};
 
 use pixelpie::importance::ink;
-use pixelpie::job::{Job, default_domain};
+use pixelpie::job::{Job, Stage, default_domain};
 use pixelpie::sampler::RSA_DENSITY;
 
 /// The environment variable that makes `pixelpie` print its peak memory
@@ -157,7 +157,10 @@ pub fn run(image: &Path, counts: &[usize], reps: u32) -> Result<()> {
         let t_run = t.elapsed().as_secs_f64();
         job.write(&drawing, &svg)?;
         let t_write = t.elapsed().as_secs_f64() - t_run;
-        let (load, sample, _) = drawing.seconds;
+        let (load, sample) = (
+            drawing.seconds(Stage::Prepare),
+            drawing.seconds(Stage::Sample),
+        );
         println!(
             "| {:.0}K | {}×{} | {:.2} | {:.2} | **{:.2}** | {:.2} | **{:.2}** | {:.0} / {:.0} / {:.0} | {load:.2}, {sample:.2}, {:.2} |",
             drawing.dots.len() as f64 / 1e3,
@@ -233,13 +236,6 @@ pub fn run_colour(image: &Path, counts: &[usize], reps: u32) -> Result<()> {
             |p| Ok(pixelpie::sampler::cpu::sample(p, Default::default())?),
             |_| true,
         )?;
-        let stage = |name: &str| {
-            drawing
-                .stages
-                .iter()
-                .find(|(n, _)| *n == name)
-                .map_or(0.0, |(_, s)| *s)
-        };
         println!(
             "| {:.0}K | {:.2} | {:.2} | **{:.1}** | {:.0} / {:.0} | {:.2}, {:.2}, {:.2}, {:.2} |",
             drawing.dots.len() as f64 / 1e3,
@@ -248,10 +244,10 @@ pub fn run_colour(image: &Path, counts: &[usize], reps: u32) -> Result<()> {
             median(ratios),
             peak(&grey),
             peak(&colour),
-            drawing.seconds.0,
-            stage("sample"),
-            stage("order"),
-            stage("size"),
+            drawing.seconds(Stage::Prepare),
+            drawing.seconds(Stage::Sample),
+            drawing.seconds(Stage::Order),
+            drawing.seconds(Stage::Size),
         );
     }
     Ok(())

@@ -12,7 +12,7 @@ use clap::parser::ValueSource;
 
 use pixelpie::io;
 use pixelpie::job::file::{JobFile, KEYS};
-use pixelpie::job::{Format, Job, Step};
+use pixelpie::job::{Decoded, Format, Job, Stage, Step};
 use pixelpie::stipple::plot::PlotSpeeds;
 
 use super::sample::{RunArgs, progress_bar, run_with_progress, sampling_bar};
@@ -65,16 +65,17 @@ pub struct StippleArgs {
     /// Seconds to lift and lower the pen, for --plot-stats.
     #[arg(long, default_value_t = PlotSpeeds::default().lift_s, requires = "plot_stats")]
     pen_delay: f64,
+    /// Print the drawing's plan as JSON (every decision: the domain, the
+    /// count, the dots, relaxation, the correction, an estimated time) and
+    /// draw nothing.
+    #[arg(long)]
+    plan: bool,
     #[command(flatten)]
     run: RunArgs,
 }
 
-/// Pairs of settings of which one given on the command line drops the
-/// other from the job file.
-const EXCLUSIVE: [(&str, &str); 2] = [("paper", "width_mm"), ("pens", "ink")];
-
 /// The job: the command line's options, or the job file's (`--job`) with
-/// the options given on the command line over it.
+/// the options given on the command line over it ([`Job::with_overrides`]).
 fn job(a: &StippleArgs, matches: Option<&clap::ArgMatches>) -> Result<Job> {
     let Some(path) = &a.job else {
         return Ok(a.options.clone());
@@ -85,27 +86,11 @@ fn job(a: &StippleArgs, matches: Option<&clap::ArgMatches>) -> Result<Job> {
     {
         eprintln!("warning: {}: {w}", path.display());
     }
-    let mut table = file.table;
-    let given = a.options.to_table()?;
-    for key in KEYS {
-        let on_line =
-            matches.is_some_and(|m| m.value_source(key) == Some(ValueSource::CommandLine));
-        if !on_line {
-            continue;
-        }
-        for (one, other) in EXCLUSIVE {
-            if *key == one {
-                table.remove(other);
-            } else if *key == other {
-                table.remove(one);
-            }
-        }
-        match given.get(*key) {
-            Some(v) => table.insert((*key).to_string(), v.clone()),
-            None => table.remove(*key),
-        };
-    }
-    Job::from_table(table).with_context(|| format!("{}", path.display()))
+    let on_line = KEYS.iter().copied().filter(|key| {
+        matches.is_some_and(|m| m.value_source(key) == Some(ValueSource::CommandLine))
+    });
+    Job::with_overrides(file.table, &a.options, on_line)
+        .with_context(|| format!("{}", path.display()))
 }
 
 /// Whether `path` names a folder: one that exists, or ends in a separator.
@@ -146,6 +131,13 @@ pub fn run(a: &StippleArgs, matches: Option<&clap::ArgMatches>) -> Result<()> {
         }
     }
     o.validate(format)?;
+    if a.plan {
+        for image in &a.images {
+            let picture = Decoded::open(&o, image)?;
+            println!("{}", o.plan(picture.picture())?.plan.to_json()?);
+        }
+        return Ok(());
+    }
     if let Some(path) = &a.save_job {
         let source = (a.images.len() == 1).then(|| a.images[0].as_path());
         let text = o.to_toml(source)?;
@@ -239,12 +231,12 @@ fn draw(a: &StippleArgs, o: &Job, image: &Path, output: &Path) -> Result<()> {
                     relax_bar.set_position(u64::from(done));
                 }
                 // After sampling, a spinner names the stage, and ticks.
-                Step::Stage("prepare" | "sample") => {}
-                Step::Stage(name) => {
+                Step::Stage(Stage::Prepare | Stage::Sample) => {}
+                Step::Stage(stage) => {
                     bar.finish_and_clear();
-                    if name != "relax" {
+                    if stage != Stage::Relax {
                         relax_bar.finish_and_clear();
-                        stage_bar.set_message(name);
+                        stage_bar.set_message(stage.to_string());
                         stage_bar.enable_steady_tick(std::time::Duration::from_millis(250));
                     }
                 }
@@ -334,7 +326,11 @@ fn draw(a: &StippleArgs, o: &Job, image: &Path, output: &Path) -> Result<()> {
                 (lo.min(d.radius), hi.max(d.radius))
             });
         let (width, height) = drawing.domain;
-        let (t_load, t_sample, t_relax) = drawing.seconds;
+        let (t_load, t_sample, t_relax) = (
+            drawing.seconds(Stage::Prepare),
+            drawing.seconds(Stage::Sample),
+            drawing.seconds(Stage::Relax),
+        );
         eprintln!(
             "{} dots on a {width}x{height} domain, sample radii {:.2}..{:.2} px, dot radii \
              {lo:.2}..{hi:.2} px; load {t_load:.3} s, sampling {t_sample:.3} s, relax \

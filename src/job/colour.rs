@@ -7,7 +7,7 @@
 
 use std::path::Path;
 
-use super::{Format, Job, Stipple};
+use super::{Format, Job, Stage, Stipple};
 use crate::stipple::{Dot, svg};
 use rayon::prelude::*;
 
@@ -111,8 +111,8 @@ impl Job {
         separated: &Separated,
         points: &[Point],
         range: RadiusRange,
-        domain: (u32, u32),
-        stage: &mut dyn FnMut(&'static str) -> crate::Result<()>,
+        grid: Option<Grid>,
+        stage: &mut dyn FnMut(Stage) -> crate::Result<()>,
     ) -> crate::Result<Vec<f32>> {
         let maps = &separated.maps;
         if maps.first().is_some_and(|m| m.mapping == Mapping::Linear) {
@@ -121,7 +121,7 @@ impl Job {
                 .map(|p| maps[p.class as usize].dot_radius(p, range))
                 .collect());
         }
-        stage("size: calibration")?;
+        stage(Stage::Calibrate)?;
         let inks: Vec<f64> = points
             .par_iter()
             .map(|p| f64::from(1.0 - maps[p.class as usize].value_at(p.x, p.y)))
@@ -155,16 +155,15 @@ impl Job {
                     * ratios.factor(ink, f64::from(p.radius), r_eff)
             })
             .collect();
-        if self.correction == super::Correction::On
-            && matches!(self.dot_size(), crate::stipple::DotSize::Calibrated(_))
-        {
-            Correction::new(
-                &separated.picture,
-                &separated.separation,
-                domain,
-                points.len(),
-            )?
-            .apply(points, &inks, &spacing, &mut calibrated, maps.len(), stage)?;
+        if let Some(grid) = grid {
+            Correction::new(&separated.picture, &separated.separation, grid)?.apply(
+                points,
+                &inks,
+                &spacing,
+                &mut calibrated,
+                maps.len(),
+                stage,
+            )?;
         }
         if self.dot_mode() == super::DotMode::Fixed {
             let mut sums = vec![(0f64, 0usize); maps.len()];
@@ -280,25 +279,12 @@ struct Correction {
 
 /// The ink below which a pen is taken to have no dots in a correction.
 const MIN_INK: f64 = 0.005;
-/// Render pixels between neighbouring dots in the correction's drawing
-/// (fewer where [`CORRECTION_SIDE`] caps it): the same colours within
-/// ΔE00 0.02 as a finer render on five photos at 20K dots, at a quarter of
-/// its pixels.
-const PX_PER_SPACING: f64 = 5.0;
-/// The render grid's longer side, at most.
-const CORRECTION_SIDE: u32 = 1024;
 /// The side, in `src` cells, of the blocks the gains are made on.
 const GAIN_BLOCK: u32 = 2;
 
 impl Correction {
-    fn new(
-        picture: &ColourMap,
-        separation: &Separation,
-        domain: (u32, u32),
-        dots: usize,
-    ) -> crate::Result<Self> {
+    fn new(picture: &ColourMap, separation: &Separation, grid: Grid) -> crate::Result<Self> {
         use crate::analyze::fidelity::{Grey, blur};
-        let grid = Grid::new(domain, dots, PX_PER_SPACING, CORRECTION_SIDE);
         let work = grid.work;
         // The photo has no more detail than its own pixels: the target and
         // the gains are made at the smaller of its size and the work grid's,
@@ -423,13 +409,14 @@ impl Correction {
         spacing: &[f64],
         calibrated: &mut [f32],
         pens: usize,
-        stage: &mut dyn FnMut(&'static str) -> crate::Result<()>,
+        stage: &mut dyn FnMut(Stage) -> crate::Result<()>,
     ) -> crate::Result<()> {
         let grid = &self.grid;
         let (ww, wh) = grid.work;
         let mut assumed = inks.to_vec();
-        for round in rounds(grid.sigma) {
-            stage(round)?;
+        let of = rounds(grid.sigma);
+        for round in 1..=of {
+            stage(Stage::Correct { round, of })?;
             let layers = (0..pens as u32)
                 .into_par_iter()
                 .map(|k| grid.render(points, calibrated, |p| p.class == k))

@@ -14,17 +14,20 @@ use crate::importance::{Prepared, ink};
 use crate::sampler::Point;
 use crate::stipple::Dot;
 
+use super::Stage;
+
 /// Render pixels between neighbouring dots in a grey drawing's
 /// correction: dots a few pixels wide, so that the render sees their
 /// overlaps (4096 px squares at 10K–1M dots, measured against renders of
 /// the whole drawing at 4×: 5 px 0.4–0.9 dB short of 8, 12 no better).
 pub(crate) const GREY_PX_PER_SPACING: f64 = 8.0;
-/// The grey render's longer side, at most.
-pub(crate) const GREY_SIDE: u32 = 2048;
-/// Below this many render pixels between dots (a drawing too dense for
-/// [`GREY_SIDE`]) a grey correction is skipped: the render's one-pixel
-/// dots then mislead it (3 px: 3–6 dB worse at 1M dots; 3.7 px: mixed).
-const MIN_PX_PER_SPACING: f64 = 4.5;
+/// Render pixels between neighbouring dots in a colour drawing's
+/// correction (fewer where [`COLOUR_SIDE`] caps it): the same colours
+/// within ΔE00 0.02 as a finer render on five photos at 20K dots, at a
+/// quarter of its pixels.
+pub(crate) const COLOUR_PX_PER_SPACING: f64 = 5.0;
+/// The colour render grid's longer side, at most.
+pub(crate) const COLOUR_SIDE: u32 = 1024;
 /// The work grid's cells are blocks of render pixels at most σ / this wide.
 const CELLS_PER_SIGMA: f64 = 2.0;
 /// The error's own blur, in σ: corrections follow the local bias, not each
@@ -40,20 +43,12 @@ pub(crate) fn damping(sigma_cells: f64) -> f64 {
     (0.7 + 0.9 * (sigma_cells - 1.0)).clamp(0.7, 1.15)
 }
 
-/// The rounds of a correction, each by its name in the run's progress:
-/// three, or two where the blur's σ spans less than 1.25 work-grid cells
-/// (dense drawings: there a third round chases the dots' own noise, ΔE00
-/// 0.03–0.2 worse on two photos at 1M dots).
-pub(crate) fn rounds(sigma_cells: f64) -> &'static [&'static str] {
-    if sigma_cells < 1.25 {
-        &["size: correction 1 of 2", "size: correction 2 of 2"]
-    } else {
-        &[
-            "size: correction 1 of 3",
-            "size: correction 2 of 3",
-            "size: correction 3 of 3",
-        ]
-    }
+/// The rounds of a correction: three, or two where the blur's σ spans
+/// less than 1.25 work-grid cells (dense drawings: there a third round
+/// chases the dots' own noise, ΔE00 0.03–0.2 worse on two photos at 1M
+/// dots). Each is reported as [`Stage::Correct`].
+pub(crate) fn rounds(sigma_cells: f64) -> u8 {
+    if sigma_cells < 1.25 { 2 } else { 3 }
 }
 
 /// The grids a correction works on: the drawing rendered at about
@@ -75,14 +70,26 @@ pub(crate) struct Grid {
 
 impl Grid {
     /// The grids for `dots` dots on a `domain`, rendered at
-    /// `px_per_spacing` pixels between dots, at most `side` on the longer
-    /// side.
-    pub(crate) fn new(domain: (u32, u32), dots: usize, px_per_spacing: f64, side: u32) -> Self {
+    /// `px_per_spacing` pixels between dots (at most one render pixel per
+    /// domain pixel), at most `side` on the longer side and `pixels` in
+    /// all, but at least `floor_px` pixels between dots (a finer render
+    /// where the plan needs it, [`super::plan`]).
+    pub(crate) fn new(
+        domain: (u32, u32),
+        dots: usize,
+        px_per_spacing: f64,
+        side: u32,
+        pixels: u64,
+        floor_px: f64,
+    ) -> Self {
         let long = domain.0.max(domain.1);
-        let spacing = (f64::from(domain.0) * f64::from(domain.1) / dots.max(1) as f64).sqrt();
+        let area = f64::from(domain.0) * f64::from(domain.1);
+        let spacing = (area / dots.max(1) as f64).sqrt();
         let scale = (side as f32 / long as f32)
+            .min((pixels as f64 / area).sqrt() as f32)
             .min(1.0)
-            .min((px_per_spacing / spacing) as f32);
+            .min((px_per_spacing / spacing) as f32)
+            .max((floor_px / spacing) as f32);
         let size = (
             ((domain.0 as f32 * scale).round() as u32).max(1),
             ((domain.1 as f32 * scale).round() as u32).max(1),
@@ -177,20 +184,16 @@ impl Grid {
 /// Corrects `radii`, the sized dots of `points` sampled on `map` at radius
 /// range `range` (a grey drawing), toward the map's ink, each kept within
 /// `limits` (the mapping's lightest and darkest dots: `--dot-mm` holds).
-/// Skipped where the drawing is too dense for the render
-/// ([`MIN_PX_PER_SPACING`]).
+/// The plan decides whether it runs and on which `grid`.
 pub(crate) fn correct_grey(
+    grid: &Grid,
     map: &Prepared,
     points: &[Point],
     range: crate::importance::RadiusRange,
     radii: &mut [f32],
     limits: (f32, f32),
-    stage: &mut dyn FnMut(&'static str) -> crate::Result<()>,
+    stage: &mut dyn FnMut(Stage) -> crate::Result<()>,
 ) -> crate::Result<()> {
-    let grid = Grid::new(map.domain(), points.len(), GREY_PX_PER_SPACING, GREY_SIDE);
-    if grid.px_per_spacing() < MIN_PX_PER_SPACING {
-        return Ok(());
-    }
     // The ink the map asks for (none past the white cutoff, where no dot
     // is drawn).
     let ink = |x: f32, y: f32| {
@@ -217,8 +220,9 @@ pub(crate) fn correct_grey(
         .par_iter()
         .map(|p| ink(p.x, p.y).min(ink::K_MAX))
         .collect();
-    for round in rounds(grid.sigma) {
-        stage(round)?;
+    let of = rounds(grid.sigma);
+    for round in 1..=of {
+        stage(Stage::Correct { round, of })?;
         let paper = grid.render(points, radii, |_| true)?;
         let raw = paper.as_raw();
         let shown = grid.cell_means(|i| [1.0 - f64::from(raw[i]) / 255.0]);
@@ -309,7 +313,16 @@ mod tests {
             let mut radii = vec![start; points.len()];
             let before = drawn(&radii);
             let mut stages = Vec::new();
+            let grid = Grid::new(
+                (w, h),
+                points.len(),
+                GREY_PX_PER_SPACING,
+                u32::MAX,
+                u64::MAX,
+                0.0,
+            );
             correct_grey(
+                &grid,
                 &prepared,
                 &points,
                 range,
@@ -329,14 +342,5 @@ mod tests {
             );
             assert_eq!(stages.len(), 3, "three rounds, each reported");
         }
-    }
-
-    /// A drawing too dense for the render is left alone.
-    #[test]
-    fn a_drawing_too_dense_for_the_render_is_not_corrected() {
-        let grid = Grid::new((4096, 4096), 1_000_000, GREY_PX_PER_SPACING, GREY_SIDE);
-        assert!(grid.px_per_spacing() < MIN_PX_PER_SPACING);
-        let grid = Grid::new((1024, 1024), 10_000, GREY_PX_PER_SPACING, GREY_SIDE);
-        assert!(grid.px_per_spacing() >= MIN_PX_PER_SPACING);
     }
 }

@@ -58,6 +58,10 @@ pub const KEYS: &[&str] = &[
     "exact",
 ];
 
+/// Pairs of settings that exclude each other: given over a job file, one
+/// drops the other from it ([`Job::with_overrides`]).
+pub const EXCLUSIVE: [(&str, &str); 2] = [("paper", "width_mm"), ("pens", "ink")];
+
 /// A job file read back: the job, and what the reader should be told.
 #[derive(Debug)]
 pub struct JobFile {
@@ -105,6 +109,38 @@ impl Job {
             .map_err(|e: toml::de::Error| bad(format!("job file: {}", e.message())))?;
         job.check()?;
         Ok(job)
+    }
+
+    /// The job of a job file's `table` with `given`'s settings of `keys`
+    /// over it (the settings a user gave besides the file: the CLI's
+    /// options on its command line, Python's keywords, a row the app
+    /// changed). A key one of a pair that exclude each other ([`EXCLUSIVE`])
+    /// drops the other from the file; a key `given` leaves unset unsets it.
+    /// Checked whole. Every front end overrides a job file through it.
+    pub fn with_overrides<'k>(
+        table: toml::Table,
+        given: &Self,
+        keys: impl IntoIterator<Item = &'k str>,
+    ) -> crate::Result<Self> {
+        let mut table = table;
+        let values = given.to_table()?;
+        for key in keys {
+            if !KEYS.contains(&key) {
+                return Err(bad(format!("'{key}' is not a setting of a job")).into());
+            }
+            for (one, other) in EXCLUSIVE {
+                if key == one {
+                    table.remove(other);
+                } else if key == other {
+                    table.remove(one);
+                }
+            }
+            match values.get(key) {
+                Some(v) => table.insert(key.to_string(), v.clone()),
+                None => table.remove(key),
+            };
+        }
+        Self::from_table(table)
     }
 
     /// Reads the job file at `path` ([`JobFile::read`]) as a job.

@@ -25,6 +25,7 @@ mod density;
 pub mod file;
 mod layers;
 mod options;
+mod plan;
 mod plot;
 mod preview;
 mod ramp;
@@ -33,9 +34,10 @@ mod sample;
 
 pub use layers::PenLayer;
 pub use options::{Correction, DotMode, Format, Ink, LayerOrder, Order, Spacing};
+pub use plan::{Plan, Planned};
 pub use preview::{PenCheck, PlotPen, plotted_dot};
-pub use ramp::{RampError, ramp_error};
-pub use run::{Picture, Step, Stipple};
+pub use ramp::{RampError, ramp_error, ramp_error_sized};
+pub use run::{Decoded, Picture, Stage, Step, Stipple};
 pub use sample::{Radii, SampleJob, Sampled};
 
 use crate::colour::PenSet;
@@ -400,21 +402,6 @@ impl Job {
         self.dot_size().validate()
     }
 
-    /// The relaxation steps of a drawing of `dots` dots: `relax`, or by
-    /// default [`AUTO_RELAX_STEPS`] up to [`AUTO_RELAX_DOTS`] dots where
-    /// the dots are corrected ([`Self::corrected`]: relaxed sets are
-    /// evener than the calibration's, so their dots overlap less and draw
-    /// darker, which only the correction makes up), and none elsewhere.
-    #[must_use]
-    pub fn relax_steps(&self, dots: usize) -> u32 {
-        self.relax
-            .unwrap_or(if dots <= AUTO_RELAX_DOTS && self.corrected() {
-                AUTO_RELAX_STEPS
-            } else {
-                0
-            })
-    }
-
     /// How big the dots are drawn: the dot mode and its factor.
     #[must_use]
     pub fn dot_size(&self) -> DotSize {
@@ -478,15 +465,6 @@ impl Job {
             key.landscape = false;
         }
         key
-    }
-
-    /// Whether the drawing's dots are corrected toward the picture's tones
-    /// by rendering it: `--correction on`, sized dots, a tone mapping.
-    #[must_use]
-    pub fn corrected(&self) -> bool {
-        self.correction == Correction::On
-            && self.dot_mode() == DotMode::Sized
-            && self.importance.mapping != Some(crate::importance::MappingKind::Linear)
     }
 
     /// The dot mode: `dot`, or fixed with a pen, else sized.

@@ -18,32 +18,43 @@ pub struct RampError {
 }
 
 /// Stipples a ramp of display grey, black (left) to white (right), 1536 ×
-/// 384 px, with `job` (sampled on the CPU), plots it with a pen of dot gain
-/// `gain` ([`plotted`]), and compares each band of 1/32 of the width with
-/// the ramp: the band's grey is 1 − its mean ink (a blur across the band),
-/// rendered at four times the size.
+/// 384 px, on a domain of the same size, with `job` (sampled on the CPU),
+/// plots it with a pen of dot gain `gain` ([`plotted`]), and compares each
+/// band of 1/32 of the width with the ramp: the band's grey is 1 − its
+/// mean ink (a blur across the band), rendered at four times the size.
 pub fn ramp_error(job: &Job, gain: f64) -> crate::Result<RampError> {
-    let (w, h) = (1536u32, 384u32);
+    let mut job = job.clone();
+    job.width = Some(1536);
+    job.height = Some(384);
+    ramp_error_sized(&job, gain, (1536, 384))
+}
+
+/// [`ramp_error`] of a ramp picture of `size` px, on the job's domain (the
+/// default domain for the job's count unless it sets one), rendered at
+/// four times the picture's size.
+pub fn ramp_error_sized(job: &Job, gain: f64, size: (u32, u32)) -> crate::Result<RampError> {
+    let (w, h) = size;
     // The map holds linear light; the ramp is even in display grey.
     let values = (0..w * h)
         .map(|i| decode((f64::from(i % w) + 0.5) / f64::from(w)) as f32)
         .collect();
     let map = crate::importance::ImportanceMap::from_values(w, h, values)?;
-    let mut job = job.clone();
-    job.width = Some(w);
-    job.height = Some(h);
     let drawing = job.run_map(&map, |p| Ok(p.generate()?), |_| true)?;
     let dots = plotted(&job.dots(&drawing), gain);
-    // At four times the size: dots a pixel or two wide are measured by
-    // their true coverage.
+    // At four times the picture's size: dots a pixel or two wide are
+    // measured by their true coverage.
     const K: u32 = 4;
-    let img = crate::stipple::raster::render(&dots, (w, h), K as f32)?;
+    let scale = K as f32 * w as f32 / drawing.domain.0 as f32;
+    let img = crate::stipple::raster::render(&dots, drawing.domain, scale)?;
+    let (iw, ih) = (img.width(), img.height());
     let bands: Vec<(f64, f64)> = (0..32)
         .map(|b| {
             let (x0, x1) = (b * w / 32, (b + 1) * w / 32);
             let target = f64::from(x0 + x1) / 2.0 / f64::from(w);
+            // The band, less a margin of 1/24 of the height top and bottom.
+            let (bx0, bx1) = (x0 * iw / w, x1 * iw / w);
             let grey =
-                1.0 - crate::stipple::raster::mean_ink(&img, K * x0, K * 16, K * x1, K * (h - 16));
+                1.0 - crate::stipple::raster::mean_ink(&img, bx0, ih / 24, bx1, ih - ih / 24);
             (target, grey)
         })
         .collect();

@@ -6,11 +6,11 @@
 use std::borrow::Cow;
 use std::path::Path;
 
-use super::{Job, Order, count};
+use super::{Job, Order};
 use crate::colour::PenSet;
-use crate::importance::{Classes, ColourMap, Crop, ImportanceMap, Prepared, RadiusRange};
+use crate::importance::{ColourMap, Crop, ImportanceMap, RadiusRange};
 use crate::sampler::{Params, Point, SampleSet};
-use crate::stipple::{Dot, relax, tsp};
+use crate::stipple::{Dot, tsp};
 
 /// A picture to draw, in memory: grey, colour, or both (the app keeps
 /// both). A grey job draws the grey (a colour picture's luminance when
@@ -26,15 +26,57 @@ pub enum Picture<'a> {
     Both(&'a ImportanceMap, &'a ColourMap),
 }
 
+/// A picture decoded as a job draws it: grey, or colour for a colour job
+/// (every front end loads pictures through it).
+#[derive(Clone, Debug)]
+pub enum Decoded {
+    /// A grey picture.
+    Grey(ImportanceMap),
+    /// A colour picture.
+    Colour(ColourMap),
+}
+
+impl Decoded {
+    /// The picture file at `path`, decoded for `job`.
+    pub fn open(job: &Job, path: &Path) -> crate::Result<Self> {
+        let hdr = job.importance.hdr_white;
+        Ok(if job.colour() {
+            Self::Colour(ColourMap::open(path, hdr)?)
+        } else {
+            Self::Grey(ImportanceMap::open(path, hdr)?)
+        })
+    }
+
+    /// The encoded picture `bytes` (any format the files take; `name` for
+    /// the messages), decoded for `job`.
+    pub fn decode(job: &Job, bytes: &[u8], name: &Path) -> crate::Result<Self> {
+        let hdr = job.importance.hdr_white;
+        Ok(if job.colour() {
+            Self::Colour(ColourMap::from_encoded(bytes, name, hdr)?)
+        } else {
+            Self::Grey(ImportanceMap::from_encoded(bytes, name, hdr)?)
+        })
+    }
+
+    /// The picture, borrowed.
+    #[must_use]
+    pub fn picture(&self) -> Picture<'_> {
+        match self {
+            Self::Grey(m) => Picture::Grey(m),
+            Self::Colour(c) => Picture::Colour(c),
+        }
+    }
+}
+
 /// A picture framed (cropped and turned) for a job, owned.
-enum Framed {
+pub(crate) enum Framed {
     Grey(ImportanceMap),
     Colour(ColourMap),
     Both(ImportanceMap, ColourMap),
 }
 
 impl Framed {
-    fn picture(&self) -> Picture<'_> {
+    pub(crate) fn picture(&self) -> Picture<'_> {
         match self {
             Self::Grey(m) => Picture::Grey(m),
             Self::Colour(c) => Picture::Colour(c),
@@ -45,7 +87,7 @@ impl Framed {
 
 impl<'a> Picture<'a> {
     /// The picture cropped to `crop` and turned `degrees` clockwise.
-    fn framed(self, crop: Option<Crop>, degrees: u16) -> crate::Result<Framed> {
+    pub(crate) fn framed(self, crop: Option<Crop>, degrees: u16) -> crate::Result<Framed> {
         Ok(match self {
             Self::Grey(m) => Framed::Grey(m.framed(crop, degrees)?),
             Self::Colour(c) => Framed::Colour(c.framed(crop, degrees)?),
@@ -54,7 +96,7 @@ impl<'a> Picture<'a> {
     }
 
     /// The grey picture.
-    fn grey(self) -> Cow<'a, ImportanceMap> {
+    pub(crate) fn grey(self) -> Cow<'a, ImportanceMap> {
         match self {
             Self::Grey(m) | Self::Both(m, _) => Cow::Borrowed(m),
             Self::Colour(c) => Cow::Owned(c.luminance()),
@@ -62,7 +104,7 @@ impl<'a> Picture<'a> {
     }
 
     /// The colour picture.
-    fn colour(self) -> Cow<'a, ColourMap> {
+    pub(crate) fn colour(self) -> Cow<'a, ColourMap> {
         match self {
             Self::Colour(c) | Self::Both(_, c) => Cow::Borrowed(c),
             Self::Grey(m) => Cow::Owned(m.colours()),
@@ -95,13 +137,25 @@ pub struct Stipple {
     pub short_of: Option<usize>,
     /// The pen-plotter tour, with `Order::Tsp`.
     pub tour: Option<tsp::Tour>,
-    /// Seconds spent loading, sampling and relaxing.
-    pub seconds: (f64, f64, f64),
-    /// Seconds in each stage of [`Job::draw`], in order: prepare (the
-    /// picture's loading not included), sample, relax, order and size.
-    pub stages: Vec<(&'static str, f64)>,
+    /// Seconds in each stage of [`Job::draw`], in order: prepare (with
+    /// the picture's loading by [`Job::run`]), sample, relax, order and
+    /// size.
+    pub stages: Vec<(Stage, f64)>,
+    /// The plan the drawing was made by.
+    pub plan: super::Plan,
     /// The pens of a colour drawing (each point's class is its pen).
     pub pens: Option<PenSet>,
+}
+
+impl Stipple {
+    /// The seconds of `stage` (0 when it did not run).
+    #[must_use]
+    pub fn seconds(&self, stage: Stage) -> f64 {
+        self.stages
+            .iter()
+            .find(|(s, _)| *s == stage)
+            .map_or(0.0, |(_, t)| *t)
+    }
 }
 
 impl Job {
@@ -115,17 +169,10 @@ impl Job {
         progress: impl FnMut(Step) -> bool,
     ) -> crate::Result<Stipple> {
         let t0 = std::time::Instant::now();
-        let (grey, colour);
-        let picture = if self.colour() {
-            colour = ColourMap::open(image, self.importance.hdr_white)?;
-            Picture::Colour(&colour)
-        } else {
-            grey = ImportanceMap::open(image, self.importance.hdr_white)?;
-            Picture::Grey(&grey)
-        };
+        let picture = Decoded::open(self, image)?;
         let opened = t0.elapsed().as_secs_f64();
-        let mut drawing = self.draw(picture, sample, progress)?;
-        drawing.seconds.0 += opened;
+        let mut drawing = self.draw(picture.picture(), sample, progress)?;
+        drawing.stages[0].1 += opened;
         Ok(drawing)
     }
 
@@ -140,147 +187,30 @@ impl Job {
     }
 
     /// The one staged run of every drawing, grey or colour, of a picture in
-    /// memory (borrowed: the app keeps its picture across jobs): prepare
-    /// (one map per pen; a grey drawing is one pen) → sample → relax →
-    /// order → size. The writers are [`Self::write`]. `sample` runs the
-    /// sampler; `progress` hears each stage begin ([`Step::Stage`], within
-    /// the long ones each part) and each relaxation step done, and returns
-    /// false to stop (a stage: the run ends as cancelled; relaxation: it
-    /// stops where it is).
+    /// memory (borrowed: the app keeps its picture across jobs): the plan
+    /// ([`Self::plan`], the prepare stage) and its run ([`Planned::run`]).
+    /// `sample` runs the sampler; `progress` hears each stage begin
+    /// ([`Step::Stage`], within the long ones each part) and each
+    /// relaxation step done, and returns false to stop (a stage: the run
+    /// ends as cancelled; relaxation: it stops where it is).
     pub fn draw(
         &self,
         picture: Picture<'_>,
         sample: impl FnMut(&Params) -> crate::Result<SampleSet>,
         mut progress: impl FnMut(Step) -> bool,
     ) -> crate::Result<Stipple> {
-        // Each stage's seconds, read as the next one begins.
-        let mut last = std::time::Instant::now();
-        let mut lap = || {
-            let now = std::time::Instant::now();
-            let seconds = (now - last).as_secs_f64();
-            last = now;
-            seconds
-        };
-        self.check()?;
-        let (points, count_target) = self.count();
-        stage(&mut progress, "prepare")?;
-        // The crop and the turn, first: the rest sees the framed picture.
-        let framed = match (self.crop, self.rotate) {
-            (None, None) => None,
-            (crop, turn) => Some(picture.framed(crop, turn.unwrap_or(0))?),
-        };
-        let picture = framed.as_ref().map_or(picture, Framed::picture);
-        let (separated, grey) = if self.colour() {
-            let colour = picture.colour();
-            let domain = self.domain_for((colour.width(), colour.height()), points);
-            (Some(self.separate(&colour, domain, count_target)?), None)
-        } else {
-            let map = picture.grey();
-            let mut prepared = self.importance.prepare_map(
-                &map,
-                |w, h| self.domain_for((w, h), points),
-                self.dot_mode().mapping(self.dot_ratio),
-                count_target,
-            )?;
-            let domain = prepared.domain();
-            prepared.range = self.dot_range(prepared.range, domain)?;
-            (None, Some(prepared))
-        };
-        let maps: &[Prepared] = match (&separated, &grey) {
-            (Some(s), _) => &s.maps,
-            (None, Some(g)) => std::slice::from_ref(g),
-            (None, None) => unreachable!("a drawing prepares a grey or a colour picture"),
-        };
-        let domain = maps[0].domain();
-        let t_load = lap();
-        stage(&mut progress, "sample")?;
-        let base = self
-            .sampler
-            .apply(Params::new(domain.0, domain.1).with_policy(self.policy));
-        let fitted = if separated.is_some() {
-            count::sample_union(&Classes { maps }, &base, points, sample)?
-        } else {
-            count::sample_map(&maps[0], &base, points, sample)?
-        };
-        let (mut set, range) = (fitted.set, fitted.range);
-        let t_sample = lap();
-        let steps = self.relax_steps(set.points.len());
-        if steps > 0 {
-            stage(&mut progress, "relax")?;
-            let options = relax::RelaxOptions {
-                iterations: steps,
-                periodic: self.sampler.periodic,
-            };
-            let moved = crate::stipple::relax_points(maps, range, &set.points, options, |n| {
-                progress(Step::Relaxed(n, steps))
-            })?;
-            set = set.with_points(moved);
-        }
-        let t_relax = lap();
-        stage(&mut progress, "order")?;
-        let (points, tour) = self.ordered(&set.points, maps.len());
-        let t_order = lap();
-        stage(&mut progress, "size")?;
-        let calibrated = match &separated {
-            Some(s) => self.colour_sizes(s, &points, range, domain, &mut |name| {
-                stage(&mut progress, name)
-            })?,
-            None => {
-                let mut radii = maps[0].dot_radii(&points, range);
-                // Sized dots for the spacing they have ([`Spacing::Local`]).
-                if self.spacing == super::Spacing::Local
-                    && matches!(maps[0].mapping, crate::importance::Mapping::ToneSized(_))
-                {
-                    super::density::local_spacing(&maps[0], &points, range, domain, &mut radii);
-                }
-                // Corrected toward the map's tones by rendering (sized
-                // dots on a tone mapping, [`Job::corrected`]).
-                if self.corrected() {
-                    let limits = (
-                        maps[0].mapping.dot_radius(1.0, range),
-                        maps[0].mapping.dot_radius(0.0, range),
-                    );
-                    super::correct::correct_grey(
-                        &maps[0],
-                        &points,
-                        range,
-                        &mut radii,
-                        limits,
-                        &mut |name| stage(&mut progress, name),
-                    )?;
-                }
-                radii
-            }
-        };
-        let t_size = lap();
-        let mut drawing = Stipple {
-            dots: Vec::new(),
-            points,
-            calibrated,
-            set,
-            domain,
-            range,
-            runs: fitted.runs,
-            short_of: fitted.short_of,
-            tour,
-            seconds: (t_load, t_sample, t_relax),
-            stages: vec![
-                ("prepare", t_load),
-                ("sample", t_sample),
-                ("relax", t_relax),
-                ("order", t_order),
-                ("size", t_size),
-            ],
-            pens: separated.and(self.pens.clone()),
-        };
-        drawing.dots = self.dots(&drawing);
+        let t0 = std::time::Instant::now();
+        stage(&mut progress, Stage::Prepare)?;
+        let planned = self.plan(picture)?;
+        let prepared = t0.elapsed().as_secs_f64();
+        let mut drawing = planned.run(sample, progress)?;
+        drawing.stages[0].1 += prepared;
         Ok(drawing)
     }
-
     /// The order stage: the points pen by pen in the pens' order, each
     /// pen's in the sampler's order or, with `--order tsp`, along its own
     /// tour (the tours joined, pen after pen).
-    fn ordered(&self, points: &[Point], pens: usize) -> (Vec<Point>, Option<tsp::Tour>) {
+    pub(crate) fn ordered(&self, points: &[Point], pens: usize) -> (Vec<Point>, Option<tsp::Tour>) {
         let mut by_pen: Vec<Vec<Point>> = vec![Vec::new(); pens.max(1)];
         for p in points {
             if let Some(pen) = by_pen.get_mut(p.class as usize) {
@@ -314,22 +244,66 @@ impl Job {
     }
 }
 
+/// A stage of a drawing's run, as [`Step::Stage`] reports it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum Stage {
+    /// The plan: the picture framed, separated (colour) and prepared.
+    Prepare,
+    /// The sampler's runs, fitting the count.
+    Sample,
+    /// Weighted Lloyd relaxation.
+    Relax,
+    /// The drawing order.
+    Order,
+    /// The dots' sizes.
+    Size,
+    /// Within a colour drawing's sizing: the pens' calibration.
+    Calibrate,
+    /// Within the sizing: a round of the correction by rendering.
+    Correct {
+        /// This round, from 1.
+        round: u8,
+        /// Of how many.
+        of: u8,
+    },
+}
+
+impl Stage {
+    /// Whether the stage is the sizing or a part of it.
+    #[must_use]
+    pub fn sizing(self) -> bool {
+        matches!(self, Self::Size | Self::Calibrate | Self::Correct { .. })
+    }
+}
+
+impl std::fmt::Display for Stage {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Prepare => f.write_str("prepare"),
+            Self::Sample => f.write_str("sample"),
+            Self::Relax => f.write_str("relax"),
+            Self::Order => f.write_str("order"),
+            Self::Size => f.write_str("size"),
+            Self::Calibrate => f.write_str("size: calibration"),
+            Self::Correct { round, of } => write!(f, "size: correction {round} of {of}"),
+        }
+    }
+}
+
 /// What a drawing's run reports as it goes ([`Job::draw`]'s `progress`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum Step {
-    /// A stage begins: `prepare`, `sample`, `relax`, `order` or `size`, and
-    /// within a colour drawing's sizing each part (`size: calibration`, `size:
-    /// correction 1 of 3`, …), so that long work reports at least once a
-    /// second.
-    Stage(&'static str),
+    /// A stage begins.
+    Stage(Stage),
     /// Relaxation steps done so far, of how many.
     Relaxed(u32, u32),
 }
 
-/// Reports stage `name`; an `Err` (cancelled) when `progress` says stop.
-fn stage(progress: &mut impl FnMut(Step) -> bool, name: &'static str) -> crate::Result<()> {
-    if progress(Step::Stage(name)) {
+/// Reports `stage`; an `Err` (cancelled) when `progress` says stop.
+pub(crate) fn stage(progress: &mut impl FnMut(Step) -> bool, stage: Stage) -> crate::Result<()> {
+    if progress(Step::Stage(stage)) {
         Ok(())
     } else {
         Err(crate::sampler::Error::Cancelled.into())

@@ -1,0 +1,541 @@
+//! `Job → Plan → run`: every decision of a drawing made once, from the job
+//! and its picture, before anything is sampled ([`Job::plan`]). The run
+//! ([`Plan::run`]) executes the plan and decides nothing; the front ends
+//! show it (`pixelpie stipple --plan`, Python's `pixelpie.plan`, the app's
+//! plan line), so that a user who asks why a drawing looks as it does reads
+//! the answer in one place.
+//!
+//! The one rule for grey and colour alike ([`Plan::corrected`]): sized dots
+//! on a tone mapping with `--correction on` are corrected toward the
+//! picture by rendering the drawing, and relaxed by default
+//! ([`AUTO_RELAX_STEPS`]) up to [`AUTO_RELAX_DOTS`]; a relaxed drawing is
+//! always corrected (its dots overlap less than the calibration's, so only
+//! the correction keeps its tones), its render made as fine as the
+//! correction needs. Past [`AUTO_RELAX_DOTS`] the drawing is neither
+//! relaxed nor, where its render cannot resolve the dots, corrected: the
+//! calibration alone holds the tones there.
+
+use serde::Serialize;
+
+use super::colour::Separated;
+use super::correct::{self, Grid};
+use super::run::{Framed, stage};
+use super::{
+    AUTO_RELAX_DOTS, AUTO_RELAX_STEPS, DotMode, Job, LayerOrder, Order, Picture, Stage, Step,
+    Stipple, count,
+};
+use crate::importance::{Classes, MappingKind, Prepared, RadiusRange};
+use crate::sampler::{Params, SampleSet};
+use crate::stipple::relax;
+
+/// What a drawing will be: every decision of [`Job::plan`], in the words
+/// the front ends show. Serialized (`--plan`, Python) it is a plain table.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[non_exhaustive]
+pub struct Plan {
+    /// The picture's size after the crop and the turn, px.
+    pub picture: (u32, u32),
+    /// The domain the dots are sampled on, px.
+    pub domain: (u32, u32),
+    /// The dot count asked for (±3%), if the count sets the radii.
+    pub points: Option<usize>,
+    /// The dots expected: the count asked, or the count the radii predict.
+    pub dots: usize,
+    /// Pens: 1 for a grey drawing.
+    pub pens: usize,
+    /// The sample radius range, px: the range the count's fit starts from
+    /// (the picture's predicted count scaled to the count asked).
+    pub radius: (f32, f32),
+    /// How the dots are sized.
+    pub dot: DotMode,
+    /// Weighted Lloyd steps after sampling.
+    pub relax: u32,
+    /// Whether the dots are corrected toward the picture by rendering.
+    pub corrected: bool,
+    /// Why the drawing is or is not corrected and relaxed, in a few words.
+    pub why: String,
+    /// The correction's render, px (when corrected).
+    pub render: Option<(u32, u32)>,
+    /// The drawing order.
+    pub order: Order,
+    /// The pens' layer order (colour drawings).
+    pub layer_order: Option<LayerOrder>,
+    /// The estimated seconds of the run on two CPU cores (sampling on the
+    /// CPU), the picture's loading not included.
+    pub seconds: f64,
+}
+
+/// Grey correction: the fewest render pixels between dots ([`Grid`]); a
+/// coarser render's one-pixel dots mislead it (3 px: 3–6 dB worse at 1M
+/// dots; 3.7 px: mixed).
+pub(crate) const MIN_PX_PER_SPACING: f64 = 4.5;
+/// Grey correction: render pixels at most, unless a relaxed drawing needs
+/// more to reach [`MIN_PX_PER_SPACING`] (2048² px: 207K dots at 4.5 px).
+pub(crate) const GREY_PIXELS: u64 = 2048 * 2048;
+
+/// The picture prepared for the run: one map (grey) or one per pen.
+pub(crate) enum Maps {
+    Grey(Prepared),
+    Colour(Separated),
+}
+
+impl Maps {
+    pub(crate) fn all(&self) -> &[Prepared] {
+        match self {
+            Self::Grey(g) => std::slice::from_ref(g),
+            Self::Colour(s) => &s.maps,
+        }
+    }
+}
+
+/// A plan and what its run needs: the job, the prepared maps and the
+/// correction's grid. Made by [`Job::plan`]; [`Self::run`] draws it.
+pub struct Planned {
+    /// The decisions.
+    pub plan: Plan,
+    pub(crate) job: Job,
+    pub(crate) maps: Maps,
+    /// The correction's grid parameters: render pixels between dots, the
+    /// most render pixels, and the fewest pixels between dots (a finer
+    /// render where the plan grows it).
+    pub(crate) grid: Option<GridSpec>,
+}
+
+/// How a correction's [`Grid`] is made for the dots the run has.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct GridSpec {
+    pub px_per_spacing: f64,
+    pub side: u32,
+    pub pixels: u64,
+    pub floor_px: f64,
+}
+
+impl GridSpec {
+    /// The grey correction's render: 8 px between dots within
+    /// [`GREY_PIXELS`], at least `floor` px between dots.
+    fn grey(floor: f64) -> Self {
+        Self {
+            px_per_spacing: correct::GREY_PX_PER_SPACING,
+            side: u32::MAX,
+            pixels: GREY_PIXELS,
+            floor_px: floor,
+        }
+    }
+
+    /// The grid for `dots` dots on `domain`.
+    pub(crate) fn grid(&self, domain: (u32, u32), dots: usize) -> Grid {
+        Grid::new(
+            domain,
+            dots,
+            self.px_per_spacing,
+            self.side,
+            self.pixels,
+            self.floor_px,
+        )
+    }
+}
+
+impl Planned {
+    /// Runs the plan: sample → relax → order → size, deciding nothing.
+    /// `sample` runs the sampler; `progress` hears each stage begin and
+    /// each relaxation step done, and returns false to stop.
+    pub fn run(
+        self,
+        sample: impl FnMut(&Params) -> crate::Result<SampleSet>,
+        mut progress: impl FnMut(Step) -> bool,
+    ) -> crate::Result<Stipple> {
+        let Self {
+            plan,
+            job,
+            maps,
+            grid,
+            ..
+        } = self;
+        // Each stage's seconds, read as the next one begins.
+        let mut last = std::time::Instant::now();
+        let mut lap = || {
+            let now = std::time::Instant::now();
+            let seconds = (now - last).as_secs_f64();
+            last = now;
+            seconds
+        };
+        let all = maps.all();
+        let domain = plan.domain;
+        stage(&mut progress, Stage::Sample)?;
+        let base = job
+            .sampler
+            .apply(Params::new(domain.0, domain.1).with_policy(job.policy));
+        let fitted = match &maps {
+            Maps::Colour(_) => {
+                count::sample_union(&Classes { maps: all }, &base, plan.points, sample)?
+            }
+            Maps::Grey(map) => count::sample_map(map, &base, plan.points, sample)?,
+        };
+        let (mut set, range) = (fitted.set, fitted.range);
+        let t_sample = lap();
+        if plan.relax > 0 {
+            stage(&mut progress, Stage::Relax)?;
+            let steps = plan.relax;
+            let options = relax::RelaxOptions {
+                iterations: steps,
+                periodic: job.sampler.periodic,
+            };
+            let moved = crate::stipple::relax_points(all, range, &set.points, options, |n| {
+                progress(Step::Relaxed(n, steps))
+            })?;
+            set = set.with_points(moved);
+        }
+        let t_relax = lap();
+        stage(&mut progress, Stage::Order)?;
+        let (points, tour) = job.ordered(&set.points, all.len());
+        let t_order = lap();
+        stage(&mut progress, Stage::Size)?;
+        let grid = grid.map(|g| g.grid(domain, points.len()));
+        let mut report = |s| stage(&mut progress, s);
+        let calibrated = match &maps {
+            Maps::Colour(s) => job.colour_sizes(s, &points, range, grid, &mut report)?,
+            Maps::Grey(map) => {
+                let mut radii = map.dot_radii(&points, range);
+                // Sized dots for the spacing they have ([`Spacing::Local`]).
+                if job.spacing == super::Spacing::Local
+                    && matches!(map.mapping, crate::importance::Mapping::ToneSized(_))
+                {
+                    super::density::local_spacing(map, &points, range, domain, &mut radii);
+                }
+                if let Some(grid) = &grid {
+                    let limits = (
+                        map.mapping.dot_radius(1.0, range),
+                        map.mapping.dot_radius(0.0, range),
+                    );
+                    correct::correct_grey(
+                        grid,
+                        map,
+                        &points,
+                        range,
+                        &mut radii,
+                        limits,
+                        &mut report,
+                    )?;
+                }
+                radii
+            }
+        };
+        let t_size = lap();
+        let mut drawing = Stipple {
+            dots: Vec::new(),
+            points,
+            calibrated,
+            set,
+            domain,
+            range,
+            runs: fitted.runs,
+            short_of: fitted.short_of,
+            tour,
+            stages: vec![
+                (Stage::Prepare, 0.0),
+                (Stage::Sample, t_sample),
+                (Stage::Relax, t_relax),
+                (Stage::Order, t_order),
+                (Stage::Size, t_size),
+            ],
+            pens: matches!(maps, Maps::Colour(_))
+                .then(|| job.pens.clone())
+                .flatten(),
+            plan,
+        };
+        drawing.dots = job.dots(&drawing);
+        Ok(drawing)
+    }
+}
+
+impl Job {
+    /// Makes every decision of a drawing of `picture` once: the framing,
+    /// the domain and radii, the count, the dots, relaxation and the
+    /// correction (one rule for grey and colour, the module's), the order.
+    /// Prepares the picture's maps (the prepare stage); nothing is sampled.
+    pub fn plan(&self, picture: Picture<'_>) -> crate::Result<Planned> {
+        self.check()?;
+        let (points, count_target) = self.count();
+        // The crop and the turn, first: the rest sees the framed picture.
+        let framed = match (self.crop, self.rotate) {
+            (None, None) => None,
+            (crop, turn) => Some(picture.framed(crop, turn.unwrap_or(0))?),
+        };
+        let picture = framed.as_ref().map_or(picture, Framed::picture);
+        let (maps, size) = if self.colour() {
+            let colour = picture.colour();
+            let size = (colour.width(), colour.height());
+            let domain = self.domain_for(size, points);
+            (
+                Maps::Colour(self.separate(&colour, domain, count_target)?),
+                size,
+            )
+        } else {
+            let map = picture.grey();
+            let size = (map.width(), map.height());
+            let mut prepared = self.importance.prepare_map(
+                &map,
+                |w, h| self.domain_for((w, h), points),
+                self.dot_mode().mapping(self.dot_ratio),
+                count_target,
+            )?;
+            prepared.range = self.dot_range(prepared.range, prepared.domain())?;
+            (Maps::Grey(prepared), size)
+        };
+        let all = maps.all();
+        let domain = all[0].domain();
+        let range = all[0].range;
+        let dots = points.unwrap_or_else(|| {
+            all.iter()
+                .map(|m| m.predicted_points(1.0))
+                .sum::<f64>()
+                .round() as usize
+        });
+        let colour = matches!(maps, Maps::Colour(_));
+        let decided = decide(self, colour, domain, dots);
+        let plan = Plan {
+            picture: size,
+            domain,
+            points,
+            dots,
+            pens: all.len(),
+            radius: match points {
+                Some(n) if dots > 0 => {
+                    let predicted: f64 = all.iter().map(|m| m.predicted_points(1.0)).sum();
+                    let s = (predicted / n as f64).sqrt() as f32;
+                    (range.min * s, range.max * s)
+                }
+                _ => (range.min, range.max),
+            },
+            dot: self.dot_mode(),
+            relax: decided.relax,
+            corrected: decided.grid.is_some(),
+            why: decided.why,
+            render: decided.grid.map(|g| g.grid(domain, dots).size),
+            order: self.order,
+            layer_order: colour.then_some(self.layer_order),
+            seconds: 0.0,
+        };
+        let plan = Plan {
+            seconds: plan.estimate(range),
+            ..plan
+        };
+        Ok(Planned {
+            plan,
+            job: self.clone(),
+            maps,
+            grid: decided.grid,
+        })
+    }
+
+    /// Whether this job's dots are of the kind the correction corrects:
+    /// `--correction on`, sized dots, a tone mapping (grey and colour).
+    #[must_use]
+    pub fn corrects(&self) -> bool {
+        self.correction == super::Correction::On
+            && self.dot_mode() == DotMode::Sized
+            && self.importance.mapping != Some(MappingKind::Linear)
+    }
+}
+
+/// The relaxation and correction decisions.
+struct Decided {
+    relax: u32,
+    grid: Option<GridSpec>,
+    why: String,
+}
+
+/// The one rule (the module's) for a drawing of about `dots` dots on
+/// `domain`.
+fn decide(job: &Job, colour: bool, domain: (u32, u32), dots: usize) -> Decided {
+    let wants = job.corrects();
+    let dense = dots > AUTO_RELAX_DOTS;
+    let relax = job
+        .relax
+        .unwrap_or(if wants && !dense { AUTO_RELAX_STEPS } else { 0 });
+    if !wants {
+        let why = if job.correction == super::Correction::Off {
+            "--correction off"
+        } else if job.dot_mode() != DotMode::Sized {
+            "only sized dots are corrected"
+        } else {
+            "a linear mapping is not corrected"
+        };
+        return Decided {
+            relax,
+            grid: None,
+            why: why.into(),
+        };
+    }
+    if colour {
+        return Decided {
+            relax,
+            grid: Some(GridSpec {
+                px_per_spacing: correct::COLOUR_PX_PER_SPACING,
+                side: correct::COLOUR_SIDE,
+                pixels: u64::MAX,
+                floor_px: 0.0,
+            }),
+            why: "sized colour dots".into(),
+        };
+    }
+    if relax > 0 {
+        // A relaxed drawing is always corrected, its render as fine as the
+        // correction needs.
+        return Decided {
+            relax,
+            grid: Some(GridSpec::grey(MIN_PX_PER_SPACING)),
+            why: "relaxed, so corrected".into(),
+        };
+    }
+    let spec = GridSpec::grey(0.0);
+    if spec.grid(domain, dots).px_per_spacing() < MIN_PX_PER_SPACING {
+        return Decided {
+            relax,
+            grid: None,
+            why: format!(
+                "over {AUTO_RELAX_DOTS} dots and not relaxed: the calibration holds the tones"
+            ),
+        };
+    }
+    Decided {
+        relax,
+        grid: Some(spec),
+        why: "sized grey dots".into(),
+    }
+}
+
+impl Plan {
+    /// The seconds a run of this plan takes on two CPU cores, estimated:
+    /// sampling (about 2 runs of the count's fit at 2.2M points/s), the
+    /// relaxation (by the domain's pixels), the correction (by its render's
+    /// pixels and dots) and the writing (by the dots). Fitted to `pixelpie
+    /// bench --stipple` on the 2-core VM within about a factor of 1.5.
+    fn estimate(&self, _range: RadiusRange) -> f64 {
+        let dots = self.dots as f64;
+        let domain = f64::from(self.domain.0) * f64::from(self.domain.1);
+        let sample = 0.02 + 2.0 * dots / 2.2e6 + domain / 80e6;
+        let relax = f64::from(self.relax) * (domain / 120e6 + dots / 2.0e6);
+        let correct = self.render.map_or(0.0, |(w, h)| {
+            3.0 * (f64::from(w) * f64::from(h) / 60e6 + dots / 4.0e6)
+        });
+        let colour = if self.pens > 1 { 0.6 * sample } else { 0.0 };
+        let order = match self.order {
+            Order::Tsp => dots / 0.5e6,
+            Order::None => 0.0,
+        };
+        let write = dots / 3.0e6;
+        sample + relax + correct + colour + order + write
+    }
+
+    /// The plan in one line: "10 000 dots · 3 Lloyd steps · corrected ·
+    /// ≈0.8 s".
+    #[must_use]
+    pub fn line(&self) -> String {
+        let mut parts = vec![format!("{} dots", thousands(self.dots))];
+        if self.pens > 1 {
+            parts.push(format!("{} pens", self.pens));
+        }
+        parts.push(match self.relax {
+            0 => "not relaxed".into(),
+            1 => "1 Lloyd step".into(),
+            n => format!("{n} Lloyd steps"),
+        });
+        parts.push(if self.corrected {
+            "corrected".into()
+        } else {
+            format!("not corrected ({})", self.why)
+        });
+        parts.push(if self.seconds < 10.0 {
+            format!("≈{:.1} s", self.seconds)
+        } else {
+            format!("≈{:.0} s", self.seconds)
+        });
+        parts.join(" · ")
+    }
+
+    /// The plan as JSON (`--plan`, Python's `pixelpie.plan`): its line
+    /// first, then every decision.
+    pub fn to_json(&self) -> crate::Result<String> {
+        #[derive(Serialize)]
+        struct WithLine<'a> {
+            line: String,
+            #[serde(flatten)]
+            plan: &'a Plan,
+        }
+        let with = WithLine {
+            line: self.line(),
+            plan: self,
+        };
+        serde_json::to_string_pretty(&with).map_err(|e| {
+            crate::stipple::Error::InvalidParameter(format!("the plan as JSON: {e}")).into()
+        })
+    }
+}
+
+/// `n` with thin spaces between thousands: 100 000.
+fn thousands(n: usize) -> String {
+    let s = n.to_string();
+    let mut out = String::new();
+    for (i, c) in s.chars().enumerate() {
+        if i > 0 && (s.len() - i) % 3 == 0 {
+            out.push(' ');
+        }
+        out.push(c);
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn thousands_are_spaced() {
+        assert_eq!(thousands(100_000), "100 000");
+        assert_eq!(thousands(999), "999");
+        assert_eq!(thousands(1_000_000), "1 000 000");
+    }
+
+    /// The one rule: relaxed and corrected together up to the auto limit,
+    /// for grey and colour alike; a relaxed grey drawing is corrected at
+    /// any count, its render grown; fixed dots are neither.
+    #[test]
+    fn relaxation_and_correction_go_together() {
+        let job = Job::default();
+        for (dots, domain) in [
+            (20_000, (1414, 354)),
+            (150_000, (3873, 968)),
+            (199_000, (4461, 1115)),
+        ] {
+            for colour in [false, true] {
+                let d = decide(&job, colour, domain, dots);
+                assert_eq!(d.relax, AUTO_RELAX_STEPS, "{dots}");
+                let grid = d.grid.expect("corrected").grid(domain, dots);
+                if !colour {
+                    assert!(grid.px_per_spacing() >= MIN_PX_PER_SPACING, "{dots}");
+                }
+            }
+        }
+        let d = decide(&job, false, (8192, 2048), 1_000_000);
+        assert_eq!((d.relax, d.grid.is_some()), (0, false));
+        let relaxed = Job {
+            relax: Some(3),
+            ..Job::default()
+        };
+        let d = decide(&relaxed, false, (8192, 2048), 1_000_000);
+        let grid = d
+            .grid
+            .expect("a relaxed drawing is corrected")
+            .grid((8192, 2048), 1_000_000);
+        assert!(grid.px_per_spacing() >= MIN_PX_PER_SPACING);
+        let fixed = Job {
+            dot: Some(DotMode::Fixed),
+            ..Job::default()
+        };
+        for colour in [false, true] {
+            let d = decide(&fixed, colour, (1024, 683), 10_000);
+            assert_eq!((d.relax, d.grid.is_some()), (0, false));
+        }
+    }
+}
