@@ -1336,8 +1336,17 @@ fn frame_times_of_pan_and_zoom_at_10k_and_1m_dots() {
         let t = Instant::now();
         settle(&mut h);
         let job = t.elapsed().as_secs_f64();
+        let drawn = h.state().dots_drawn();
+        assert!(
+            drawn.abs_diff(n as usize) <= n as usize * 3 / 100,
+            "{drawn} dots drawn for {n} asked"
+        );
         press(&mut h, egui::Key::F, egui::Modifiers::NONE);
         let (mean, max, first) = pan_zoom_frames(&mut h);
+        assert!(
+            mean.is_finite() && mean > 0.0 && max >= mean && first > 0.0,
+            "frame times {mean} / {max} / {first} ms"
+        );
         eprintln!(
             "{} dots (job {job:.1} s): pan and zoom {mean:.1} ms a frame (slowest {max:.1} \
              ms), first frame {first:.1} ms, on {}",
@@ -1892,4 +1901,43 @@ fn auto_relax_relaxes_and_the_slider_takes_over_when_unticked() {
         moved > plain.set.points.len() / 2,
         "relaxed: only {moved} points moved"
     );
+}
+
+/// One plan, every front end: the app's plan line is the line of `pixelpie
+/// stipple --plan` for the same job and picture, and the drawing's whole
+/// plan is the CLI's (the Python package's `plan()` is held to the CLI's in
+/// python/tests).
+#[test]
+fn the_app_shows_the_plan_the_cli_prints() {
+    let (dir, png, mut h) = ready(600, 400);
+    for points in [10_000u32, 250_000] {
+        h.state_mut().settings.points = points;
+        h.step();
+        settle(&mut h);
+        let line = h.state().plan_line().expect("a plan line");
+        let out = dir.path().join("x.svg");
+        let json = cli_stdout(&[
+            "stipple",
+            &png.display().to_string(),
+            "-o",
+            &out.display().to_string(),
+            "--points",
+            &points.to_string(),
+            "--plan",
+        ]);
+        let cli: serde_json::Value = serde_json::from_str(&json).expect("the plan is JSON");
+        assert_eq!(cli["line"].as_str(), Some(line.as_str()), "{json}");
+        let app = h
+            .state()
+            .outcome
+            .as_ref()
+            .unwrap()
+            .drawing
+            .plan
+            .to_json()
+            .unwrap();
+        assert_eq!(app, json.trim_end(), "the whole plan");
+        assert!(!out.exists(), "--plan draws nothing");
+        assert!(shows(&h, &line), "the status shows the plan line");
+    }
 }

@@ -565,10 +565,10 @@ fn the_run_reports_every_stage_and_the_sizing_parts() {
     )
     .unwrap();
     use pixelpie::job::Step::{Relaxed, Stage};
-    let stages: Vec<&str> = seen
+    let stages: Vec<String> = seen
         .iter()
         .filter_map(|s| match s {
-            Stage(n) => Some(*n),
+            Stage(n) => Some(n.to_string()),
             _ => None,
         })
         .collect();
@@ -591,7 +591,7 @@ fn the_run_reports_every_stage_and_the_sizing_parts() {
     let stopped = job.run(
         &photo,
         |p| Ok(cpu::sample(p, Default::default())?),
-        |step| step != Stage("order"),
+        |step| step != Stage(pixelpie::job::Stage::Order),
     );
     assert!(stopped.is_err());
 }

@@ -16,6 +16,7 @@ import _thread
 import math
 import os
 import re
+import json
 import subprocess
 import threading
 from pathlib import Path
@@ -186,6 +187,35 @@ def test_a_job_file_replays_the_clis_drawing(tmp_path):
     old.write_text('pixelpie = "0.0.1"\npoints = 300\n')
     with pytest.warns(UserWarning, match="0.0.1"):
         pixelpie.stipple(image, job=old)
+
+
+def test_a_paper_job_takes_a_width_in_mm_as_the_cli_does(tmp_path):
+    # The library lays the options over the file: a width in mm drops the
+    # file's paper, as --width-mm does on the command line.
+    job, theirs, ours = tmp_path / "job.toml", tmp_path / "cli.svg", tmp_path / "py.svg"
+    image = ASSETS / "rocket.jpg"
+    cli("stipple", str(image), "-o", str(tmp_path / "a.svg"), "--quiet", "--points", "500",
+        "--paper", "a5", "--save-job", str(job))
+    cli("stipple", str(image), "-o", str(theirs), "--quiet", "--job", str(job),
+        "--width-mm", "120")
+    pixelpie.stipple(image, ours, job=job, width_mm=120.0)
+    assert ours.read_bytes() == theirs.read_bytes()
+
+
+@pytest.mark.parametrize("points", [10_000, 250_000])
+def test_the_plan_is_the_clis(tmp_path, points):
+    image = ASSETS / "rocket.jpg"
+    out = tmp_path / "x.svg"
+    theirs = json.loads(cli("stipple", str(image), "-o", str(out), "--points", str(points),
+                            "--plan").stdout)
+    ours = pixelpie.plan(image, points=points)
+    assert ours == theirs
+    assert not out.exists()
+    assert ours["line"].startswith(f"{points:,} dots".replace(",", " "))
+    if points <= 200_000:
+        assert ours["corrected"] and ours["relax"] == 3
+    else:
+        assert ours["relax"] == 0
 
 
 def test_every_stipple_option_is_tested_against_the_cli():

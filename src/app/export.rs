@@ -75,6 +75,7 @@ impl PixelPieApp {
                 mm && !paper,
                 egui::DragValue::new(&mut width)
                     .range(1.0..=5000.0)
+                    .update_while_editing(false)
                     .speed(1.0)
                     .max_decimals(1),
             )
@@ -97,6 +98,7 @@ impl PixelPieApp {
                 sized && pen,
                 egui::DragValue::new(&mut pen_mm)
                     .range(0.05..=5.0)
+                    .update_while_editing(false)
                     .speed(0.01),
             )
             .on_hover_text("The pen's width in mm");
@@ -234,7 +236,6 @@ impl PixelPieApp {
             * match job.dot_size() {
                 DotSize::Calibrated(f) => f * o.sizes.drawn_ink_median,
                 DotSize::Proportional(f) => f * o.sizes.radius_ink_median,
-                DotSize::Fixed(r) => r,
             };
         let mut why = Vec::new();
         // Radii scale as 1/√count: the count at which a size is reached.

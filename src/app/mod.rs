@@ -26,7 +26,7 @@ use egui_wgpu::wgpu;
 pub use dots::SHADER as DOTS_SHADER;
 pub use settings::{Background, Settings};
 pub use view::SETTLE;
-use worker::{Job, Outcome, Reply, Worker};
+use worker::{Outcome, Reply, Request, Worker};
 
 use crate::importance::{ColourMap, ImportanceMap};
 use crate::sampler::Progress;
@@ -128,6 +128,9 @@ pub struct PixelPieApp {
     loading: Option<Loading>,
     /// The plot-time estimate (with a pen width).
     plot: plot::PlotTime,
+    /// A job file's crop, loaded for the next photo: kept when it opens
+    /// (another photo's crop is dropped).
+    crop_for_next: bool,
 }
 
 /// A picture decoding off the UI thread.
@@ -210,6 +213,7 @@ impl PixelPieApp {
             cancelled: false,
             loading: None,
             plot: plot::PlotTime::default(),
+            crop_for_next: false,
         };
         // Ctrl+plus and Ctrl+minus zoom the picture, not the whole UI.
         cc.egui_ctx.options_mut(|o| o.zoom_with_keyboard = false);
@@ -275,6 +279,12 @@ impl PixelPieApp {
         };
         match result {
             Ok(decoded) => {
+                // A new photo drops the last one's crop, unless a job file
+                // loaded since brought it for this photo.
+                if self.settings.image != loading.path && !self.crop_for_next {
+                    self.settings.job.crop = None;
+                }
+                self.crop_for_next = false;
                 let original = Arc::new(Original {
                     map: Arc::new(decoded.map),
                     colour: Arc::new(decoded.colour),
@@ -463,6 +473,7 @@ impl PixelPieApp {
                 if let Some(n) = job.points {
                     self.settings.points = u32::try_from(n).unwrap_or(u32::MAX);
                 }
+                self.crop_for_next = job.crop.is_some();
                 self.settings.job = job;
                 match warning {
                     Some(w) => format!("loaded {} (warning: {w})", path.display()),
@@ -484,6 +495,12 @@ impl PixelPieApp {
     /// The GPU adapter that samples and draws, if any.
     pub fn adapter(&self) -> Option<&str> {
         self.worker.adapter()
+    }
+
+    /// The plan of the drawing shown, in one line (the status shows it).
+    #[must_use]
+    pub fn plan_line(&self) -> Option<String> {
+        self.outcome.as_ref().map(|o| o.drawing.plan.line())
     }
 
     /// The number of dots on screen.
@@ -542,7 +559,7 @@ impl PixelPieApp {
         self.relaxed = None;
         self.stage = None;
         self.job_started = Some(Instant::now());
-        self.worker.submit(Job {
+        self.worker.submit(Request {
             id: self.next_job,
             map: src.map.clone(),
             colour: src.colour.clone(),
@@ -576,6 +593,10 @@ impl PixelPieApp {
                             self.dots_generation += 1;
                             self.outcome = Some(outcome);
                             self.error = None;
+                            // Messages about the last drawing go with it.
+                            self.exported = None;
+                            self.export_error = None;
+                            self.exported_note = None;
                         }
                         Err(e) => {
                             // The drawing shown and exported would not be

@@ -38,10 +38,11 @@ impl PixelPieApp {
     /// The photo's crop and quarter turn (the job's `crop` and `rotate`,
     /// as the CLI's `--crop` and `--rotate`), and why a crop does not fit.
     fn frame_ui(&mut self, ui: &mut egui::Ui) {
-        let (w, h) = self
-            .source
-            .as_ref()
-            .map_or((1, 1), |s| (s.original_size().0, s.original_size().1));
+        // Without a picture yet (a job loaded before its photo) the crop is
+        // kept as it is: the photo's size bounds only what is typed, and a
+        // crop past the photo is refused in words (`framing_error`).
+        let size = self.source.as_ref().map(super::Source::original_size);
+        let (w, h) = size.unwrap_or((u32::MAX, u32::MAX));
         let job = &mut self.settings.job;
         ui.horizontal(|ui| {
             let turn = job.rotate.unwrap_or(0);
@@ -63,11 +64,12 @@ impl PixelPieApp {
                 )
                 .changed()
             {
+                let (width, height) = size.unwrap_or((1, 1));
                 job.crop = cropped.then_some(crate::importance::Crop {
                     x: 0,
                     y: 0,
-                    width: w,
-                    height: h,
+                    width,
+                    height,
                 });
             }
         });
@@ -82,15 +84,19 @@ impl PixelPieApp {
                     ui.add(
                         egui::DragValue::new(v)
                             .range(0..=most)
+                            .clamp_existing_to_range(false)
+                            .update_while_editing(false)
                             .prefix(format!("{name} ")),
                     )
                     .on_hover_text("In the photo's pixels, upright");
                 }
             });
         }
-        if let Some(e) = &self.framing_error {
-            ui.colored_label(Color32::from_rgb(200, 40, 40), e);
-        }
+        message_row(
+            ui,
+            self.framing_error.as_deref(),
+            Some(Color32::from_rgb(200, 40, 40)),
+        );
     }
 
     /// Presets: the job's every setting saved to, or loaded from, a job
@@ -118,9 +124,7 @@ impl PixelPieApp {
                 self.load_preset();
             }
         });
-        if let Some(note) = &self.preset_note {
-            ui.label(note);
-        }
+        message_row(ui, self.preset_note.as_deref(), None);
     }
 
     /// The title, Undo and Reset (always in reach, however long the
@@ -184,9 +188,11 @@ impl PixelPieApp {
                 self.open_dialog(&ctx);
             }
         });
-        if let Some(e) = &self.open_error {
-            ui.colored_label(Color32::from_rgb(200, 40, 40), e);
-        }
+        message_row(
+            ui,
+            self.open_error.as_deref(),
+            Some(Color32::from_rgb(200, 40, 40)),
+        );
         if let Some(name) = self.loading_name() {
             ui.horizontal(|ui| {
                 self.busy_spinner(ui);
@@ -204,10 +210,17 @@ impl PixelPieApp {
                 src.map.width(),
                 src.map.height()
             ));
-            if let Some(w) = &src.warning {
-                ui.colored_label(Color32::from_rgb(210, 120, 20), format!("warning: {w}"));
-            }
         }
+        let warning = self
+            .source
+            .as_ref()
+            .and_then(|s| s.warning.as_ref())
+            .map(|w| format!("warning: {w}"));
+        message_row(
+            ui,
+            warning.as_deref(),
+            Some(Color32::from_rgb(210, 120, 20)),
+        );
     }
 
     /// The dot count (or the radius range): always in sight, above the
@@ -257,6 +270,7 @@ impl PixelPieApp {
             ui.add(
                 egui::DragValue::new(&mut lo)
                     .range(1.0..=500.0)
+                    .update_while_editing(false)
                     .speed(0.05)
                     .prefix("min "),
             )
@@ -265,6 +279,7 @@ impl PixelPieApp {
             ui.add(
                 egui::DragValue::new(&mut hi)
                     .range(1.0..=500.0)
+                    .update_while_editing(false)
                     .speed(0.05)
                     .prefix("max "),
             )
@@ -474,6 +489,7 @@ impl PixelPieApp {
                     ui.add(
                         egui::DragValue::new(d)
                             .range(0.05..=20.0)
+                            .update_while_editing(false)
                             .speed(0.01)
                             .suffix(" mm"),
                     );
@@ -609,6 +625,22 @@ pub(super) fn fixed_row(ui: &mut egui::Ui, clip: bool, add: impl FnOnce(&mut egu
             add(ui);
         },
     );
+}
+
+/// A message's row: always one control high, present or not, so that a
+/// message never moves the controls below it; a message wider than the
+/// panel is cut with "…" and shown whole on hover.
+pub(super) fn message_row(ui: &mut egui::Ui, message: Option<&str>, colour: Option<Color32>) {
+    fixed_row(ui, true, |ui| {
+        if let Some(text) = message {
+            let mut rich = egui::RichText::new(text);
+            if let Some(c) = colour {
+                rich = rich.color(c);
+            }
+            ui.add(egui::Label::new(rich).truncate())
+                .on_hover_text(text);
+        }
+    });
 }
 
 /// What a disk policy does to a drawing, in plain words.

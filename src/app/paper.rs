@@ -133,6 +133,7 @@ impl PixelPieApp {
                     on,
                     egui::DragValue::new(&mut margin)
                         .range(0.0..=top)
+                        .update_while_editing(false)
                         .speed(0.5)
                         .max_decimals(1)
                         .suffix(" mm"),
@@ -153,6 +154,7 @@ impl PixelPieApp {
             fn side(v: &mut f64) -> egui::DragValue<'_> {
                 egui::DragValue::new(v)
                     .range(10.0..=10_000.0)
+                    .update_while_editing(false)
                     .speed(1.0)
                     .max_decimals(1)
             }

@@ -96,6 +96,7 @@ impl PixelPieApp {
                 };
                 let drag = egui::DragValue::new(&mut width)
                     .range(0.0..=5.0)
+                    .update_while_editing(false)
                     .speed(0.01)
                     .max_decimals(2)
                     .custom_parser(|t| {
@@ -159,9 +160,8 @@ impl PixelPieApp {
                 Err(e) => self.pens_error = Some(e.to_string()),
             }
         }
-        if let Some(e) = &self.pens_error {
-            ui.colored_label(ui.visuals().error_fg_color, e);
-        }
+        let colour = ui.visuals().error_fg_color;
+        super::panel::message_row(ui, self.pens_error.as_deref(), Some(colour));
     }
 }
 

@@ -32,6 +32,22 @@ impl PixelPieApp {
         if cancel {
             self.cancel_job();
         }
+        // The plan of the drawing shown: what was decided, and why.
+        let plan = self.outcome.as_ref().map(|o| o.drawing.plan.line());
+        let plan_hover = self.outcome.as_ref().map_or_else(String::new, |o| {
+            let p = &o.drawing.plan;
+            format!(
+                "Plan: {}. {} ({}×{} px domain; pixelpie stipple --plan prints it whole)",
+                p.line(),
+                p.why,
+                p.domain.0,
+                p.domain.1
+            )
+        });
+        let r = ui.add(egui::Label::new(plan.clone().unwrap_or_default()).truncate());
+        if plan.is_some() {
+            r.on_hover_text(plan_hover);
+        }
         let (a, b, c) = match &self.outcome {
             Some(o) => {
                 let d = &o.drawing;
@@ -78,14 +94,11 @@ impl PixelPieApp {
             (None, false) => (ui.visuals().text_color(), self.status.clone()),
             (None, true) => (ui.visuals().text_color(), String::new()),
         };
-        if self.error.is_some() {
-            ui.colored_label(note.0, note.1);
-        } else {
-            let r = ui.add(egui::Label::new(egui::RichText::new(&note.1).color(note.0)).truncate());
-            if !note.1.is_empty() {
-                r.on_hover_text(&note.1);
-            }
-        }
+        super::panel::message_row(
+            ui,
+            (!note.1.is_empty()).then_some(note.1.as_str()),
+            Some(note.0),
+        );
     }
 
     /// A spinner that turns at a few frames a second: egui's asks for a

@@ -325,7 +325,6 @@ impl PixelPieApp {
         let (radius_scale, drawn_scale) = match self.dot_size() {
             DotSize::Proportional(f) => (f, 0.0),
             DotSize::Calibrated(f) => (0.0, f),
-            DotSize::Fixed(_) => (0.0, 0.0),
         };
         let ink = DotLayer {
             dots: self.dot_instances.clone(),

@@ -18,7 +18,7 @@ use crate::job::{Step, Stipple};
 use crate::sampler::{self, Control, Params, Progress, SampleSet};
 
 /// A sampling request.
-pub struct Job {
+pub struct Request {
     /// Increases with every job; replies carry it.
     pub id: u64,
     /// The importance map.
@@ -128,7 +128,7 @@ struct GpuState {
 
 /// The background sampler.
 pub struct Worker {
-    jobs: Option<Sender<Job>>,
+    jobs: Option<Sender<Request>>,
     thread: Option<std::thread::JoinHandle<()>>,
     replies: Receiver<Reply>,
     cancel: Arc<AtomicBool>,
@@ -142,7 +142,7 @@ impl Worker {
         gpu: Option<(wgpu::Device, wgpu::Queue, wgpu::AdapterInfo)>,
         repaint: egui::Context,
     ) -> Self {
-        let (jobs, job_rx) = channel::<Job>();
+        let (jobs, job_rx) = channel::<Request>();
         let (reply_tx, replies) = channel();
         let cancel = Arc::new(AtomicBool::new(false));
         let mut adapter = None;
@@ -189,7 +189,7 @@ impl Worker {
     }
 
     /// Queues a job and cancels the one in flight.
-    pub fn submit(&self, job: Job) {
+    pub fn submit(&self, job: Request) {
         self.cancel.store(true, Ordering::Relaxed);
         if let Some(jobs) = &self.jobs {
             let _ = jobs.send(job);
@@ -220,7 +220,7 @@ impl Drop for Worker {
 }
 
 fn run(
-    jobs: Receiver<Job>,
+    jobs: Receiver<Request>,
     replies: Sender<Reply>,
     cancel: Arc<AtomicBool>,
     gpu: Option<GpuState>,
@@ -263,7 +263,7 @@ fn run(
 
 /// Runs a job's drawing on the chosen backend.
 fn compute(
-    job: &Job,
+    job: &Request,
     gpu: &Mutex<Option<GpuState>>,
     ctl: Control<'_>,
     step: &dyn Fn(Step),

@@ -40,11 +40,7 @@ impl PointFormat {
 /// Writes the points of `set` to `path` atomically; `parameters` goes into
 /// the JSON form.
 pub fn write_points(path: &Path, set: &SampleSet, parameters: &impl Serialize) -> Result<()> {
-    let format = PointFormat::from_path(path)?;
-    super::write_atomic(path, |w| match format {
-        PointFormat::Csv => write_csv(w, set),
-        PointFormat::Json => write_json(w, set, parameters),
-    })
+    write_points_with(path, set, parameters, None)
 }
 
 /// [`write_points`] for a colour drawing: each point's class is its pen.
@@ -56,16 +52,21 @@ pub fn write_points_pens(
     parameters: &impl Serialize,
     pens: &crate::colour::PenSet,
 ) -> Result<()> {
+    write_points_with(path, set, parameters, Some(pens))
+}
+
+/// The one writer of point files: CSV or JSON, with the pens when given.
+fn write_points_with(
+    path: &Path,
+    set: &SampleSet,
+    parameters: &impl Serialize,
+    pens: Option<&crate::colour::PenSet>,
+) -> Result<()> {
     let format = PointFormat::from_path(path)?;
-    super::write_atomic(path, |w| match format {
-        PointFormat::Csv => {
-            writeln!(w, "x,y,radius,pen")?;
-            for p in &set.points {
-                writeln!(w, "{},{},{},{}", p.x, p.y, p.radius, p.class)?;
-            }
-            Ok(())
-        }
-        PointFormat::Json => {
+    super::write_atomic(path, |w| match (format, pens) {
+        (PointFormat::Csv, _) => write_csv(w, set, pens.is_some()),
+        (PointFormat::Json, None) => write_json(w, set, parameters, None, &set.points),
+        (PointFormat::Json, Some(pens)) => {
             #[derive(Serialize)]
             struct PenPoint {
                 x: f32,
@@ -73,17 +74,7 @@ pub fn write_points_pens(
                 radius: f32,
                 pen: u32,
             }
-            #[derive(Serialize)]
-            struct Doc<'a, P> {
-                parameters: &'a P,
-                width: u32,
-                height: u32,
-                maximal: bool,
-                iterations: u32,
-                pens: &'a crate::colour::PenSet,
-                points: Vec<PenPoint>,
-            }
-            let points = set
+            let points: Vec<PenPoint> = set
                 .points
                 .iter()
                 .map(|p| PenPoint {
@@ -93,46 +84,44 @@ pub fn write_points_pens(
                     pen: p.class,
                 })
                 .collect();
-            serde_json::to_writer(
-                &mut *w,
-                &Doc {
-                    parameters,
-                    width: set.width,
-                    height: set.height,
-                    maximal: set.maximal(),
-                    iterations: set.iterations(),
-                    pens,
-                    points,
-                },
-            )?;
-            writeln!(w)?;
-            Ok(())
+            write_json(w, set, parameters, Some(pens), &points)
         }
     })
 }
 
-fn write_csv(w: &mut dyn Write, set: &SampleSet) -> Result<(), BoxError> {
-    writeln!(w, "x,y,radius")?;
+/// The points as CSV: x, y, radius, and with `pens` each point's pen.
+fn write_csv(w: &mut dyn Write, set: &SampleSet, pens: bool) -> Result<(), BoxError> {
+    writeln!(w, "x,y,radius{}", if pens { ",pen" } else { "" })?;
     for p in &set.points {
         // `f32`'s Display prints the shortest decimal that reads back exactly.
-        writeln!(w, "{},{},{}", p.x, p.y, p.radius)?;
+        if pens {
+            writeln!(w, "{},{},{},{}", p.x, p.y, p.radius, p.class)?;
+        } else {
+            writeln!(w, "{},{},{}", p.x, p.y, p.radius)?;
+        }
     }
     Ok(())
 }
 
+/// The points as one JSON document: the parameters, the domain, whether
+/// the set is maximal, the sampler's iterations, the pens and `points`.
 fn write_json(
     w: &mut dyn Write,
     set: &SampleSet,
     parameters: &impl Serialize,
+    pens: Option<&crate::colour::PenSet>,
+    points: &impl Serialize,
 ) -> Result<(), BoxError> {
     #[derive(Serialize)]
-    struct Doc<'a, P> {
+    struct Doc<'a, P, Q> {
         parameters: &'a P,
         width: u32,
         height: u32,
         maximal: bool,
         iterations: u32,
-        points: &'a [crate::sampler::Point],
+        #[serde(skip_serializing_if = "Option::is_none")]
+        pens: Option<&'a crate::colour::PenSet>,
+        points: &'a Q,
     }
     serde_json::to_writer(
         &mut *w,
@@ -142,7 +131,8 @@ fn write_json(
             height: set.height,
             maximal: set.maximal(),
             iterations: set.iterations(),
-            points: &set.points,
+            pens,
+            points,
         },
     )?;
     writeln!(w)?;

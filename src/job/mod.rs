@@ -418,16 +418,10 @@ impl Job {
             .points
             .iter()
             .zip(&drawing.calibrated)
-            .map(|(p, &c)| {
-                let (x, y) = (p.x, p.y);
-                let radius = match size {
-                    DotSize::Proportional(f) => f * p.radius,
-                    DotSize::Fixed(r) => r,
-                    // The calibrated dot is the one on paper: drawn smaller
-                    // by the pen's gain.
-                    DotSize::Calibrated(f) => f * c / self.dot_gain(p.class) as f32,
-                };
-                Dot { x, y, radius }
+            .map(|(p, &c)| Dot {
+                x: p.x,
+                y: p.y,
+                radius: size.radius(p.radius, c, self.dot_gain(p.class) as f32),
             })
             .collect()
     }

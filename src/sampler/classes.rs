@@ -30,7 +30,8 @@ use std::sync::Arc;
 use rayon::prelude::*;
 
 use super::fixed::{self, MIN_RADIUS_FX, RADIUS_ONE, radius_to_fx};
-use super::{Error, RadiusMap, Result};
+use super::radius_map::RadiusMap;
+use super::{Error, Result};
 
 /// The most classes a run may have.
 pub const MAX_CLASSES: u32 = 16;
@@ -84,7 +85,7 @@ impl ClassRadii {
         classes: usize,
         radius: impl Fn(usize, usize) -> f32 + Sync,
     ) -> Result<Self> {
-        super::params::check_size(width, height)?;
+        super::radius_map::check_size(width, height)?;
         if classes == 0 || classes > MAX_CLASSES as usize {
             return Err(Error::InvalidParameter(format!(
                 "{classes} classes: a run takes 1 to {MAX_CLASSES}"

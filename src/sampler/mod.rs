@@ -60,6 +60,7 @@ pub mod fixed;
 mod options;
 mod output;
 mod params;
+mod radius_map;
 pub(crate) mod run;
 
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -68,9 +69,10 @@ pub use classes::ClassRadii;
 pub use options::SamplerOptions;
 pub use output::{BackendKind, Point, Report as StatsReport, SampleSet, Stats};
 pub use params::{
-    DEFAULT_MAX_ITERATIONS, DEFAULT_POLICY, DEFAULT_SUBPIXEL_BITS, KeyLayout, MAX_PIXELS, Params,
-    Plan, Policy, RSA_DENSITY, Radius, RadiusMap,
+    DEFAULT_MAX_ITERATIONS, DEFAULT_POLICY, DEFAULT_SUBPIXEL_BITS, KeyLayout, Params, Plan, Policy,
+    RSA_DENSITY, Radius,
 };
+pub use radius_map::{MAX_PIXELS, RadiusMap};
 pub(crate) use run::Dart;
 pub use run::StageTimes;
 

@@ -7,15 +7,12 @@ use std::sync::Arc;
 use rayon::prelude::*;
 
 use super::classes::ClassRadii;
-use super::fixed::{
-    self, KEY_BITS, MAX_SIDE, MAX_SUBPIXEL_BITS, MIN_RADIUS_FX, RADIUS_ONE, radius_to_fx,
-};
+use super::fixed::{self, KEY_BITS, MAX_SUBPIXEL_BITS, RADIUS_ONE, radius_to_fx};
+use super::radius_map::{RadiusMap, check_size};
 use super::{Error, Result};
 
 /// The random-sequential-addition saturation density (Zhang & Torquato 2013).
 pub const RSA_DENSITY: f64 = 0.547;
-/// The most pixels a domain may have.
-pub const MAX_PIXELS: u64 = 1 << 30;
 /// The fewest index bits a key keeps: a radius range needing more bits is refused.
 pub const MIN_INDEX_BITS: u32 = 8;
 
@@ -93,175 +90,6 @@ impl Policy {
     #[must_use]
     pub const fn index(self) -> u32 {
         self as u32
-    }
-}
-
-/// A radius for every pixel, quantized to 1/64 px (row-major, top row first).
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct RadiusMap {
-    width: u32,
-    height: u32,
-    radii: Vec<u32>,
-    min: u32,
-    max: u32,
-}
-
-impl RadiusMap {
-    /// Builds a map from radii in pixels. Refuses a wrong length, NaN, infinite
-    /// values and radii below 1 px.
-    ///
-    /// ```
-    /// let map = pixelpie::sampler::RadiusMap::from_pixels(2, 1, &[2.0, 3.5]).unwrap();
-    /// assert_eq!(map.radius_px(1, 0), 3.5);
-    /// ```
-    pub fn from_pixels(width: u32, height: u32, radii: &[f32]) -> Result<Self> {
-        check_size(width, height)?;
-        if radii.len() as u64 != u64::from(width) * u64::from(height) {
-            return Err(Error::RadiusMapSize {
-                expected: (width, height),
-                len: radii.len(),
-            });
-        }
-        Self::from_fn(width, height, |i| radii[i])
-    }
-
-    /// [`Self::from_pixels`] of the radii `radius(i)` of pixels `i` (row-major),
-    /// without a buffer of them: computed in parallel, quantized as they are
-    /// made. The first bad pixel is the one reported.
-    pub fn from_fn(width: u32, height: u32, radius: impl Fn(usize) -> f32 + Sync) -> Result<Self> {
-        check_size(width, height)?;
-        let n = width as usize * height as usize;
-        // u32::MAX stands for a radius that is not finite (or that large).
-        // The smallest and largest are found as the radii are made.
-        const CHUNK: usize = 1 << 14;
-        let mut radii = vec![0u32; n];
-        let (min, max) = radii
-            .par_chunks_mut(CHUNK)
-            .enumerate()
-            .map(|(c, out)| {
-                let (mut lo, mut hi) = (u32::MAX, 0);
-                for (r_out, i) in out.iter_mut().zip(c * CHUNK..) {
-                    let r = radius(i);
-                    let fx = if r.is_finite() {
-                        radius_to_fx(r.max(0.0))
-                    } else {
-                        u32::MAX
-                    };
-                    (lo, hi) = (lo.min(fx), hi.max(fx));
-                    *r_out = fx;
-                }
-                (lo, hi)
-            })
-            .reduce(|| (u32::MAX, 0), |a, b| (a.0.min(b.0), a.1.max(b.1)));
-        if max == u32::MAX
-            && let Some(i) = (0..n)
-                .into_par_iter()
-                .position_first(|i| !radius(i).is_finite())
-        {
-            return Err(Error::InvalidRadius(format!(
-                "radius map holds {} at pixel ({}, {})",
-                radius(i),
-                i as u32 % width,
-                i as u32 / width
-            )));
-        }
-        if min < MIN_RADIUS_FX {
-            let i = radii
-                .par_iter()
-                .position_first(|&r| r < MIN_RADIUS_FX)
-                .unwrap_or(0);
-            return Err(Error::InvalidRadius(format!(
-                "radius map holds {} px at pixel ({}, {}); radii must be at least 1 px",
-                fixed::fx_to_radius(radii[i]),
-                i as u32 % width,
-                i as u32 / width
-            )));
-        }
-        Ok(Self {
-            width,
-            height,
-            radii,
-            min,
-            max,
-        })
-    }
-
-    /// [`Self::from_pixels`] of `radii` × `scale` (each product rounded to
-    /// `f32`): the map that `--points` scales to a count.
-    ///
-    /// ```
-    /// let map = pixelpie::sampler::RadiusMap::from_pixels_scaled(2, 1, &[2.0, 3.5], 2.0).unwrap();
-    /// assert_eq!(map.radius_px(1, 0), 7.0);
-    /// ```
-    pub fn from_pixels_scaled(width: u32, height: u32, radii: &[f32], scale: f64) -> Result<Self> {
-        let scaled: Vec<f32> = radii
-            .par_iter()
-            .map(|&r| (f64::from(r) * scale) as f32)
-            .collect();
-        Self::from_pixels(width, height, &scaled)
-    }
-
-    /// Width in pixels.
-    #[must_use]
-    pub fn width(&self) -> u32 {
-        self.width
-    }
-
-    /// Height in pixels.
-    #[must_use]
-    pub fn height(&self) -> u32 {
-        self.height
-    }
-
-    /// A map of quantized radii that may hold 0 ("no radius here", the
-    /// classes' holes); min and max ignore the zeros. The height may pass
-    /// [`fixed::MAX_SIDE`]: classes stack their maps.
-    pub(crate) fn stacked(width: u32, height: u32, radii: Vec<u32>) -> Self {
-        use rayon::prelude::*;
-        // By chunks, each a plain loop (per slot, rayon's fold costs more
-        // than the comparison).
-        let (min, max) = radii
-            .par_chunks(1 << 16)
-            .map(|chunk| {
-                chunk.iter().fold((u32::MAX, 0), |(lo, hi), &r| {
-                    if r > 0 {
-                        (lo.min(r), hi.max(r))
-                    } else {
-                        (lo, hi)
-                    }
-                })
-            })
-            .reduce(|| (u32::MAX, 0), |a, b| (a.0.min(b.0), a.1.max(b.1)));
-        let (min, max) = if max == 0 {
-            (MIN_RADIUS_FX, MIN_RADIUS_FX)
-        } else {
-            (min, max)
-        };
-        Self {
-            width,
-            height,
-            radii,
-            min,
-            max,
-        }
-    }
-
-    /// The quantized radii (1/64 px), row-major.
-    #[must_use]
-    pub fn radii_fx(&self) -> &[u32] {
-        &self.radii
-    }
-
-    /// The radius of pixel (x, y) in pixels.
-    #[must_use]
-    pub fn radius_px(&self, x: u32, y: u32) -> f32 {
-        fixed::fx_to_radius(self.radii[(y * self.width + x) as usize])
-    }
-
-    /// The smallest and largest radius (1/64 px).
-    #[must_use]
-    pub fn range_fx(&self) -> (u32, u32) {
-        (self.min, self.max)
     }
 }
 
@@ -408,25 +236,6 @@ impl Params {
     pub fn plan(&self) -> Result<Plan> {
         Plan::new(self)
     }
-}
-
-pub(crate) fn check_size(width: u32, height: u32) -> Result<()> {
-    if width == 0 || height == 0 {
-        return Err(Error::InvalidSize(format!(
-            "{width}x{height}: width and height must be positive"
-        )));
-    }
-    if width > MAX_SIDE || height > MAX_SIDE {
-        return Err(Error::InvalidSize(format!(
-            "{width}x{height}: width and height must be at most {MAX_SIDE}"
-        )));
-    }
-    if u64::from(width) * u64::from(height) > MAX_PIXELS {
-        return Err(Error::InvalidSize(format!(
-            "{width}x{height}: at most {MAX_PIXELS} pixels"
-        )));
-    }
-    Ok(())
 }
 
 /// How a dart's depth key is laid out, and which key wins.

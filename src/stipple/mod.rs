@@ -62,8 +62,6 @@ pub enum DotSize {
     /// Drawn radius = factor × the sample's radius (0.5 draws touching disks
     /// at the minimum distance).
     Proportional(f32),
-    /// The same drawn radius, in pixels, for every dot.
-    Fixed(f32),
     /// Drawn radius = factor × the dot's calibrated radius (1 reproduces the
     /// tones; above darkens, below lightens).
     Calibrated(f32),
@@ -72,7 +70,7 @@ pub enum DotSize {
 impl DotSize {
     /// Checks that the factor or radius is a positive number.
     pub fn validate(self) -> Result<()> {
-        let (Self::Proportional(v) | Self::Fixed(v) | Self::Calibrated(v)) = self;
+        let (Self::Proportional(v) | Self::Calibrated(v)) = self;
         if v.is_finite() && v > 0.0 {
             Ok(())
         } else {
@@ -91,7 +89,6 @@ impl DotSize {
     /// let p = [Point { x: 1.0, y: 2.0, radius: 4.0, class: 0 }];
     /// let cal = |_: &Point| 3.0;
     /// assert_eq!(DotSize::Proportional(0.5).dots(&p, cal)[0].radius, 2.0);
-    /// assert_eq!(DotSize::Fixed(1.5).dots(&p, cal)[0].radius, 1.5);
     /// assert_eq!(DotSize::Calibrated(0.5).dots(&p, cal)[0].radius, 1.5);
     /// ```
     #[must_use]
@@ -101,13 +98,21 @@ impl DotSize {
             .map(|p| Dot {
                 x: p.x,
                 y: p.y,
-                radius: match self {
-                    Self::Proportional(f) => f * p.radius,
-                    Self::Fixed(r) => r,
-                    Self::Calibrated(f) => f * calibrated(p),
-                },
+                radius: self.radius(p.radius, calibrated(p), 1.0),
             })
             .collect()
+    }
+
+    /// The drawn radius of a dot of sample radius `sample` and calibrated
+    /// radius `calibrated`, drawn by a pen whose dots spread by `gain` (the
+    /// calibrated dot is the one on paper: drawn smaller by the gain). The
+    /// one rule every drawing's dots follow.
+    #[must_use]
+    pub fn radius(self, sample: f32, calibrated: f32, gain: f32) -> f32 {
+        match self {
+            Self::Proportional(f) => f * sample,
+            Self::Calibrated(f) => f * calibrated / gain,
+        }
     }
 }
 
