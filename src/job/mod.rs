@@ -49,7 +49,7 @@ use crate::stipple::paper::{DEFAULT_MARGIN_MM, Paper, Placement};
 use crate::stipple::svg::DotPath;
 use crate::stipple::{Dot, DotSize, Error, svg};
 
-/// Lloyd steps a drawing takes by default ([`Job::relax_steps`]): three
+/// Lloyd steps a drawing takes by default ([`Job::plan`]): three
 /// lift the default drawing's SSIM by 0.02–0.05 on five photos at 10K dots
 /// (docs/quality.md).
 pub const AUTO_RELAX_STEPS: u32 = 3;
@@ -149,8 +149,8 @@ pub struct Job {
     pub spacing: Spacing,
     /// Sized dots corrected toward the picture's tones by rendering the
     /// drawing (on), or by the calibration's curves alone (off: the
-    /// drawings of earlier versions). Grey drawings too dense for the
-    /// render (about 300K dots and more) skip it.
+    /// drawings of earlier versions). Unrelaxed grey drawings too dense
+    /// for the render (past about 207K dots) skip it (`--plan` says).
     #[cfg_attr(feature = "cli", arg(long, value_enum, default_value_t = Correction::On))]
     #[serde(skip_serializing_if = "Correction::is_default")]
     pub correction: Correction,

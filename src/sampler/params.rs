@@ -734,7 +734,11 @@ mod tests {
     #[test]
     fn impossible_parameters_are_refused() {
         assert!(Params::new(0, 10).plan().is_err());
-        assert!(Params::new(10, MAX_SIDE + 1).plan().is_err());
+        assert!(
+            Params::new(10, crate::sampler::fixed::MAX_SIDE + 1)
+                .plan()
+                .is_err()
+        );
         assert!(Params::new(64, 64).with_radius(f32::NAN).plan().is_err());
         assert!(Params::new(64, 64).with_radius(0.5).plan().is_err());
         assert!(Params::new(64, 64).with_radius(65.0).plan().is_err());
