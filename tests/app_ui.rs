@@ -595,7 +595,7 @@ fn the_status_follows_the_job_on_the_gpu_backend() {
     let o = h.state().outcome.as_ref().unwrap();
     let d = &o.drawing;
     assert!(o.seconds >= d.set.stats.seconds && d.runs >= 1);
-    assert!(has(&h, &format!("{} run(s) in", d.runs)));
+    assert!(has(&h, &format!("{} · took", d.plan.line())));
     // While a job runs, its elapsed time shows.
     h.state_mut().settings.points = 40_000;
     let start = Instant::now();

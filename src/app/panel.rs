@@ -92,11 +92,14 @@ impl PixelPieApp {
                 }
             });
         }
-        message_row(
-            ui,
-            self.framing_error.as_deref(),
-            Some(Color32::from_rgb(200, 40, 40)),
-        );
+        // While cropping, a row of its own for why the crop does not fit.
+        if job.crop.is_some() || self.framing_error.is_some() {
+            message_row(
+                ui,
+                self.framing_error.as_deref(),
+                Some(Color32::from_rgb(200, 40, 40)),
+            );
+        }
     }
 
     /// Presets: the job's every setting saved to, or loaded from, a job
@@ -188,18 +191,17 @@ impl PixelPieApp {
                 self.open_dialog(&ctx);
             }
         });
-        message_row(
-            ui,
-            self.open_error.as_deref(),
-            Some(Color32::from_rgb(200, 40, 40)),
-        );
+        // One row of fixed height: the picture decoding, why it could not
+        // open, or its name and size (and why it may not be whole).
         if let Some(name) = self.loading_name() {
-            ui.horizontal(|ui| {
+            fixed_row(ui, true, |ui| {
                 self.busy_spinner(ui);
                 ui.label(format!("decoding {name}…"));
             });
+        } else if let Some(e) = &self.open_error {
+            message_row(ui, Some(e), Some(Color32::from_rgb(200, 40, 40)));
         } else if let Some(src) = &self.source {
-            ui.label(format!(
+            let name = format!(
                 "{} ({}×{})",
                 src.path.as_ref().map_or_else(
                     || super::DEFAULT_IMAGE_NAME.to_owned(),
@@ -209,18 +211,18 @@ impl PixelPieApp {
                 ),
                 src.map.width(),
                 src.map.height()
-            ));
+            );
+            match &src.warning {
+                Some(w) => message_row(
+                    ui,
+                    Some(&format!("{name} — warning: {w}")),
+                    Some(Color32::from_rgb(210, 120, 20)),
+                ),
+                None => message_row(ui, Some(&name), None),
+            }
+        } else {
+            message_row(ui, None, None);
         }
-        let warning = self
-            .source
-            .as_ref()
-            .and_then(|s| s.warning.as_ref())
-            .map(|w| format!("warning: {w}"));
-        message_row(
-            ui,
-            warning.as_deref(),
-            Some(Color32::from_rgb(210, 120, 20)),
-        );
     }
 
     /// The dot count (or the radius range): always in sight, above the

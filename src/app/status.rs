@@ -32,22 +32,6 @@ impl PixelPieApp {
         if cancel {
             self.cancel_job();
         }
-        // The plan of the drawing shown: what was decided, and why.
-        let plan = self.outcome.as_ref().map(|o| o.drawing.plan.line());
-        let plan_hover = self.outcome.as_ref().map_or_else(String::new, |o| {
-            let p = &o.drawing.plan;
-            format!(
-                "Plan: {}. {} ({}×{} px domain; pixelpie stipple --plan prints it whole)",
-                p.line(),
-                p.why,
-                p.domain.0,
-                p.domain.1
-            )
-        });
-        let r = ui.add(egui::Label::new(plan.clone().unwrap_or_default()).truncate());
-        if plan.is_some() {
-            r.on_hover_text(plan_hover);
-        }
         let (a, b, c) = match &self.outcome {
             Some(o) => {
                 let d = &o.drawing;
@@ -56,14 +40,9 @@ impl PixelPieApp {
                     d.seconds(crate::job::Stage::Sample),
                     d.seconds(crate::job::Stage::Relax),
                 );
+                // The plan's line: what was decided (and why, on hover).
                 (
-                    format!(
-                        "{} dots, {} iterations, {} run(s) in {:.2} s",
-                        d.points.len(),
-                        st.iterations,
-                        d.runs,
-                        o.seconds
-                    ),
+                    format!("{} · took {:.2} s", d.plan.line(), o.seconds),
                     format!(
                         "sampler {t_sample:.2} s, relaxation {t_relax:.2} s; last run: S1 \
                          {:.1} ms, S2 {:.1} ms, PP {:.1} ms",
@@ -78,8 +57,21 @@ impl PixelPieApp {
         };
         // One line each (the panel's height goes to the controls); the
         // whole text on hover.
-        ui.add(egui::Label::new(a).truncate())
-            .on_hover_text("The last drawing: dots, sampler iterations and runs");
+        let hover = self.outcome.as_ref().map_or_else(String::new, |o| {
+            let d = &o.drawing;
+            format!(
+                "The last drawing's plan: {} ({}; {}×{} px domain; `pixelpie stipple --plan` \
+                 prints it whole). {} dots in {} sampler iterations, {} run(s).",
+                d.plan.line(),
+                d.plan.why,
+                d.plan.domain.0,
+                d.plan.domain.1,
+                d.points.len(),
+                d.set.stats.iterations,
+                d.runs
+            )
+        });
+        ui.add(egui::Label::new(a).truncate()).on_hover_text(hover);
         ui.add(egui::Label::new(&b).truncate())
             .on_hover_text(format!(
                 "{b}. The paper's stages: S1 throws darts, S2 culls the conflicting ones, PP \
