@@ -293,3 +293,20 @@ fn the_gpu_gives_the_pinned_points_on_both_s1_paths() {
         check(&results);
     }
 }
+
+/// Every row of the table is some case's: a row that no case produces
+/// (a case renamed or removed) would pin nothing.
+#[test]
+fn every_golden_row_is_a_case() {
+    let mut names: Vec<String> = sampler_cases().into_iter().map(|(n, _)| n).collect();
+    for (n, _, _) in drawing_cases() {
+        names.push(format!("{n}, SVG"));
+        names.push(n);
+    }
+    let orphans: Vec<&str> = GOLDEN
+        .iter()
+        .map(|(c, _, _)| *c)
+        .filter(|c| !names.iter().any(|n| n == c))
+        .collect();
+    assert!(orphans.is_empty(), "rows no case produces: {orphans:?}");
+}

@@ -394,7 +394,8 @@ fn decide(job: &Job, colour: bool, domain: (u32, u32), dots: usize) -> Decided {
             relax,
             grid: None,
             why: format!(
-                "over {AUTO_RELAX_DOTS} dots and not relaxed: the calibration holds the tones"
+                "over {} dots and not relaxed: the calibration holds the tones",
+                thousands(AUTO_RELAX_DOTS)
             ),
         };
     }
@@ -407,14 +408,14 @@ fn decide(job: &Job, colour: bool, domain: (u32, u32), dots: usize) -> Decided {
 
 impl Plan {
     /// The seconds a run of this plan takes on two CPU cores, estimated:
-    /// sampling (about 2 runs of the count's fit at 2.2M points/s), the
+    /// sampling (about 1.2 runs of the count's fit at 2.2M points/s), the
     /// relaxation (by the domain's pixels), the correction (by its render's
     /// pixels and dots) and the writing (by the dots). Fitted to `pixelpie
     /// bench --stipple` on the 2-core VM within about a factor of 1.5.
     fn estimate(&self, _range: RadiusRange) -> f64 {
         let dots = self.dots as f64;
         let domain = f64::from(self.domain.0) * f64::from(self.domain.1);
-        let sample = 0.02 + 2.0 * dots / 2.2e6 + domain / 80e6;
+        let sample = 0.02 + 1.2 * dots / 2.2e6 + domain / 200e6;
         let relax = f64::from(self.relax) * (domain / 120e6 + dots / 2.0e6);
         let correct = self.render.map_or(0.0, |(w, h)| {
             3.0 * (f64::from(w) * f64::from(h) / 60e6 + dots / 4.0e6)
@@ -424,7 +425,7 @@ impl Plan {
             Order::Tsp => dots / 0.5e6,
             Order::None => 0.0,
         };
-        let write = dots / 3.0e6;
+        let write = dots / 3.5e6;
         sample + relax + correct + colour + order + write
     }
 
