@@ -12,6 +12,7 @@ use super::dots::DotInstance;
 use super::{DEBOUNCE, PixelPieApp};
 use crate::job::{Job, PenCheck};
 use crate::stipple::plot::{PenPlot, PlotSpeeds};
+use crate::text::grouped;
 
 /// An estimate: each pen's plot, or why there is none.
 type Estimate = Result<Vec<PenPlot>, String>;
@@ -266,19 +267,6 @@ fn duration(seconds: f64) -> String {
     } else {
         format!("{} h {} min", minutes / 60, minutes % 60)
     }
-}
-
-/// A count with its thousands apart: 20 012.
-fn grouped(n: usize) -> String {
-    let digits = n.to_string();
-    let mut out = String::new();
-    for (i, c) in digits.chars().enumerate() {
-        if i > 0 && (digits.len() - i).is_multiple_of(3) {
-            out.push(' ');
-        }
-        out.push(c);
-    }
-    out
 }
 
 #[cfg(test)]

@@ -1,11 +1,11 @@
 //! `Job → Plan → run`: every decision of a drawing made once, from the job
 //! and its picture, before anything is sampled ([`Job::plan`]). The run
-//! ([`Plan::run`]) executes the plan and decides nothing; the front ends
+//! ([`Planned::run`]) executes the plan and decides nothing; the front ends
 //! show it (`pixelpie stipple --plan`, Python's `pixelpie.plan`, the app's
 //! plan line), so that a user who asks why a drawing looks as it does reads
 //! the answer in one place.
 //!
-//! The one rule for grey and colour alike ([`Plan::corrected`]): sized dots
+//! The one rule for grey and colour alike ([`Job::corrects`], `decide`): sized dots
 //! on a tone mapping with `--correction on` are corrected toward the
 //! picture by rendering the drawing, and relaxed by default
 //! ([`AUTO_RELAX_STEPS`]) up to [`AUTO_RELAX_DOTS`]; a relaxed drawing is
@@ -18,15 +18,16 @@
 use serde::Serialize;
 
 use super::colour::Separated;
-use super::correct::{self, Grid};
+use super::correct::{self, GridSpec};
 use super::run::{Framed, stage};
 use super::{
     AUTO_RELAX_DOTS, AUTO_RELAX_STEPS, DotMode, Job, LayerOrder, Order, Picture, Stage, Step,
     Stipple, count,
 };
-use crate::importance::{Classes, MappingKind, Prepared, RadiusRange};
+use crate::importance::{Classes, MappingKind, Prepared};
 use crate::sampler::{Params, SampleSet};
 use crate::stipple::relax;
+use crate::text::grouped;
 
 /// What a drawing will be: every decision of [`Job::plan`], in the words
 /// the front ends show. Serialized (`--plan`, Python) it is a plain table.
@@ -65,14 +66,10 @@ pub struct Plan {
     pub seconds: f64,
 }
 
-/// Grey correction: the fewest render pixels between dots ([`Grid`]); a
+/// Grey correction: the fewest render pixels between dots; a
 /// coarser render's one-pixel dots mislead it (3 px: 3–6 dB worse at 1M
 /// dots; 3.7 px: mixed).
 pub(crate) const MIN_PX_PER_SPACING: f64 = 4.5;
-/// Grey correction: render pixels at most, unless a relaxed drawing needs
-/// more to reach [`MIN_PX_PER_SPACING`] (2048² px: 207K dots at 4.5 px).
-pub(crate) const GREY_PIXELS: u64 = 2048 * 2048;
-
 /// The picture prepared for the run: one map (grey) or one per pen.
 pub(crate) enum Maps {
     Grey(Prepared),
@@ -95,44 +92,8 @@ pub struct Planned {
     pub plan: Plan,
     pub(crate) job: Job,
     pub(crate) maps: Maps,
-    /// The correction's grid parameters: render pixels between dots, the
-    /// most render pixels, and the fewest pixels between dots (a finer
-    /// render where the plan grows it).
+    /// How the correction's render is sized, when it runs.
     pub(crate) grid: Option<GridSpec>,
-}
-
-/// How a correction's [`Grid`] is made for the dots the run has.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct GridSpec {
-    pub px_per_spacing: f64,
-    pub side: u32,
-    pub pixels: u64,
-    pub floor_px: f64,
-}
-
-impl GridSpec {
-    /// The grey correction's render: 8 px between dots within
-    /// [`GREY_PIXELS`], at least `floor` px between dots.
-    fn grey(floor: f64) -> Self {
-        Self {
-            px_per_spacing: correct::GREY_PX_PER_SPACING,
-            side: u32::MAX,
-            pixels: GREY_PIXELS,
-            floor_px: floor,
-        }
-    }
-
-    /// The grid for `dots` dots on `domain`.
-    pub(crate) fn grid(&self, domain: (u32, u32), dots: usize) -> Grid {
-        Grid::new(
-            domain,
-            dots,
-            self.px_per_spacing,
-            self.side,
-            self.pixels,
-            self.floor_px,
-        )
-    }
 }
 
 impl Planned {
@@ -149,7 +110,6 @@ impl Planned {
             job,
             maps,
             grid,
-            ..
         } = self;
         // Each stage's seconds, read as the next one begins.
         let mut last = std::time::Instant::now();
@@ -317,7 +277,7 @@ impl Job {
             seconds: 0.0,
         };
         let plan = Plan {
-            seconds: plan.estimate(range),
+            seconds: plan.estimate(),
             ..plan
         };
         Ok(Planned {
@@ -370,12 +330,7 @@ fn decide(job: &Job, colour: bool, domain: (u32, u32), dots: usize) -> Decided {
     if colour {
         return Decided {
             relax,
-            grid: Some(GridSpec {
-                px_per_spacing: correct::COLOUR_PX_PER_SPACING,
-                side: correct::COLOUR_SIDE,
-                pixels: u64::MAX,
-                floor_px: 0.0,
-            }),
+            grid: Some(GridSpec::colour()),
             why: "sized colour dots".into(),
         };
     }
@@ -395,7 +350,7 @@ fn decide(job: &Job, colour: bool, domain: (u32, u32), dots: usize) -> Decided {
             grid: None,
             why: format!(
                 "over {} dots and not relaxed: the calibration holds the tones",
-                thousands(AUTO_RELAX_DOTS)
+                grouped(AUTO_RELAX_DOTS)
             ),
         };
     }
@@ -412,7 +367,7 @@ impl Plan {
     /// relaxation (by the domain's pixels), the correction (by its render's
     /// pixels and dots) and the writing (by the dots). Fitted to `pixelpie
     /// bench --stipple` on the 2-core VM within about a factor of 1.5.
-    fn estimate(&self, _range: RadiusRange) -> f64 {
+    fn estimate(&self) -> f64 {
         let dots = self.dots as f64;
         let domain = f64::from(self.domain.0) * f64::from(self.domain.1);
         let sample = 0.02 + 1.2 * dots / 2.2e6 + domain / 200e6;
@@ -433,7 +388,7 @@ impl Plan {
     /// ≈0.8 s".
     #[must_use]
     pub fn line(&self) -> String {
-        let mut parts = vec![format!("{} dots", thousands(self.dots))];
+        let mut parts = vec![format!("{} dots", grouped(self.dots))];
         if self.pens > 1 {
             parts.push(format!("{} pens", self.pens));
         }
@@ -474,29 +429,9 @@ impl Plan {
     }
 }
 
-/// `n` with thin spaces between thousands: 100 000.
-fn thousands(n: usize) -> String {
-    let s = n.to_string();
-    let mut out = String::new();
-    for (i, c) in s.chars().enumerate() {
-        if i > 0 && (s.len() - i).is_multiple_of(3) {
-            out.push(' ');
-        }
-        out.push(c);
-    }
-    out
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn thousands_are_spaced() {
-        assert_eq!(thousands(100_000), "100 000");
-        assert_eq!(thousands(999), "999");
-        assert_eq!(thousands(1_000_000), "1 000 000");
-    }
 
     /// The one rule: relaxed and corrected together up to the auto limit,
     /// for grey and colour alike; a relaxed grey drawing is corrected at
