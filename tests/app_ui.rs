@@ -552,7 +552,7 @@ fn a_periodic_drawing_shows_two_by_two_tiles() {
     // 2×2 block, and the block fits the canvas.
     let img = h.render().expect("render");
     let _ = img.save(concat!(env!("CARGO_TARGET_TMPDIR"), "/app-tiles.png"));
-    let canvas_x0 = 330u32;
+    let canvas_x0 = app::PANEL_WIDTH as u32 + 30;
     let (w, hgt) = (img.width() - canvas_x0, img.height());
     let side = w.min(hgt) as f32 * 0.98;
     let (cx, cy) = (canvas_x0 as f32 + w as f32 / 2.0, hgt as f32 / 2.0);

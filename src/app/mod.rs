@@ -151,7 +151,7 @@ struct Decoded {
 }
 
 /// The control panel's width, in points.
-pub const PANEL_WIDTH: f32 = 300.0;
+pub const PANEL_WIDTH: f32 = 340.0;
 
 impl Source {
     /// The picture's size before the crop and turn.

@@ -2,12 +2,13 @@
 //! fit → pens.toml), and a synthetic plot-and-scan to try it without a
 //! plotter. The work is the library's ([`pixelpie::stipple::calibrate`]).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::Result;
 use clap::{Args, Subcommand};
 
 use pixelpie::colour::PenSet;
+use pixelpie::stipple::Error;
 use pixelpie::stipple::Paper;
 use pixelpie::stipple::calibrate::{self, Chart, ChartSpec, ScanOptions, chart};
 
@@ -110,7 +111,7 @@ pub fn run(a: &CalibrateArgs) -> Result<()> {
             let pens = PenSet::parse(&c.pens)?;
             let place = c.paper.place((1, 1), c.landscape, c.margin)?;
             let chart = Chart::new(ChartSpec::new(&pens, c.pen_mm, &place, c.seed)?)?;
-            calibrate::write_chart(&chart, &c.output)?;
+            write_chart(&chart, &c.output)?;
             eprintln!(
                 "chart {:04x}: {} pens × {} patches on {} paper; plot every pen's layer, then \
                  scan it and run pixelpie calibrate fit",
@@ -121,10 +122,10 @@ pub fn run(a: &CalibrateArgs) -> Result<()> {
             );
         }
         CalibrateCommand::Fit(f) => {
-            let chart = calibrate::read_chart(&f.chart)?;
-            let scan = calibrate::read_scan(&f.scan)?;
+            let chart = read_chart(&f.chart)?;
+            let scan = read_scan(&f.scan)?;
             let fit = calibrate::fit::fit(&chart, &scan)?;
-            calibrate::write_pens(&fit, &f.scan.display().to_string(), &f.output)?;
+            write_pens(&fit, &f.scan.display().to_string(), &f.output)?;
             println!("pen\tcolour\twidth mm\tdot gain\trms");
             for p in &fit.pens {
                 println!(
@@ -138,7 +139,7 @@ pub fn run(a: &CalibrateArgs) -> Result<()> {
             }
         }
         CalibrateCommand::Simulate(s) => {
-            let chart = calibrate::read_chart(&s.chart)?;
+            let chart = read_chart(&s.chart)?;
             let inks = s
                 .ink
                 .iter()
@@ -162,5 +163,46 @@ pub fn run(a: &CalibrateArgs) -> Result<()> {
             })?;
         }
     }
+    Ok(())
+}
+
+// The files of the loop: the chart, the scan and the pen file.
+
+/// Reads the chart of the SVG file at `path`.
+fn read_chart(path: &Path) -> pixelpie::Result<Chart> {
+    let text = std::fs::read_to_string(path).map_err(|e| {
+        Error::InvalidParameter(format!("cannot read chart '{}': {e}", path.display()))
+    })?;
+    Ok(Chart::read_svg(&text)?)
+}
+
+/// Reads a scan or photograph (PNG, JPEG, TIFF, BMP, WebP).
+fn read_scan(path: &Path) -> pixelpie::Result<image::RgbImage> {
+    let img = image::ImageReader::open(path)
+        .and_then(|r| r.with_guessed_format())
+        .map_err(|e| {
+            Error::InvalidParameter(format!("cannot read scan '{}': {e}", path.display()))
+        })?
+        .decode()
+        .map_err(|e| {
+            Error::InvalidParameter(format!(
+                "cannot decode scan '{}': {}",
+                path.display(),
+                pixelpie::one_line(&e)
+            ))
+        })?;
+    Ok(img.to_rgb8())
+}
+
+/// Writes `chart` as SVG to `path`, atomically.
+fn write_chart(chart: &Chart, path: &Path) -> pixelpie::Result<()> {
+    pixelpie::io::write_atomic(path, |w| Ok(chart.write_svg(w)?))?;
+    Ok(())
+}
+
+/// Writes `fit`'s pen file to `path`, atomically.
+fn write_pens(fit: &calibrate::Fit, scan: &str, path: &Path) -> pixelpie::Result<()> {
+    let text = calibrate::pen_toml(fit, scan)?;
+    pixelpie::io::write_atomic(path, |w| Ok(std::io::Write::write_all(w, text.as_bytes())?))?;
     Ok(())
 }

@@ -22,46 +22,12 @@ pub mod fit;
 mod homography;
 pub mod simulate;
 
-use std::path::Path;
-
 pub use chart::{Chart, ChartSpec};
 pub use fit::{Fit, PenFit};
 pub use homography::Homography;
 pub use simulate::ScanOptions;
 
 use super::{Error, Result};
-
-/// Reads the chart of the SVG file at `path`.
-pub fn read_chart(path: &Path) -> crate::Result<Chart> {
-    let text = std::fs::read_to_string(path).map_err(|e| {
-        Error::InvalidParameter(format!("cannot read chart '{}': {e}", path.display()))
-    })?;
-    Ok(Chart::read_svg(&text)?)
-}
-
-/// Reads a scan or photograph (PNG, JPEG, TIFF, BMP, WebP).
-pub fn read_scan(path: &Path) -> crate::Result<image::RgbImage> {
-    let img = image::ImageReader::open(path)
-        .and_then(|r| r.with_guessed_format())
-        .map_err(|e| {
-            Error::InvalidParameter(format!("cannot read scan '{}': {e}", path.display()))
-        })?
-        .decode()
-        .map_err(|e| {
-            Error::InvalidParameter(format!(
-                "cannot decode scan '{}': {}",
-                path.display(),
-                crate::one_line(&e)
-            ))
-        })?;
-    Ok(img.to_rgb8())
-}
-
-/// Writes `chart` as SVG to `path`, atomically.
-pub fn write_chart(chart: &Chart, path: &Path) -> crate::Result<()> {
-    crate::io::write_atomic(path, |w| Ok(chart.write_svg(w)?))?;
-    Ok(())
-}
 
 /// The pen file of `fit`, TOML: what `--pens` reads.
 pub fn pen_toml(fit: &Fit, scan: &str) -> Result<String> {
@@ -78,11 +44,4 @@ pub fn pen_toml(fit: &Fit, scan: &str) -> Result<String> {
         scan.replace(['\n', '\r'], " "),
         fit.code
     ))
-}
-
-/// Writes `fit`'s pen file to `path`, atomically.
-pub fn write_pens(fit: &Fit, scan: &str, path: &Path) -> crate::Result<()> {
-    let text = pen_toml(fit, scan)?;
-    crate::io::write_atomic(path, |w| Ok(w.write_all(text.as_bytes())?))?;
-    Ok(())
 }
