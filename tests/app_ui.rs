@@ -223,7 +223,7 @@ fn relaxation_runs_on_the_worker_and_can_be_cancelled() {
         .points
         .clone();
     // A long relaxation, then Cancel: the worker stops, the drawing stays.
-    h.state_mut().settings.points = 60_000;
+    h.state_mut().settings.job.points = Some(60_000);
     h.state_mut().settings.job.relax = Some(30);
     let start = Instant::now();
     while !h.state().busy() {
@@ -240,12 +240,12 @@ fn relaxation_runs_on_the_worker_and_can_be_cancelled() {
         before
     );
     // The controls show the drawing's settings again, not the cancelled ones.
-    assert_eq!(h.state().settings.points, 10_000);
+    assert_eq!(h.state().settings.job.points, Some(10_000));
     assert_eq!(h.state().settings.job.relax, None);
     h.run_steps(3);
     assert!(!h.state().busy(), "going back re-sampled");
     // A short relaxation finishes, with the count asked for.
-    h.state_mut().settings.points = 2000;
+    h.state_mut().settings.job.points = Some(2000);
     h.state_mut().settings.job.relax = Some(3);
     h.step();
     settle(&mut h);
@@ -467,7 +467,7 @@ fn the_export_row_and_re_roll_stay_put() {
     let svg = h.get_by_label("SVG").rect();
     let reroll = h.get_by_label("Re-roll").rect();
     // Busy: the progress line shows; nothing below it moves.
-    h.state_mut().settings.points = 50_000;
+    h.state_mut().settings.job.points = Some(50_000);
     let start = Instant::now();
     while !h.state().busy() {
         h.step();
@@ -597,7 +597,7 @@ fn the_status_follows_the_job_on_the_gpu_backend() {
     assert!(o.seconds >= d.set.stats.seconds && d.runs >= 1);
     assert!(has(&h, &format!("{} · took", d.plan.line())));
     // While a job runs, its elapsed time shows.
-    h.state_mut().settings.points = 40_000;
+    h.state_mut().settings.job.points = Some(40_000);
     let start = Instant::now();
     while h
         .state()
@@ -731,7 +731,7 @@ fn the_app_draws_and_exports_what_the_cli_does() {
     // arguments for them: plotter SVG, coloured PNG.
     {
         let st = &mut h.state_mut().settings;
-        st.points = 3000;
+        st.job.points = Some(3000);
         let job = &mut st.job;
         job.dot = Some(pixelpie::job::DotMode::Fixed);
         job.relax = Some(2);
@@ -1331,7 +1331,7 @@ fn frame_times_of_pan_and_zoom_at_10k_and_1m_dots() {
     let (_dir, _, mut h) = ready(600, 400);
     h.state_mut().settings.backend = pixelpie::backend::BackendChoice::Cpu;
     for n in [10_000, 1_000_000] {
-        h.state_mut().settings.points = n;
+        h.state_mut().settings.job.points = Some(n as usize);
         h.step();
         let t = Instant::now();
         settle(&mut h);
@@ -1421,7 +1421,7 @@ fn the_view_has_the_exported_png_s_tones_at_10k_200k_and_1m_dots() {
     let (dir, _, mut h) = ready(200, 50);
     h.state_mut().settings.backend = pixelpie::backend::BackendChoice::Cpu;
     for n in [10_000, 200_000, 1_000_000] {
-        h.state_mut().settings.points = n;
+        h.state_mut().settings.job.points = Some(n as usize);
         h.step();
         settle(&mut h);
         press(&mut h, egui::Key::F, egui::Modifiers::NONE);
@@ -1553,7 +1553,7 @@ fn plotted(h: &mut Harness<'_, PixelPieApp>) {
 fn with_a_pen_the_view_shows_the_plot_and_warns_with_a_one_click_count() {
     let (dir, _, mut h) = ready(300, 200);
     h.state_mut().settings.backend = pixelpie::backend::BackendChoice::Cpu;
-    h.state_mut().settings.points = 30_000;
+    h.state_mut().settings.job.points = Some(30_000);
     h.state_mut().settings.job.width_mm = Some(150.0);
     h.state_mut().settings.job.dot = Some(pixelpie::job::DotMode::Sized);
     h.step();
@@ -1590,7 +1590,7 @@ fn with_a_pen_the_view_shows_the_plot_and_warns_with_a_one_click_count() {
     assert!(shows(&h, "Pen too wide"));
     h.get_by_label(&format!("Use {count} dots")).click();
     h.step();
-    assert_eq!(h.state().settings.points as usize, count);
+    assert_eq!(h.state().settings.job.points, Some(count));
     settle(&mut h);
     plotted(&mut h);
     assert!(
@@ -1610,7 +1610,7 @@ fn with_a_pen_the_view_shows_the_plot_and_warns_with_a_one_click_count() {
 fn counts_out_of_range_are_refused_in_words_and_nothing_fails_silently() {
     let (dir, _, mut h) = ready(200, 150);
     for (n, says) in [(10_000_000, "at most 8000000"), (0, "at least 1 dot")] {
-        h.state_mut().settings.points = n;
+        h.state_mut().settings.job.points = Some(n);
         h.step();
         finish(&mut h);
         let e = h.state().error.clone().expect("a refusal");
@@ -1621,25 +1621,25 @@ fn counts_out_of_range_are_refused_in_words_and_nothing_fails_silently() {
             "{n}"
         );
         assert_eq!(
-            h.state().settings.points,
-            n,
+            h.state().settings.job.points,
+            Some(n),
             "the field keeps what was typed"
         );
     }
     // Too few for the picture: a plain message with the least count.
-    h.state_mut().settings.points = 1;
+    h.state_mut().settings.job.points = Some(1);
     h.step();
     finish(&mut h);
     let e = h.state().error.clone().expect("too few");
     assert!(e.contains("too few") && e.contains("at least"), "{e}");
     assert!(!e.contains("radius"), "{e}");
     // Back in range: drawn again, the error gone.
-    h.state_mut().settings.points = 2000;
+    h.state_mut().settings.job.points = Some(2000);
     h.step();
     settle(&mut h);
     assert!(h.state().error.is_none() && h.state().outcome.is_some());
     // An export while a new drawing is on its way says which it wrote.
-    h.state_mut().settings.points = 3000;
+    h.state_mut().settings.job.points = Some(3000);
     h.step();
     assert!(h.state().busy());
     h.state_mut().export_path = dir.path().join("mid").display().to_string();
@@ -1671,7 +1671,7 @@ fn counts_out_of_range_are_refused_in_words_and_nothing_fails_silently() {
 #[test]
 fn presets_crop_and_turn_round_trip_through_job_files() {
     let (dir, png, mut h) = ready(300, 200);
-    h.state_mut().settings.points = 1500;
+    h.state_mut().settings.job.points = Some(1500);
     h.state_mut().settings.job.relax = Some(1);
     h.step();
     settle(&mut h);
@@ -1721,11 +1721,11 @@ fn presets_crop_and_turn_round_trip_through_job_files() {
         std::fs::read(&cli_svg).unwrap()
     );
     // Loaded back after changes, the settings return.
-    h.state_mut().settings.points = 900;
+    h.state_mut().settings.job.points = Some(900);
     h.state_mut().settings.job.rotate = None;
     h.get_by_label("Load").click();
     h.step();
-    assert_eq!(h.state().settings.points, 1500);
+    assert_eq!(h.state().settings.job.points, Some(1500));
     assert_eq!(h.state().settings.job.rotate, Some(90));
     assert_eq!(h.state().settings.job.relax, Some(1));
     // A file that is not a job says so.
@@ -1742,7 +1742,7 @@ fn presets_crop_and_turn_round_trip_through_job_files() {
 #[test]
 fn the_pen_travel_overlay_toggles_and_the_sections_fit_a_small_window() {
     let (_dir, _, mut h) = ready(300, 200);
-    h.state_mut().settings.points = 800;
+    h.state_mut().settings.job.points = Some(800);
     h.step();
     settle(&mut h);
     let red = |img: &image::RgbaImage| {
@@ -1777,12 +1777,15 @@ fn the_pen_travel_overlay_toggles_and_the_sections_fit_a_small_window() {
 #[test]
 fn dots_sized_in_mm_and_warnings_that_name_a_count() {
     let (_dir, _, mut h) = ready(300, 200);
-    // No size in mm: the control is greyed out and changes nothing.
-    h.state_mut().settings.dot_mm = Some(1.0);
+    // No size in mm: the dots' size in mm gives way to the count.
+    h.state_mut().settings.job.dot_mm = Some(1.0);
+    h.state_mut().settings.job.points = None;
     h.step();
     settle(&mut h);
     assert_eq!(h.state().settings.job().dot_mm, None);
     h.state_mut().settings.job.width_mm = Some(150.0);
+    h.state_mut().settings.job.dot_mm = Some(1.0);
+    h.state_mut().settings.job.points = None;
     h.step();
     settle(&mut h);
     let job = h.state().settings.job();
@@ -1799,7 +1802,6 @@ fn dots_sized_in_mm_and_warnings_that_name_a_count() {
         "{largest} px"
     );
     // A PNG at a tenth of the size: the warning says which count reaches a pixel.
-    h.state_mut().settings.dot_mm = None;
     h.state_mut().settings.job.width_mm = None;
     h.state_mut().settings.job.scale = 0.1;
     h.step();
@@ -1911,7 +1913,7 @@ fn auto_relax_relaxes_and_the_slider_takes_over_when_unticked() {
 fn the_app_shows_the_plan_the_cli_prints() {
     let (dir, png, mut h) = ready(600, 400);
     for points in [10_000u32, 250_000] {
-        h.state_mut().settings.points = points;
+        h.state_mut().settings.job.points = Some(points as usize);
         h.step();
         settle(&mut h);
         let line = h.state().plan_line().expect("a plan line");

@@ -194,8 +194,10 @@ impl PixelPieApp {
                 .on_hover_text("Draw this many dots: the pen then draws the tones true")
                 .clicked()
             {
-                self.settings.use_count = true;
-                self.settings.points = u32::try_from(count).unwrap_or(u32::MAX);
+                let job = &mut self.settings.job;
+                job.points = Some(count);
+                job.dot_mm = None;
+                job.dot_radius = None;
             }
             let short = format!("Pen too wide: grey {plotted:.2}, not {asked:.2}");
             let label =

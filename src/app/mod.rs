@@ -131,6 +131,9 @@ pub struct PixelPieApp {
     /// A job file's crop, loaded for the next photo: kept when it opens
     /// (another photo's crop is dropped).
     crop_for_next: bool,
+    /// The Points field's count, kept while the radius range or the dots'
+    /// size in mm sets the radii (the job then has no count).
+    pub typed_points: usize,
 }
 
 /// A picture decoding off the UI thread.
@@ -168,6 +171,16 @@ impl PixelPieApp {
             .storage
             .and_then(|s| eframe::get_value(s, STORAGE_KEY))
             .unwrap_or_default();
+        // Settings stored by earlier versions kept the count beside the job:
+        // a job with nothing to set its radii counts the default.
+        let j = &mut settings.job;
+        if j.points.is_none()
+            && j.dot_mm.is_none()
+            && j.dot_radius.is_none()
+            && j.importance.min_radius.is_none()
+        {
+            j.points = Some(crate::job::DEFAULT_POINTS);
+        }
         let mut gpu = None;
         let mut gpu_dots = false;
         if let Some(rs) = &cc.wgpu_render_state {
@@ -214,6 +227,7 @@ impl PixelPieApp {
             loading: None,
             plot: plot::PlotTime::default(),
             crop_for_next: false,
+            typed_points: settings.job.points.unwrap_or(crate::job::DEFAULT_POINTS),
         };
         // Ctrl+plus and Ctrl+minus zoom the picture, not the whole UI.
         cc.egui_ctx.options_mut(|o| o.zoom_with_keyboard = false);
@@ -468,11 +482,7 @@ impl PixelPieApp {
         let path = typed_path(&self.preset_path);
         self.preset_note = Some(match crate::job::Job::open(&path) {
             Ok((job, warning)) => {
-                self.settings.use_count = job.points.is_some();
-                self.settings.dot_mm = job.dot_mm;
-                if let Some(n) = job.points {
-                    self.settings.points = u32::try_from(n).unwrap_or(u32::MAX);
-                }
+                self.typed_points = job.points.unwrap_or(self.typed_points);
                 self.crop_for_next = job.crop.is_some();
                 self.settings.job = job;
                 match warning {
@@ -528,8 +538,6 @@ impl PixelPieApp {
             let drawn = &o.settings;
             let s = &mut self.settings;
             s.job = drawn.job.clone();
-            s.use_count = drawn.use_count;
-            s.points = drawn.points;
             s.backend = drawn.backend;
             self.history.barrier();
         }
@@ -724,6 +732,13 @@ impl eframe::App for PixelPieApp {
             .frame(egui::Frame::NONE)
             .show(ui, |ui| self.canvas(ui));
         self.help_ui(&ctx);
+        // The dots' size in mm needs the page's: without a width in mm or
+        // a paper the count sets the radii again.
+        let job = &mut self.settings.job;
+        if job.dot_mm.is_some() && job.width_mm.is_none() && job.paper.is_none() {
+            job.dot_mm = None;
+            job.points = Some(self.typed_points);
+        }
         self.history.observe(&self.settings);
         let key = self.settings.sampling_key();
         if self.last_key.as_ref() != Some(&key) {

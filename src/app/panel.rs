@@ -228,32 +228,49 @@ impl PixelPieApp {
     /// The dot count (or the radius range): always in sight, above the
     /// sections.
     fn count_ui(&mut self, ui: &mut egui::Ui) {
-        let s = &mut self.settings;
+        let job = &mut self.settings.job;
+        // The radii follow from the count (or the dots' size in mm), or are
+        // the radius range as it is.
+        let was_counted = job.points.is_some() || job.dot_mm.is_some();
+        let mut counted = was_counted;
         ui.horizontal(|ui| {
-            ui.radio_value(&mut s.use_count, true, "Point count")
+            ui.radio_value(&mut counted, true, "Point count")
                 .on_hover_text("Aim for a number of dots; the radii scale to fit it");
-            ui.radio_value(&mut s.use_count, false, "Radius range")
+            ui.radio_value(&mut counted, false, "Radius range")
                 .on_hover_text(
                     "Use the radius range as it is, in domain pixels (the picture scaled \
                      as pixelpie stipple scales it: longer side 1024 px or more)",
                 );
         });
-        let by_count = s.use_count && s.job().dot_mm.is_none();
-        ui.add_enabled_ui(by_count, |ui| {
+        if counted != was_counted {
+            job.dot_mm = None;
+            job.dot_radius = None;
+            if counted {
+                job.points = Some(self.typed_points);
+            } else {
+                job.points = None;
+                let imp = &mut job.importance;
+                imp.min_radius = Some(imp.min_radius.unwrap_or(1.0));
+            }
+        }
+        let typed = &mut self.typed_points;
+        ui.add_enabled_ui(job.points.is_some(), |ui| {
             ui.horizontal(|ui| {
                 let l = ui.label("Points");
+                let mut n = job.points.unwrap_or(*typed);
                 // Not clamped: a count out of range is refused in words.
-                ui.add(
-                    egui::DragValue::new(&mut s.points)
-                        .range(0..=u32::MAX)
-                        .speed(50),
-                )
-                .labelled_by(l.id)
-                .on_hover_text(format!(
-                    "How many dots the drawing has (within 3%): 1 to {} (a photo on the \
-                     largest domain, 4096×4096 px, holds about 6 million dots of 1 px)",
-                    super::settings::MAX_POINTS
-                ));
+                let r = ui
+                    .add(egui::DragValue::new(&mut n).range(0..=usize::MAX).speed(50))
+                    .labelled_by(l.id)
+                    .on_hover_text(format!(
+                        "How many dots the drawing has (within 3%): 1 to {} (a photo on the \
+                         largest domain, 4096×4096 px, holds about 6 million dots of 1 px)",
+                        super::settings::MAX_POINTS
+                    ));
+                if r.changed() && job.points.is_some() {
+                    job.points = Some(n);
+                    *typed = n;
+                }
             });
         });
     }
@@ -426,6 +443,7 @@ impl PixelPieApp {
     fn dots_ui(&mut self, ui: &mut egui::Ui) {
         // The steps the last drawing's plan took, the job's own when set.
         let planned = self.outcome.as_ref().map(|o| o.drawing.plan.relax);
+        let typed = self.typed_points;
         let job = &mut self.settings.job;
         let mut mode = job.dot_mode();
         egui::ComboBox::from_label("Dots")
@@ -475,7 +493,7 @@ impl PixelPieApp {
         let on_page = job.width_mm.is_some() || job.paper.is_some();
         ui.add_enabled_ui(on_page, |ui| {
             ui.horizontal(|ui| {
-                let mut sized = self.settings.dot_mm.is_some();
+                let mut sized = job.dot_mm.is_some();
                 if ui
                     .checkbox(&mut sized, "Dot mm")
                     .on_hover_text(
@@ -485,9 +503,12 @@ impl PixelPieApp {
                     .on_disabled_hover_text("Needs a width in mm or paper (Paper section)")
                     .changed()
                 {
-                    self.settings.dot_mm = sized.then_some(1.0);
+                    job.dot_mm = sized.then_some(1.0);
+                    job.points = (!sized).then_some(typed);
+                    job.dot_radius = None;
+                    job.importance.min_radius = None;
                 }
-                if let Some(d) = &mut self.settings.dot_mm {
+                if let Some(d) = &mut job.dot_mm {
                     ui.add(
                         egui::DragValue::new(d)
                             .range(0.05..=20.0)

@@ -8,7 +8,6 @@ use serde::{Deserialize, Serialize};
 
 use crate::backend::BackendChoice;
 use crate::job::{DEFAULT_POINTS, Job};
-use crate::stipple::svg::DotPath;
 
 /// What is drawn behind the dots.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -28,15 +27,10 @@ pub enum Background {
 pub struct Settings {
     /// The loaded image, reopened at start.
     pub image: Option<PathBuf>,
-    /// The drawing job, with every default of `pixelpie stipple`; its
-    /// `points` follows [`Self::use_count`] and [`Self::points`] (see
-    /// [`Self::job`]).
+    /// The drawing job, the one `pixelpie stipple` runs: every control that
+    /// changes the drawing is one of its settings (the count, or the radius
+    /// range, or the dots' size in mm, sets the radii).
     pub job: Job,
-    /// Target a point count (true) or use the radius range as is.
-    pub use_count: bool,
-    /// The point count in the Points field (kept while the radius range is
-    /// used).
-    pub points: u32,
     /// The backend.
     pub backend: BackendChoice,
     /// What is drawn behind the dots.
@@ -45,9 +39,6 @@ pub struct Settings {
     pub show_coverage: bool,
     /// Show the pen's travel: its moves between dots, in drawing order.
     pub show_travel: bool,
-    /// The darkest dots' diameter on the page in mm, when it sets the radii
-    /// (the job's `dot_mm`; with a width in mm or paper only).
-    pub dot_mm: Option<f64>,
     /// The folder of the last file opened or exported (the dialogs start there).
     pub last_dir: Option<PathBuf>,
     /// With a periodic domain, show the drawing tiled 2×2.
@@ -61,14 +52,14 @@ impl Default for Settings {
     fn default() -> Self {
         Self {
             image: None,
-            job: Job::default(),
-            use_count: true,
-            points: DEFAULT_POINTS as u32,
+            job: Job {
+                points: Some(DEFAULT_POINTS),
+                ..Job::default()
+            },
             backend: BackendChoice::Auto,
             background: Background::Paper,
             show_coverage: false,
             show_travel: false,
-            dot_mm: None,
             last_dir: None,
             tile: true,
             hidden_pens: Vec::new(),
@@ -99,16 +90,12 @@ impl Settings {
         s
     }
 
-    /// Why the Points field's count is refused (none, or more than
-    /// [`MAX_POINTS`]), when the count is used.
+    /// Why the job's count is refused (none, or more than [`MAX_POINTS`]).
     #[must_use]
     pub fn refused_count(&self) -> Option<String> {
-        if !self.use_count || self.job().dot_mm.is_some() {
-            return None;
-        }
-        match self.points {
+        match self.job.points? {
             0 => Some("a drawing needs at least 1 dot".into()),
-            n if n > MAX_POINTS => Some(format!(
+            n if n > MAX_POINTS as usize => Some(format!(
                 "{n} dots is more than the app draws: at most {MAX_POINTS} (the drawing's \
                  domain is at most 4096×4096 px with dots at least 1 px in radius, which \
                  holds about 6 million)"
@@ -117,43 +104,17 @@ impl Settings {
         }
     }
 
-    /// The job these controls stand for: with the Points field, its count;
-    /// with the radius range, the range as it is (in domain pixels).
+    /// The job (a copy).
     #[must_use]
     pub fn job(&self) -> Job {
-        let mut job = self.job.clone();
-        let on_page = job.width_mm.is_some() || job.paper.is_some();
-        if let (Some(d), true) = (self.dot_mm, on_page) {
-            job.points = None;
-            job.dot_radius = None;
-            job.importance.min_radius = None;
-            job.dot_mm = Some(d);
-        } else if self.use_count {
-            job.points = Some(self.points as usize);
-            job.dot_radius = None;
-        } else {
-            job.points = None;
-            job.dot_radius = None;
-            let imp = &mut job.importance;
-            imp.min_radius = Some(imp.min_radius.unwrap_or(1.0));
-        }
-        job
+        self.job.clone()
     }
 
     /// The part of the settings that the points depend on.
     #[must_use]
     pub fn sampling_key(&self) -> SamplingKey {
-        let mut job = self.job().sampling_key();
-        // The sheet only places the dots, unless the pen sizes them (the
-        // job's key keeps the pen then), and the pen's path only draws them.
-        if job.pen_mm.is_none() && job.dot_mm.is_none() {
-            job.paper = None;
-            job.margin = None;
-            job.landscape = false;
-        }
-        job.dot_path = DotPath::Spiral;
         SamplingKey {
-            job,
+            job: self.job.sampling_key(),
             backend: self.backend,
         }
     }
