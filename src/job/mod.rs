@@ -1,23 +1,24 @@
 //! The pipeline: the drawing job ([`Job`], `pixelpie stipple`) and the
-//! point-set job ([`SampleJob`], `pixelpie sample`), their options,
-//! defaults and validation, the point-count fit ([`count`], written once),
-//! and one staged run for grey and colour drawings ([`Job::draw`]: prepare
-//! → sample → relax → order → size, in `run.rs`; the colour stages in
-//! `colour.rs`), then the SVG, PNG, CSV or JSON output through
-//! [`crate::stipple`]'s writers.
+//! point-set job ([`SampleJob`], `pixelpie sample`). `Job → Plan → run`:
+//! the job is what the user asked for (its options and defaults, here; its
+//! checks in `check.rs`; its sizes, domain and page in `radii.rs`); the
+//! plan makes every decision once (`plan.rs`, [`Job::plan`]); the run
+//! executes it (prepare → sample → relax → order → size; `run.rs`, the
+//! count's fit in [`count`], the colour stages in `colour.rs`, the
+//! correction in `correct/`); the writers put out SVG, PNG, CSV or JSON
+//! (`write.rs`, through [`crate::stipple`]'s formats).
 //!
 //! Every front end runs these jobs: the CLI parses them from its arguments,
 //! the Python package deserializes them from keyword arguments, and the
-//! app's settings hold a [`Job`] (plus what only the view needs). The same
+//! app's settings hold one [`Job`] (plus what only the view needs). The same
 //! job therefore gives the same drawing and the same files, byte for byte,
 //! from all three. Nothing below it (the sampler, maps, colour science,
 //! the formats) imports it.
 
-use std::path::Path;
-
 use serde::{Deserialize, Serialize};
 
 mod assign;
+mod check;
 mod colour;
 mod correct;
 pub mod count;
@@ -28,26 +29,26 @@ mod options;
 mod plan;
 mod plot;
 mod preview;
+mod radii;
 mod ramp;
 mod run;
 mod sample;
+mod write;
 
 pub use layers::PenLayer;
 pub use options::{Correction, DotMode, Format, Ink, LayerOrder, Order, Spacing};
 pub use plan::{Plan, Planned};
 pub use preview::{PenCheck, PlotPen, plotted_dot};
+pub use radii::default_domain;
 pub use ramp::{RampError, ramp_error, ramp_error_sized};
 pub use run::{Decoded, Picture, Stage, Step, Stipple};
 pub use sample::{Radii, SampleJob, Sampled};
 
 use crate::colour::PenSet;
-use crate::importance::{
-    Crop, DEFAULT_RADIUS_RATIO, ImportanceOptions, Mapping, RadiusRange, fit_size,
-};
+use crate::importance::{Crop, ImportanceOptions};
 use crate::sampler::{DEFAULT_POLICY, Policy, SamplerOptions};
-use crate::stipple::paper::{DEFAULT_MARGIN_MM, Paper, Placement};
+use crate::stipple::paper::Paper;
 use crate::stipple::svg::DotPath;
-use crate::stipple::{Dot, DotSize, Error, svg};
 
 /// Lloyd steps a drawing takes by default ([`Job::plan`]): three
 /// lift the default drawing's SSIM by 0.02–0.05 on five photos at 10K dots
@@ -265,167 +266,7 @@ impl Default for Job {
     }
 }
 
-/// The default domain: the image scaled so its longer side is
-/// max(1024, 10 √N) px, about ten pixels between dots or more, but at most
-/// [`MAX_DOMAIN_PIXELS`] pixels.
-///
-/// ```
-/// use pixelpie::job::default_domain;
-/// assert_eq!(default_domain(600, 400, 10_000), (1024, 683));
-/// assert_eq!(default_domain(600, 400, 100_000), (3163, 2109));
-/// let (w, h) = default_domain(600, 400, 1_000_000);
-/// assert!(u64::from(w) * u64::from(h) <= 4096 * 4096 && w == 5016);
-/// ```
-#[must_use]
-pub fn default_domain(w: u32, h: u32, points: usize) -> (u32, u32) {
-    let side = f64::from(MIN_DOMAIN_SIDE)
-        .max(10.0 * (points as f64).sqrt())
-        .ceil();
-    let (lw, lh) = (f64::from(w.max(1)), f64::from(h.max(1)));
-    let long = lw.max(lh);
-    // The largest longer side whose domain stays within the pixel budget.
-    let cap = (MAX_DOMAIN_PIXELS as f64 * long / lw.min(lh))
-        .sqrt()
-        .floor();
-    let side = side.min(cap.max(f64::from(MIN_DOMAIN_SIDE)));
-    let s = side / f64::from(w.max(h));
-    (
-        ((f64::from(w) * s).round() as u32).max(1),
-        ((f64::from(h) * s).round() as u32).max(1),
-    )
-}
-
 impl Job {
-    /// Checks the options that do not depend on the picture, for an output
-    /// of `format`.
-    pub fn validate(&self, format: Format) -> Result<(), Error> {
-        let bad = |m: String| Err(Error::InvalidParameter(m));
-        if format == Format::Svg && self.scale != 1.0 {
-            return bad("--scale applies to PNG output; use --width-mm to size an SVG".into());
-        }
-        if format == Format::Png
-            && (self.width_mm.is_some() || self.pen_mm.is_some() || self.paper.is_some())
-        {
-            return bad(
-                "--width-mm, --paper and --pen-mm apply to SVG output; use --scale to size a PNG"
-                    .into(),
-            );
-        }
-        self.check()
-    }
-
-    /// Checks the options that depend on neither the picture nor the
-    /// output's format.
-    pub fn check(&self) -> Result<(), Error> {
-        let bad = |m: String| Err(Error::InvalidParameter(m));
-        if let Some(pen) = self.pen_mm {
-            if !(pen.is_finite() && pen > 0.0) {
-                return bad(format!("--pen-mm {pen} must be a positive number"));
-            }
-            if self.width_mm.is_none() && self.paper.is_none() {
-                return bad(
-                    "--pen-mm needs --width-mm or --paper: the page size turns pixels into millimetres"
-                        .into(),
-                );
-            }
-        }
-        if self.width_mm.is_some() && self.paper.is_some() {
-            return bad(
-                "--width-mm and --paper exclude each other: the paper sizes the drawing".into(),
-            );
-        }
-        if self.paper.is_none() && (self.margin.is_some() || self.landscape) {
-            return bad("--margin and --landscape need --paper".into());
-        }
-        if let Some(r) = self.rotate
-            && !matches!(r, 90 | 180 | 270)
-        {
-            return bad(format!(
-                "--rotate {r} must be 90, 180 or 270 (degrees clockwise)"
-            ));
-        }
-        if let Some(l) = self.refill_mm {
-            if self.pen_mm.is_none() {
-                return bad("--refill-mm needs --pen-mm: it splits the pen's drawing".into());
-            }
-            if !(l.is_finite() && l > 0.0) {
-                return bad(format!("--refill-mm {l} must be a positive number"));
-            }
-        }
-        if self.dot_path != DotPath::Spiral && self.pen_mm.is_none() {
-            return bad("--dot-path needs --pen-mm: it is how the pen draws each dot".into());
-        }
-        if let Some(paper) = &self.paper {
-            // The margins must leave room whatever the drawing's aspect.
-            paper.place((1, 1), self.landscape, self.margin())?;
-        }
-        if !(self.dot_ratio.is_finite() && self.dot_ratio > 0.0 && self.dot_ratio <= 1.0) {
-            return bad(format!("--dot-ratio {} must be in (0, 1]", self.dot_ratio));
-        }
-        if let Some(r) = self.dot_radius {
-            if !(r.is_finite() && r > 0.0) {
-                return bad(format!("--dot-radius {r} must be a positive number"));
-            }
-            if self.points.is_some() || self.importance.min_radius.is_some() {
-                return bad(
-                    "--dot-radius excludes --points and --min-radius: it sets the radii itself"
-                        .into(),
-                );
-            }
-        }
-        if let Some(d) = self.dot_mm {
-            if !(d.is_finite() && d > 0.0) {
-                return bad(format!("--dot-mm {d} must be a positive number"));
-            }
-            if self.width_mm.is_none() && self.paper.is_none() {
-                return bad("--dot-mm needs --width-mm or --paper: the page's size in mm".into());
-            }
-            if self.points.is_some()
-                || self.importance.min_radius.is_some()
-                || self.dot_radius.is_some()
-            {
-                return bad(
-                    "--dot-mm excludes --points, --min-radius and --dot-radius: it sets the radii \
-                     itself"
-                        .into(),
-                );
-            }
-        }
-        if !(self.scale.is_finite() && self.scale > 0.0) {
-            return bad(format!("--scale {} must be a positive number", self.scale));
-        }
-        if let Some(mm) = self.width_mm
-            && !(mm.is_finite() && mm > 0.0)
-        {
-            return bad(format!("--width-mm {mm} must be a positive number"));
-        }
-        self.dot_size().validate()
-    }
-
-    /// How big the dots are drawn: the dot mode and its factor.
-    #[must_use]
-    pub fn dot_size(&self) -> DotSize {
-        let dot = self.dot_mode();
-        dot.size(self.dot_factor.unwrap_or(dot.default_factor()))
-    }
-
-    /// The dots of `drawing` as this job draws them (its dot mode and
-    /// factor), in drawing order.
-    #[must_use]
-    pub fn dots(&self, drawing: &Stipple) -> Vec<Dot> {
-        let size = self.dot_size();
-        drawing
-            .points
-            .iter()
-            .zip(&drawing.calibrated)
-            .map(|(p, &c)| Dot {
-                x: p.x,
-                y: p.y,
-                radius: size.radius(p.radius, c, self.dot_gain(p.class) as f32),
-            })
-            .collect()
-    }
-
     /// The part of the job that the points depend on: two jobs with equal
     /// keys sample the same points (a front end re-samples when it
     /// changes); the rest only changes how the dots are drawn and written.
@@ -460,273 +301,12 @@ impl Job {
         }
         key
     }
-
-    /// The dot mode: `dot`, or fixed with a pen, else sized.
-    #[must_use]
-    pub fn dot_mode(&self) -> DotMode {
-        self.dot.unwrap_or(if self.pen_mm.is_some() {
-            DotMode::Fixed
-        } else {
-            DotMode::Sized
-        })
-    }
-
-    /// Whether the dots' own radius or the pen sets the sample radii (else
-    /// the count does, or the minimum radius).
-    fn pen_sized(&self) -> bool {
-        self.pen_mm.is_some()
-            && self.points.is_none()
-            && self.importance.min_radius.is_none()
-            && self.dot_mm.is_none()
-    }
-
-    /// The dot count to fit, if any, and whether something scales the
-    /// radii (a count, the dots' radius or the pen): then a missing radius
-    /// range may default.
-    pub(crate) fn count(&self) -> (Option<usize>, bool) {
-        // The dots' own radius sets the sample radii, or the count does; a
-        // pen alone sets the darkest dots to its width.
-        let by_dot = self.dot_radius.is_some() || self.dot_mm.is_some() || self.pen_sized();
-        let points = match (self.points, self.importance.min_radius) {
-            (Some(n), _) => Some(n),
-            _ if by_dot => None,
-            (None, Some(_)) => None,
-            (None, None) => Some(DEFAULT_POINTS),
-        };
-        (points, points.is_some() || by_dot)
-    }
-
-    /// The domain for a picture of `size`: the asked size, or the default.
-    pub(crate) fn domain_for(&self, size: (u32, u32), points: Option<usize>) -> (u32, u32) {
-        match (self.width, self.height) {
-            (None, None) => {
-                let domain = default_domain(size.0, size.1, points.unwrap_or(DEFAULT_POINTS));
-                self.pen_domain(domain).unwrap_or(domain)
-            }
-            (wd, hd) => fit_size(size, wd, hd),
-        }
-    }
-
-    /// When the pen sizes the dots (no count, no radius given), `domain`
-    /// enlarged so that the pen's plotted dot spans [`PEN_DOT_PX`] pixels
-    /// (within [`MAX_DOMAIN_PIXELS`]): a fine pen on a large sheet is
-    /// sampled, not refused. `None` when it spans that already.
-    fn pen_domain(&self, domain: (u32, u32)) -> Option<(u32, u32)> {
-        if !self.pen_sized() || self.dot_radius.is_some() {
-            return None;
-        }
-        let mm = self.mm_per_px(domain).ok()??;
-        let across = self.pen_width()? * self.dot_gain(0) / mm;
-        if across >= PEN_DOT_PX {
-            return None;
-        }
-        let (w, h) = (f64::from(domain.0), f64::from(domain.1));
-        let grow = PEN_DOT_PX / across;
-        let fit = (MAX_DOMAIN_PIXELS as f64 / (w * h)).sqrt();
-        let s = grow.min(fit).max(1.0);
-        Some((
-            ((w * s).round() as u32).max(1),
-            ((h * s).round() as u32).max(1),
-        ))
-    }
-
-    /// `range`, or the range whose darkest dots have the asked dot radius
-    /// (or the pen's, on a domain `width` px wide).
-    pub(crate) fn dot_range(
-        &self,
-        range: RadiusRange,
-        domain: (u32, u32),
-    ) -> crate::Result<RadiusRange> {
-        let pen_dot = match (self.pen_mm, self.mm_per_px(domain)?) {
-            (Some(_), Some(mm)) if self.pen_sized() && self.dot_radius.is_none() => {
-                let pen = self.pen_width().unwrap_or_default();
-                // The dot as plotted: the pen's width times its gain.
-                Some((pen * self.dot_gain(0) / 2.0 / mm) as f32)
-            }
-            _ => None,
-        };
-        // The darkest dots' diameter in mm, as a radius in domain px.
-        let mm_dot = match (self.dot_mm, self.mm_per_px(domain)?) {
-            (Some(d), Some(mm)) => Some((d / 2.0 / mm) as f32),
-            _ => None,
-        };
-        let Some(rho) = self.dot_radius.or(mm_dot).or(pen_dot) else {
-            return Ok(range);
-        };
-        let min = Mapping::range_for_dot(rho, 1.0)?.min;
-        if pen_dot.is_some() && self.dot_radius.is_none() && min < 1.0 {
-            return Err(Error::InvalidParameter(format!(
-                "the pen's dots are {:.2} px wide on this {} px wide domain, too small to \
-                 sample: give --points, or a wider domain with --width",
-                2.0 * rho,
-                domain.0
-            ))
-            .into());
-        }
-        let max = self
-            .importance
-            .max_radius
-            .unwrap_or(min * DEFAULT_RADIUS_RATIO);
-        Ok(RadiusRange::new(min, max.max(min))?)
-    }
-
-    /// The margin on the paper, mm: `--margin` or [`DEFAULT_MARGIN_MM`].
-    #[must_use]
-    pub fn margin(&self) -> f64 {
-        self.margin.unwrap_or(DEFAULT_MARGIN_MM)
-    }
-
-    /// Where a drawing of `domain` px lies on the job's paper, if any.
-    pub fn placement(&self, domain: (u32, u32)) -> crate::Result<Option<Placement>> {
-        match &self.paper {
-            Some(paper) => Ok(Some(paper.place(domain, self.landscape, self.margin())?)),
-            None => Ok(None),
-        }
-    }
-
-    /// Millimetres per domain pixel, when the drawing has a size in mm
-    /// (`--width-mm` or `--paper`).
-    pub fn mm_per_px(&self, domain: (u32, u32)) -> crate::Result<Option<f64>> {
-        if let Some(p) = self.placement(domain)? {
-            return Ok(Some(p.mm_per_px(domain.0)));
-        }
-        Ok(self.width_mm.map(|mm| mm / f64::from(domain.0.max(1))))
-    }
-
-    /// The dot gain of pen `class` (its plotted dot's diameter over the
-    /// drawn one, from `pixelpie calibrate fit`), 1 when not calibrated. A
-    /// one-ink drawing takes its single pen's.
-    #[must_use]
-    pub fn dot_gain(&self, class: u32) -> f64 {
-        self.pens
-            .as_ref()
-            .and_then(|set| set.pens().get(class as usize))
-            .and_then(|p| p.dot_gain)
-            .unwrap_or(1.0)
-    }
-
-    /// The SVG writer's options for a drawing of `domain` px: the page (px,
-    /// a width in mm, or a sheet of paper), the pen, its paths and the ink.
-    pub fn svg_options(&self, domain: (u32, u32)) -> crate::Result<svg::SvgOptions> {
-        let mut opts = match (self.placement(domain)?, self.width_mm) {
-            (Some(p), _) => svg::SvgOptions::on_paper(domain, &p),
-            (None, Some(mm)) => svg::SvgOptions::with_width_mm(domain, mm)?,
-            (None, None) => svg::SvgOptions::new(domain),
-        };
-        if let Some(pen) = self.pen_width() {
-            opts = opts.with_pen_mm(pen)?;
-        }
-        Ok(opts.with_dot_path(self.dot_path).with_ink(self.ink_rgb()))
-    }
-
-    /// Whether the job draws in colour: two pens or more. One pen draws the
-    /// grey drawing in its ink ([`Self::one_pen`]).
-    #[must_use]
-    pub fn colour(&self) -> bool {
-        self.pens.as_ref().is_some_and(|p| p.len() > 1)
-    }
-
-    /// The single pen of a one-pen job (`--pens` with one colour or a pen
-    /// file of one pen, e.g. from `pixelpie calibrate fit`).
-    #[must_use]
-    pub fn one_pen(&self) -> Option<&crate::colour::Pen> {
-        self.pens
-            .as_ref()
-            .filter(|p| p.len() == 1)
-            .and_then(|p| p.pens().first())
-    }
-
-    /// The grey drawing's ink: its one pen's colour, or `--ink`.
-    #[must_use]
-    pub fn ink_rgb(&self) -> [u8; 3] {
-        self.one_pen().map_or(self.ink.0, |p| p.colour)
-    }
-
-    /// The grey drawing's pen width with `--pen-mm`: its one pen's own
-    /// width if the pen file gives one.
-    #[must_use]
-    pub fn pen_width(&self) -> Option<f64> {
-        self.pen_mm
-            .map(|w| self.one_pen().and_then(|p| p.width_mm).unwrap_or(w))
-    }
-
-    /// [`Self::run`] on the chosen backend (the CLI's fallback policy,
-    /// [`crate::backend::sample`]); `notice` hears which backend runs.
-    pub fn run_on(
-        &self,
-        image: &Path,
-        backend: crate::backend::BackendChoice,
-        ctl: crate::sampler::Control<'_>,
-        notice: &mut dyn FnMut(crate::backend::Notice),
-    ) -> crate::Result<Stipple> {
-        self.run(
-            image,
-            |params| Ok(crate::backend::sample(params, backend, ctl, &mut *notice)?),
-            |_| ctl.check().is_ok(),
-        )
-    }
-
-    /// The SVG of `drawing` as this job writes it: circles, or pen paths
-    /// with `pen_mm`; one Inkscape layer per pen in colour.
-    pub fn svg(&self, drawing: &Stipple) -> crate::Result<Vec<u8>> {
-        let mut out = Vec::new();
-        if drawing.pens.is_some() || self.refill_mm.is_some() {
-            self.write_layered_svg(drawing, &mut out)?;
-        } else {
-            let dots = self.dots(drawing);
-            let opts = self.svg_options(drawing.domain)?;
-            svg::write(&mut out, &dots, &opts)?;
-        }
-        Ok(out)
-    }
-
-    /// Writes `drawing` to `path` atomically, in the format of its
-    /// extension: the dots as this job draws them ([`Self::dots`]) as SVG
-    /// (circles, or pen paths with `pen_mm`) or PNG (at `scale`, in the
-    /// ink's colour), or their sample points as CSV or JSON (with the job).
-    /// Options of other formats are ignored ([`Self::validate`] refuses
-    /// them up front).
-    pub fn write(&self, drawing: &Stipple, path: &Path) -> crate::Result<()> {
-        let format = Format::from_path(path)?;
-        self.check()?;
-        if drawing.pens.is_some() {
-            return self.write_colour(drawing, format, path);
-        }
-        let domain = drawing.domain;
-        match format {
-            Format::Svg => {
-                let text = self.svg(drawing)?;
-                crate::io::write_atomic(path, |w| Ok(w.write_all(&text)?))?;
-            }
-            Format::Png => {
-                let dots = self.dots(drawing);
-                let img = crate::stipple::raster::render(&dots, domain, self.scale)?;
-                let ink = self.ink_rgb();
-                crate::io::write_atomic(path, |w| {
-                    if ink == Ink::BLACK.0 {
-                        Ok(crate::stipple::raster::write_png(w, &img, dots.len())?)
-                    } else {
-                        Ok(crate::stipple::raster::write_png_ink(
-                            w,
-                            &img,
-                            ink,
-                            dots.len(),
-                        )?)
-                    }
-                })?;
-            }
-            Format::Csv | Format::Json => {
-                let set = drawing.set.clone().with_points(drawing.points.clone());
-                crate::io::write_points(path, &set, self)?;
-            }
-        }
-        Ok(())
-    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::path::Path;
 
     #[test]
     fn the_job_reads_back_its_own_json_and_refuses_unknown_values() {

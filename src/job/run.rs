@@ -244,6 +244,24 @@ impl Job {
     }
 }
 
+impl Job {
+    /// [`Self::run`] on the chosen backend (the CLI's fallback policy,
+    /// [`crate::backend::sample`]); `notice` hears which backend runs.
+    pub fn run_on(
+        &self,
+        image: &Path,
+        backend: crate::backend::BackendChoice,
+        ctl: crate::sampler::Control<'_>,
+        notice: &mut dyn FnMut(crate::backend::Notice),
+    ) -> crate::Result<Stipple> {
+        self.run(
+            image,
+            |params| Ok(crate::backend::sample(params, backend, ctl, &mut *notice)?),
+            |_| ctl.check().is_ok(),
+        )
+    }
+}
+
 /// A stage of a drawing's run, as [`Step::Stage`] reports it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[non_exhaustive]

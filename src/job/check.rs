@@ -1,0 +1,114 @@
+//! The job's checks: the options that exclude or need each other, and
+//! their ranges, refused in words before anything is drawn.
+
+use super::{Format, Job};
+use crate::stipple::Error;
+use crate::stipple::svg::DotPath;
+
+impl Job {
+    /// Checks the options that do not depend on the picture, for an output
+    /// of `format`.
+    pub fn validate(&self, format: Format) -> Result<(), Error> {
+        let bad = |m: String| Err(Error::InvalidParameter(m));
+        if format == Format::Svg && self.scale != 1.0 {
+            return bad("--scale applies to PNG output; use --width-mm to size an SVG".into());
+        }
+        if format == Format::Png
+            && (self.width_mm.is_some() || self.pen_mm.is_some() || self.paper.is_some())
+        {
+            return bad(
+                "--width-mm, --paper and --pen-mm apply to SVG output; use --scale to size a PNG"
+                    .into(),
+            );
+        }
+        self.check()
+    }
+
+    /// Checks the options that depend on neither the picture nor the
+    /// output's format.
+    pub fn check(&self) -> Result<(), Error> {
+        let bad = |m: String| Err(Error::InvalidParameter(m));
+        if let Some(pen) = self.pen_mm {
+            if !(pen.is_finite() && pen > 0.0) {
+                return bad(format!("--pen-mm {pen} must be a positive number"));
+            }
+            if self.width_mm.is_none() && self.paper.is_none() {
+                return bad(
+                    "--pen-mm needs --width-mm or --paper: the page size turns pixels into millimetres"
+                        .into(),
+                );
+            }
+        }
+        if self.width_mm.is_some() && self.paper.is_some() {
+            return bad(
+                "--width-mm and --paper exclude each other: the paper sizes the drawing".into(),
+            );
+        }
+        if self.paper.is_none() && (self.margin.is_some() || self.landscape) {
+            return bad("--margin and --landscape need --paper".into());
+        }
+        if let Some(r) = self.rotate
+            && !matches!(r, 90 | 180 | 270)
+        {
+            return bad(format!(
+                "--rotate {r} must be 90, 180 or 270 (degrees clockwise)"
+            ));
+        }
+        if let Some(l) = self.refill_mm {
+            if self.pen_mm.is_none() {
+                return bad("--refill-mm needs --pen-mm: it splits the pen's drawing".into());
+            }
+            if !(l.is_finite() && l > 0.0) {
+                return bad(format!("--refill-mm {l} must be a positive number"));
+            }
+        }
+        if self.dot_path != DotPath::Spiral && self.pen_mm.is_none() {
+            return bad("--dot-path needs --pen-mm: it is how the pen draws each dot".into());
+        }
+        if let Some(paper) = &self.paper {
+            // The margins must leave room whatever the drawing's aspect.
+            paper.place((1, 1), self.landscape, self.margin())?;
+        }
+        if !(self.dot_ratio.is_finite() && self.dot_ratio > 0.0 && self.dot_ratio <= 1.0) {
+            return bad(format!("--dot-ratio {} must be in (0, 1]", self.dot_ratio));
+        }
+        if let Some(r) = self.dot_radius {
+            if !(r.is_finite() && r > 0.0) {
+                return bad(format!("--dot-radius {r} must be a positive number"));
+            }
+            if self.points.is_some() || self.importance.min_radius.is_some() {
+                return bad(
+                    "--dot-radius excludes --points and --min-radius: it sets the radii itself"
+                        .into(),
+                );
+            }
+        }
+        if let Some(d) = self.dot_mm {
+            if !(d.is_finite() && d > 0.0) {
+                return bad(format!("--dot-mm {d} must be a positive number"));
+            }
+            if self.width_mm.is_none() && self.paper.is_none() {
+                return bad("--dot-mm needs --width-mm or --paper: the page's size in mm".into());
+            }
+            if self.points.is_some()
+                || self.importance.min_radius.is_some()
+                || self.dot_radius.is_some()
+            {
+                return bad(
+                    "--dot-mm excludes --points, --min-radius and --dot-radius: it sets the radii \
+                     itself"
+                        .into(),
+                );
+            }
+        }
+        if !(self.scale.is_finite() && self.scale > 0.0) {
+            return bad(format!("--scale {} must be a positive number", self.scale));
+        }
+        if let Some(mm) = self.width_mm
+            && !(mm.is_finite() && mm > 0.0)
+        {
+            return bad(format!("--width-mm {mm} must be a positive number"));
+        }
+        self.dot_size().validate()
+    }
+}
