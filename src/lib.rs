@@ -51,6 +51,6 @@ pub mod stipple;
 mod text;
 
 pub use error::{Error, Result};
-pub use text::one_line;
 #[doc(hidden)]
 pub use text::single_line;
+pub use text::{one_line, setting_error};

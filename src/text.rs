@@ -36,3 +36,81 @@ pub fn grouped(n: usize) -> String {
     }
     out
 }
+
+/// serde's "invalid type: FOUND, expected EXPECTED" (or "invalid value")
+/// for the setting `name`, in a user's words: "relax must be a whole
+/// number, not the text \"tsp\"". Other messages come back as they are,
+/// after `name: `.
+#[must_use]
+pub fn setting_error(name: &str, message: &str) -> String {
+    let message = message.trim();
+    let parsed = ["invalid type: ", "invalid value: "]
+        .iter()
+        .find_map(|p| message.strip_prefix(p))
+        .and_then(|rest| rest.split_once(", expected "));
+    let Some((found, expected)) = parsed else {
+        return if message.starts_with(&format!("{name}:")) {
+            message.to_owned()
+        } else {
+            format!("{name}: {message}")
+        };
+    };
+    // serde may add " at line L column C" (TOML, JSON text).
+    let expected = expected
+        .split(" at line ")
+        .next()
+        .unwrap_or(expected)
+        .trim_end_matches('.');
+    let expected = match expected {
+        "u8" | "u16" | "u32" | "u64" | "usize" => "a whole number, at least 0",
+        "i8" | "i16" | "i32" | "i64" | "isize" | "integer" => "a whole number",
+        "f32" | "f64" => "a number",
+        "a boolean" | "bool" => "true or false",
+        "a string" | "a borrowed string" | "char" => "text",
+        "a sequence" => "a list",
+        other => other,
+    };
+    let tick = |s: &str| s.trim_matches('`').to_owned();
+    let found = if let Some(v) = found.strip_prefix("string ") {
+        format!("the text {v}")
+    } else if let Some(v) = found
+        .strip_prefix("floating point ")
+        .or_else(|| found.strip_prefix("integer "))
+        .or_else(|| found.strip_prefix("boolean "))
+    {
+        tick(v)
+    } else {
+        match found {
+            "unit value" | "unit variant" | "null" => "nothing".into(),
+            "sequence" => "a list".into(),
+            "map" => "a table".into(),
+            other => other.into(),
+        }
+    };
+    format!("{name} must be {expected}, not {found}")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn serde_speaks_as_a_user() {
+        assert_eq!(
+            setting_error("relax", r#"invalid type: string "tsp", expected u32"#),
+            r#"relax must be a whole number, at least 0, not the text "tsp""#
+        );
+        assert_eq!(
+            setting_error("gamma", "invalid type: boolean `true`, expected f32"),
+            "gamma must be a number, not true"
+        );
+        assert_eq!(
+            setting_error("points", "invalid value: integer `-3`, expected usize"),
+            "points must be a whole number, at least 0, not -3"
+        );
+        assert_eq!(
+            setting_error("order", "unknown variant `x`, expected `none` or `tsp`"),
+            "order: unknown variant `x`, expected `none` or `tsp`"
+        );
+    }
+}

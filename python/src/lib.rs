@@ -2,32 +2,43 @@
 //! lean library. `pixelpie/__init__.py` normalizes the arguments (paths,
 //! arrays to float32) and documents the functions.
 //!
-//! * The GIL is released while the library works; progress callbacks and
-//!   signal checks take it back between iterations, so Ctrl-C
-//!   (KeyboardInterrupt) cancels a run before its next iteration.
-//! * Errors map to Python's: bad arguments to `ValueError`, files that
-//!   cannot be read or written to `OSError`, with the CLI's messages.
+//! * The library works on a thread of its own, in this process's thread
+//!   pool, without the GIL; the calling thread waits for it and checks for
+//!   signals every [`POLL`], so that Ctrl-C (KeyboardInterrupt) cancels any
+//!   stage in well under half a second ([`cancellable`]).
+//! * The thread pool is this process's own: a child made by `fork` (which
+//!   does not inherit the parent's threads) makes a new one ([`pool`]).
+//! * Errors map to Python's: bad values to `ValueError`, bad types to
+//!   `TypeError`, files that cannot be read or written to `OSError` with
+//!   its errno and file name (so `FileNotFoundError`, `PermissionError`,
+//!   ...), with the CLI's messages. A panic becomes `RuntimeError`: none
+//!   reaches Python as pyo3's `PanicException`.
 
-use std::path::PathBuf;
-use std::sync::Mutex;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex, PoisonError, mpsc};
+use std::time::Duration;
 
 use numpy::{
     PyArray1, PyArrayMethods, PyReadonlyArray2, PyReadonlyArrayDyn, PyUntypedArrayMethods,
 };
-use pyo3::exceptions::{PyKeyboardInterrupt, PyOSError, PyRuntimeError, PyValueError};
+use pyo3::exceptions::{PyKeyboardInterrupt, PyOSError, PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
+use pyo3::types::PyBytes;
 
 use pixelpie::analyze::{CoverRadius, Domain};
 use pixelpie::backend::{self, BackendChoice};
 use pixelpie::importance::{self, ImportanceMap, Tones};
-use pixelpie::job::{Decoded, Format, Job, Radii, SampleJob};
+use pixelpie::job::{Decoded, Format, Job, Radii, SampleJob, Stipple};
 use pixelpie::sampler::{self, Control, Progress};
 
 /// The Python exception for a library error.
 fn py_err(e: &pixelpie::Error) -> PyErr {
     use pixelpie::Error as E;
     let text = pixelpie::one_line(e);
+    if let Some(err) = os_error(e, &text) {
+        return err;
+    }
     match e {
         E::Sampler(sampler::Error::Cancelled) => PyKeyboardInterrupt::new_err(text),
         E::Sampler(e) if e.is_backend() => PyRuntimeError::new_err(text),
@@ -35,12 +46,33 @@ fn py_err(e: &pixelpie::Error) -> PyErr {
         | E::Stipple(pixelpie::stipple::Error::InvalidParameter(_))
         | E::Io(pixelpie::io::Error::Invalid(_))
         | E::Sampler(_)
+        | E::Pens(_)
         | E::Analyze(_) => PyValueError::new_err(text),
         E::Importance(_) | E::Io(_) | E::Stipple(pixelpie::stipple::Error::Io(_)) => {
             PyOSError::new_err(text)
         }
         _ => PyRuntimeError::new_err(text),
     }
+}
+
+/// A file that could not be read or written, as Python's `OSError(errno,
+/// message, filename)`: Python makes it the subclass of its errno
+/// (`FileNotFoundError`, `PermissionError`, `IsADirectoryError`, ...).
+fn os_error(e: &pixelpie::Error, text: &str) -> Option<PyErr> {
+    use pixelpie::Error as E;
+    let (path, io): (Option<&Path>, &std::io::Error) = match e {
+        E::Importance(importance::Error::Io { path, error }) => (Some(path), error),
+        E::Io(pixelpie::io::Error::Write { path, source }) => {
+            (Some(path), source.downcast_ref::<std::io::Error>()?)
+        }
+        E::Stipple(pixelpie::stipple::Error::Io(error)) => (None, error),
+        _ => return None,
+    };
+    let errno = io.raw_os_error()?;
+    Some(match path {
+        Some(path) => PyOSError::new_err((errno, text.to_owned(), path.to_path_buf())),
+        None => PyOSError::new_err((errno, text.to_owned())),
+    })
 }
 
 fn bad(text: impl Into<String>) -> PyErr {
@@ -54,39 +86,106 @@ fn named<T: serde::de::DeserializeOwned>(name: &str, what: &str) -> PyResult<T> 
         .map_err(|e| bad(format!("{what}: {e}")))
 }
 
-/// Runs `work` without the GIL, with a sampler control whose progress
-/// calls `progress(iteration, points, empty, pixels)` and checks for
-/// signals between iterations; an exception there (KeyboardInterrupt from
-/// Ctrl-C among them) cancels the run and is raised.
+/// How often the waiting thread checks for signals while the library
+/// works.
+const POLL: Duration = Duration::from_millis(20);
+
+/// This process's thread pool and the process it was made in.
+static POOL: Mutex<Option<(u32, Arc<rayon::ThreadPool>)>> = Mutex::new(None);
+
+/// The thread pool of this process. A child made by `fork` inherits the
+/// parent's pool but none of its threads (work sent there would wait
+/// forever): it makes its own, and the parent's is left alone, never
+/// dropped (dropping it would signal threads that do not exist here).
+fn pool() -> PyResult<Arc<rayon::ThreadPool>> {
+    let pid = std::process::id();
+    let mut slot = POOL.lock().unwrap_or_else(PoisonError::into_inner);
+    if let Some((owner, pool)) = slot.as_ref()
+        && *owner == pid
+    {
+        return Ok(Arc::clone(pool));
+    }
+    if let Some(inherited) = slot.take() {
+        std::mem::forget(inherited);
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .thread_name(|i| format!("pixelpie-{i}"))
+        .build()
+        .map(Arc::new)
+        .map_err(|e| PyRuntimeError::new_err(format!("cannot start pixelpie's threads: {e}")))?;
+    *slot = Some((pid, Arc::clone(&pool)));
+    Ok(pool)
+}
+
+/// A panic's message.
+fn panic_text(payload: &(dyn std::any::Any + Send)) -> String {
+    let what = payload
+        .downcast_ref::<&str>()
+        .map(|s| (*s).to_owned())
+        .or_else(|| payload.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "a panic".into());
+    format!("pixelpie failed inside ({what}); please report it with the call that made it")
+}
+
+/// Runs `work` on a thread of its own in this process's pool ([`pool`]),
+/// without the GIL, with a sampler control whose progress calls
+/// `progress(iteration, points, empty, pixels)`. The calling thread waits,
+/// checking for signals every [`POLL`]: a signal's exception
+/// (KeyboardInterrupt from Ctrl-C) or one raised by `progress` cancels the
+/// run, which every stage heeds within a few milliseconds, and is raised. A
+/// panic becomes `RuntimeError`.
 fn cancellable<T: Send>(
     py: Python<'_>,
     progress: Option<Py<PyAny>>,
     work: impl FnOnce(Control<'_>) -> pixelpie::Result<T> + Send,
 ) -> PyResult<T> {
+    let pool = pool()?;
     let cancel = AtomicBool::new(false);
     let raised: Mutex<Option<PyErr>> = Mutex::new(None);
-    let report = |p: Progress| {
-        Python::attach(|py| {
-            let result = match &progress {
-                Some(f) => f
-                    .call1(py, (p.iteration, p.points, p.empty_pixels, p.pixels))
-                    .map(drop),
-                None => Ok(()),
-            }
-            .and_then(|()| py.check_signals());
-            if let Err(e) = result {
-                if let Ok(mut slot) = raised.lock() {
-                    slot.get_or_insert(e);
-                }
-                cancel.store(true, Ordering::Relaxed);
-            }
-        });
+    let raise = |e: PyErr| {
+        raised
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .get_or_insert(e);
+        cancel.store(true, Ordering::Relaxed);
     };
-    let result = py.detach(|| work(Control::new().with_progress(&report).with_cancel(&cancel)));
-    if let Some(e) = raised.into_inner().ok().flatten() {
+    let report = |p: Progress| {
+        if let Some(f) = &progress {
+            Python::attach(|py| {
+                if let Err(e) = f.call1(py, (p.iteration, p.points, p.empty_pixels, p.pixels)) {
+                    raise(e);
+                }
+            });
+        }
+    };
+    let outcome = py.detach(|| {
+        std::thread::scope(|s| {
+            let (done, finished) = mpsc::channel::<()>();
+            let (pool, cancel, report) = (&pool, &cancel, &report);
+            let worker = s.spawn(move || {
+                let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                    pool.install(|| work(Control::new().with_progress(report).with_cancel(cancel)))
+                }));
+                let _ = done.send(());
+                result
+            });
+            let mut listening = true;
+            while let Err(mpsc::RecvTimeoutError::Timeout) = finished.recv_timeout(POLL) {
+                if listening && let Err(e) = Python::attach(|py| py.check_signals()) {
+                    raise(e);
+                    listening = false;
+                }
+            }
+            worker.join()
+        })
+    });
+    if let Some(e) = raised.into_inner().unwrap_or_else(PoisonError::into_inner) {
         return Err(e);
     }
-    result.map_err(|e| py_err(&e))
+    match outcome {
+        Ok(Ok(result)) => result.map_err(|e| py_err(&e)),
+        Ok(Err(payload)) | Err(payload) => Err(PyRuntimeError::new_err(panic_text(&*payload))),
+    }
 }
 
 /// Points as an (N, 3) float32 array of x, y and radius.
@@ -118,23 +217,32 @@ fn grid(a: &PyReadonlyArray2<'_, f32>, what: &str) -> PyResult<(u32, u32, Vec<f3
 
 /// The native `sample`; see `pixelpie.sample`. `options` is a JSON object
 /// of [`SampleJob`]'s options; an array in `radius_map` or
-/// `importance_values` takes the place of a file.
+/// `importance_values` (a grey array's values, 0 to 1, taken as they are)
+/// or `importance_pixels` (a picture array or PIL image, decoded as a file
+/// is: [`encoded_png`]) takes the place of a file. Returns the points, the
+/// statistics (with the count `target`) and the warnings.
 #[pyfunction]
-#[pyo3(signature = (options, radius_map, importance_values, backend_name, progress))]
+#[pyo3(signature = (options, radius_map, importance_values, importance_pixels, backend_name, progress))]
 fn sample<'py>(
     py: Python<'py>,
     options: &str,
     radius_map: Option<PyReadonlyArray2<'py, f32>>,
     importance_values: Option<PyReadonlyArray2<'py, f32>>,
+    importance_pixels: Option<PyReadonlyArrayDyn<'py, u16>>,
     backend_name: &str,
     progress: Option<Py<PyAny>>,
-) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
+) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>, Vec<String>)> {
     let mut job: SampleJob = from_options(options, "sample", &sample_options()?)?;
     let choice: BackendChoice = named(backend_name, "backend")?;
+    let given_maps = [
+        job.importance.is_some(),
+        importance_values.is_some() || importance_pixels.is_some(),
+        job.radius_map.is_some() || radius_map.is_some(),
+    ];
+    if given_maps.iter().filter(|&&g| g).count() > 1 {
+        return Err(bad("give a radius map or an importance map, not both"));
+    }
     let radii = if let Some(a) = &radius_map {
-        if job.importance.is_some() || importance_values.is_some() {
-            return Err(bad("give a radius map or an importance map, not both"));
-        }
         let (width, height, radii) = grid(a, "radius_map")?;
         Radii::Map {
             width,
@@ -151,19 +259,38 @@ fn sample<'py>(
         }
         let (w, h, values) = grid(a, "importance")?;
         Radii::Picture(ImportanceMap::from_values(w, h, values).map_err(|e| py_err(&e.into()))?)
+    } else if let Some(a) = &importance_pixels {
+        let bytes = encoded_png(a, "importance")?;
+        Radii::Picture(
+            ImportanceMap::from_encoded(
+                &bytes,
+                Path::new("<importance>"),
+                job.importance_options.hdr_white,
+            )
+            .map_err(|e| py_err(&e.into()))?,
+        )
     } else {
         job.radii().map_err(|e| py_err(&e))?
     };
     job.check(&radii).map_err(|e| py_err(&e.into()))?;
-    let set = cancellable(py, progress, move |ctl| {
-        Ok(job
-            .run(&radii, |p| {
-                Ok(backend::sample(p, choice, ctl, &mut |_| {})?)
-            })?
-            .set)
+    let cap = job.max_iterations;
+    let target = job.points;
+    let done = cancellable(py, progress, move |ctl| {
+        job.run(&radii, |p| {
+            Ok(backend::sample(p, choice, ctl, &mut |_| {})?)
+        })
     })?;
-    let rows = set.points.iter().map(|p| [p.x, p.y, p.radius]);
-    Ok((points_array(py, rows)?, to_python(py, &set.report())?))
+    let rows = done.set.points.iter().map(|p| [p.x, p.y, p.radius]);
+    let mut stats = serde_json::to_value(done.set.report())
+        .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    if let serde_json::Value::Object(m) = &mut stats {
+        m.insert("target".into(), serde_json::json!(target));
+    }
+    Ok((
+        points_array(py, rows)?,
+        to_python(py, &stats)?,
+        done.warnings(cap),
+    ))
 }
 
 /// The point-set job's options and their defaults, as JSON (the names
@@ -225,12 +352,16 @@ fn from_options<T: serde::de::DeserializeOwned>(
                 serde_json::from_value::<T>(serde_json::Value::Object(one)).is_err()
             });
             let text = e.to_string();
-            Err(bad(match culprit {
-                Some((name, _)) if !text.starts_with(&format!("{name}:")) => {
-                    format!("{name}: {text}")
-                }
-                _ => text,
-            }))
+            let wrong_type = text.starts_with("invalid type:");
+            let text = match culprit {
+                Some((name, _)) => pixelpie::setting_error(name, &text),
+                None => text,
+            };
+            Err(if wrong_type {
+                PyTypeError::new_err(text)
+            } else {
+                bad(text)
+            })
         }
     }
 }
@@ -283,7 +414,10 @@ fn plan_py(
     job_file: Option<PathBuf>,
 ) -> PyResult<String> {
     let job = job_from(options, job_file.as_deref())?;
-    let encoded = pixels.as_ref().map(encoded_png).transpose()?;
+    let encoded = pixels
+        .as_ref()
+        .map(|a| encoded_png(a, "image"))
+        .transpose()?;
     py.detach(|| {
         let picture = decoded(&job, image.as_deref(), encoded.as_deref())?;
         job.plan(picture.picture())?.plan.to_json()
@@ -345,7 +479,7 @@ fn job_options() -> serde_json::Result<serde_json::Value> {
 /// file loader's one path (sRGB decoding, alpha over white): (H, W) grey,
 /// (H, W, 2) grey and alpha, (H, W, 3) RGB or (H, W, 4) RGBA, sRGB-encoded
 /// 16-bit values.
-fn encoded_png(a: &PyReadonlyArrayDyn<'_, u16>) -> PyResult<Vec<u8>> {
+fn encoded_png(a: &PyReadonlyArrayDyn<'_, u16>, what: &str) -> PyResult<Vec<u8>> {
     use image::ImageEncoder;
     let shape = a.shape().to_vec();
     let (h, w, c) = match shape[..] {
@@ -353,16 +487,18 @@ fn encoded_png(a: &PyReadonlyArrayDyn<'_, u16>) -> PyResult<Vec<u8>> {
         [h, w, c] if (1..=4).contains(&c) => (h, w, c),
         _ => {
             return Err(bad(format!(
-                "a picture array must be (H, W) or (H, W, 1 to 4 channels), not {shape:?}"
+                "{what}: a picture array must be (H, W) or (H, W, 1 to 4 channels), not {shape:?}"
             )));
         }
     };
     let (Ok(w), Ok(h)) = (u32::try_from(w), u32::try_from(h)) else {
-        return Err(bad(format!("a picture of shape {shape:?} is too large")));
+        return Err(bad(format!(
+            "{what}: a picture of shape {shape:?} is too large"
+        )));
     };
     if w == 0 || h == 0 {
         return Err(bad(format!(
-            "the picture array of shape {shape:?} is empty"
+            "{what}: the picture array of shape {shape:?} is empty"
         )));
     }
     let values: Vec<u8> = a.as_array().iter().flat_map(|v| v.to_ne_bytes()).collect();
@@ -375,70 +511,207 @@ fn encoded_png(a: &PyReadonlyArrayDyn<'_, u16>) -> PyResult<Vec<u8>> {
     let mut out = Vec::new();
     image::codecs::png::PngEncoder::new(&mut out)
         .write_image(&values, w, h, colour)
-        .map_err(|e| bad(format!("picture array: {e}")))?;
+        .map_err(|e| bad(format!("{what}: {e}")))?;
     Ok(out)
 }
 
 /// The native `stipple`; see `pixelpie.stipple`. The picture is a file
-/// (`image`) or an array (`pixels`); with `want_svg` the SVG comes back as
-/// text instead of the dots.
+/// (`image`) or an array (`pixels`). Writes `output` when given (nothing
+/// when interrupted), and returns the drawing.
 #[pyfunction(name = "stipple")]
-#[pyo3(signature = (image, pixels, output, options, job_file, backend_name, want_svg, progress))]
+#[pyo3(signature = (image, pixels, output, options, job_file, backend_name, progress))]
 #[expect(
     clippy::too_many_arguments,
     reason = "the Python function's arguments, one by one"
 )]
-fn stipple_py<'py>(
-    py: Python<'py>,
+fn stipple_py(
+    py: Python<'_>,
     image: Option<PathBuf>,
-    pixels: Option<PyReadonlyArrayDyn<'py, u16>>,
+    pixels: Option<PyReadonlyArrayDyn<'_, u16>>,
     output: Option<PathBuf>,
     options: &str,
     job_file: Option<PathBuf>,
     backend_name: &str,
-    want_svg: bool,
     progress: Option<Py<PyAny>>,
-) -> PyResult<Bound<'py, PyAny>> {
+) -> PyResult<Drawing> {
     let job = job_from(options, job_file.as_deref())?;
     let choice: BackendChoice = named(backend_name, "backend")?;
-    if let Some(out) = &output {
-        let format = Format::from_path(out).map_err(|e| py_err(&e.into()))?;
-        job.validate(format).map_err(|e| py_err(&e.into()))?;
-    }
-    let encoded = pixels.as_ref().map(encoded_png).transpose()?;
-    let (drawing, svg) = cancellable(py, progress, |ctl| {
+    let format = match &output {
+        Some(out) => {
+            let format = Format::from_path(out).map_err(|e| py_err(&e.into()))?;
+            job.validate(format).map_err(|e| py_err(&e.into()))?;
+            Some(format)
+        }
+        None => None,
+    };
+    let encoded = pixels
+        .as_ref()
+        .map(|a| encoded_png(a, "image"))
+        .transpose()?;
+    let drawing = cancellable(py, progress, |ctl| {
         let sample = |params: &pixelpie::sampler::Params| {
             Ok(backend::sample(params, choice, ctl, &mut |_| {})?)
         };
         let picture = decoded(&job, image.as_deref(), encoded.as_deref())?;
         let drawing = job.draw(picture.picture(), sample, |_| ctl.check().is_ok())?;
         ctl.check()?;
-        if let Some(out) = &output {
-            job.write(&drawing, out)?;
+        if let (Some(out), Some(format)) = (&output, format) {
+            let bytes = job.encode(&drawing, format)?;
+            // The last moment an interrupt leaves no file.
+            ctl.check()?;
+            pixelpie::io::write_atomic(out, |w| Ok(std::io::Write::write_all(w, &bytes)?))?;
         }
-        let svg = if want_svg {
-            Some(job.svg(&drawing)?)
-        } else {
-            None
-        };
-        Ok((drawing, svg))
+        let mut warnings: Vec<String> = image
+            .as_deref()
+            .and_then(pixelpie::importance::cut_short)
+            .into_iter()
+            .collect();
+        warnings.extend(job.warnings(&drawing, format)?);
+        Ok(Drawing {
+            job,
+            drawing,
+            warnings,
+        })
     })?;
-    if let Some(svg) = svg {
-        let text = String::from_utf8(svg).map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
-        return Ok(pyo3::types::PyString::new(py, &text).into_any());
+    Ok(drawing)
+}
+
+/// A finished drawing and its job (`pixelpie.Drawing` wraps it): its
+/// dots, its plan, its files' bytes and its pen paths.
+#[pyclass(frozen, module = "pixelpie._pixelpie")]
+struct Drawing {
+    job: Job,
+    drawing: Stipple,
+    warnings: Vec<String>,
+}
+
+#[pymethods]
+impl Drawing {
+    /// The dots as an (N, 3) float32 array of x, y and drawn radius in
+    /// domain pixels, in drawing order; in colour (N, 4), the fourth
+    /// column each dot's pen (its index in the pens).
+    fn dots<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let d = &self.drawing;
+        if d.pens.is_none() {
+            return points_array(py, d.dots.iter().map(|d| [d.x, d.y, d.radius]));
+        }
+        let flat: Vec<f32> = d
+            .dots
+            .iter()
+            .zip(&d.points)
+            .flat_map(|(d, p)| [d.x, d.y, d.radius, p.class as f32])
+            .collect();
+        let n = flat.len() / 4;
+        Ok(PyArray1::from_vec(py, flat).reshape([n, 4])?.into_any())
     }
-    if drawing.pens.is_none() {
-        return points_array(py, drawing.dots.iter().map(|d| [d.x, d.y, d.radius]));
+
+    /// The domain's size in pixels, (width, height).
+    #[getter]
+    fn domain(&self) -> (u32, u32) {
+        self.drawing.domain
     }
-    // Colour: a fourth column, the pen's index.
-    let flat: Vec<f32> = drawing
-        .dots
-        .iter()
-        .zip(&drawing.points)
-        .flat_map(|(d, p)| [d.x, d.y, d.radius, p.class as f32])
-        .collect();
-    let n = flat.len() / 4;
-    Ok(PyArray1::from_vec(py, flat).reshape([n, 4])?.into_any())
+
+    /// The dot count asked for (`None` when the radii set it).
+    #[getter]
+    fn asked(&self) -> Option<usize> {
+        self.drawing.plan.points.or(self.drawing.short_of)
+    }
+
+    /// The dot count reached.
+    #[getter]
+    fn reached(&self) -> usize {
+        self.drawing.dots.len()
+    }
+
+    /// The plan the drawing was made by, as JSON.
+    fn plan(&self) -> PyResult<String> {
+        self.drawing.plan.to_json().map_err(|e| py_err(&e))
+    }
+
+    /// The pens of a colour drawing, in their order: (name, "#rrggbb",
+    /// width in mm or `None`); `None` for a grey drawing.
+    fn pens(&self) -> Option<Vec<(String, String, Option<f64>)>> {
+        self.drawing.pens.as_ref().map(|set| {
+            set.pens()
+                .iter()
+                .map(|p| {
+                    (
+                        p.name.clone(),
+                        pixelpie::colour::pens::hex_of(p.colour),
+                        p.width_mm,
+                    )
+                })
+                .collect()
+        })
+    }
+
+    /// The warnings of the run, in the CLI's words.
+    fn warnings(&self) -> Vec<String> {
+        self.warnings.clone()
+    }
+
+    /// The file the job writes in `format` ("svg", "png", "csv" or
+    /// "json"), as bytes.
+    fn encode<'py>(&self, py: Python<'py>, format: &str) -> PyResult<Bound<'py, PyBytes>> {
+        let format = Format::from_path(Path::new(&format!("drawing.{format}"))).map_err(|_| {
+            bad(format!(
+                "format must be svg, png, csv or json, not {format:?}"
+            ))
+        })?;
+        let bytes = py
+            .detach(|| self.job.encode(&self.drawing, format))
+            .map_err(|e| py_err(&e))?;
+        Ok(PyBytes::new(py, &bytes))
+    }
+
+    /// Writes the drawing to `path` as its extension says, atomically.
+    fn save(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
+        py.detach(|| self.job.write(&self.drawing, &path))
+            .map_err(|e| py_err(&e))
+    }
+
+    /// Domain pixels to mm on the page, (scale, x offset, y offset), when
+    /// the page has a size in mm; else `None`.
+    fn transform(&self) -> PyResult<Option<(f64, f64, f64)>> {
+        Ok(self
+            .job
+            .page_transform(self.drawing.domain)
+            .map_err(|e| py_err(&e))?
+            .map(|t| (t.scale, t.offset.0, t.offset.1)))
+    }
+
+    /// The pen paths as the plotter draws them, layer by layer in plotting
+    /// order: (name, "#rrggbb", pen width in mm, [one (K, 2) float64 array
+    /// of mm per dot]).
+    #[expect(clippy::type_complexity, reason = "the Python tuple, as it is")]
+    fn paths<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<Vec<(String, String, f64, Vec<Bound<'py, PyAny>>)>> {
+        let layers = py
+            .detach(|| self.job.pen_paths(&self.drawing))
+            .map_err(|e| py_err(&e))?;
+        layers
+            .into_iter()
+            .map(|l| {
+                let paths = l
+                    .paths
+                    .into_iter()
+                    .map(|p| {
+                        let n = p.len();
+                        let flat: Vec<f64> = p.into_iter().flatten().collect();
+                        Ok(PyArray1::from_vec(py, flat).reshape([n, 2])?.into_any())
+                    })
+                    .collect::<PyResult<Vec<_>>>()?;
+                Ok((
+                    l.name,
+                    pixelpie::colour::pens::hex_of(l.ink),
+                    l.pen_mm,
+                    paths,
+                ))
+            })
+            .collect()
+    }
 }
 
 /// The native `analyze`; see `pixelpie.analyze`.
@@ -508,9 +781,13 @@ fn analyze_py<'py>(
     to_python(py, &report)
 }
 
-/// The native module.
+/// The native module. NumPy's C API is loaded here, at import: loaded
+/// lazily by the first array, an interrupt arriving then would become a
+/// panic.
 #[pymodule]
 fn _pixelpie(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    PyArray1::<f32>::zeros(m.py(), 0, false);
+    m.add_class::<Drawing>()?;
     m.add_function(wrap_pyfunction!(sample, m)?)?;
     m.add_function(wrap_pyfunction!(stipple_py, m)?)?;
     m.add_function(wrap_pyfunction!(plan_py, m)?)?;

@@ -241,10 +241,13 @@ fn run(
         };
         let ctl = Control::new().with_progress(&progress).with_cancel(&cancel);
         let step = |step: Step| {
-            let _ = replies.send(match step {
+            let reply = match step {
                 Step::Relaxed(done, of) => Reply::Relaxed(id, done, of),
                 Step::Stage(name) => Reply::Stage(id, name),
-            });
+                // Heard for its answer only (the cancel flag).
+                _ => return,
+            };
+            let _ = replies.send(reply);
         };
         let start = std::time::Instant::now();
         let result = match compute(&job, &gpu, ctl, &step) {

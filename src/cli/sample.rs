@@ -187,10 +187,7 @@ pub fn run(a: &SampleArgs) -> Result<()> {
     if let Some(n) = done.short_of
         && !a.run.quiet
     {
-        eprintln!(
-            "warning: asked for {n} points, got {got}: the radii are at the sampler's limits \
-             (1 px at the darkest, the domain's size at the lightest); change --width/--height"
-        );
+        eprintln!("warning: {}", pixelpie::job::short_of(n, got));
     }
     write_outputs(a, &done.set)
 }
@@ -205,18 +202,10 @@ fn write_outputs(a: &SampleArgs, set: &SampleSet) -> Result<()> {
             Ok(())
         })?;
     }
-    if !set.maximal() && !a.run.quiet {
-        if set.stats.exact && set.iterations() < a.job.max_iterations {
-            eprintln!(
-                "warning: {} voids finer than the position grid remain; the set is not maximal",
-                set.stats.empty_left
-            );
-        } else {
-            eprintln!(
-                "warning: stopped after {} iterations before the set was maximal",
-                set.iterations()
-            );
-        }
+    if let Some(w) = pixelpie::job::not_maximal(set, a.job.max_iterations)
+        && !a.run.quiet
+    {
+        eprintln!("warning: {w}");
     }
     Ok(())
 }

@@ -258,14 +258,6 @@ fn draw(a: &StippleArgs, o: &Job, image: &Path, output: &Path) -> Result<()> {
     if a.run.verbose {
         eprintln!("{got} points after {} runs", drawing.runs);
     }
-    if let Some(n) = drawing.short_of
-        && !a.run.quiet
-    {
-        eprintln!(
-            "warning: asked for {n} points, got {got}: the radii are at the sampler's limits \
-             (1 px at the darkest, the domain's size at the lightest); change --width/--height"
-        );
-    }
     if let Some(tour) = &drawing.tour
         && !a.run.quiet
     {
@@ -283,20 +275,10 @@ fn draw(a: &StippleArgs, o: &Job, image: &Path, output: &Path) -> Result<()> {
     if let Some(path) = &a.preview {
         o.write_preview(&drawing, path)?;
     }
-    if Format::from_path(output).ok() == Some(Format::Png)
-        && let Some(w) = o.png_check(&drawing)
-        && !a.run.quiet
-    {
-        eprintln!("warning: {w}");
-    }
-    if let Some(check) = o.pen_check(&drawing)?
-        && !a.run.quiet
-    {
-        eprintln!(
-            "warning: {}: give --points {}",
-            check.message(),
-            check.true_count
-        );
+    if !a.run.quiet {
+        for w in o.warnings(&drawing, Format::from_path(output).ok())? {
+            eprintln!("warning: {w}");
+        }
     }
     if let Some(path) = &a.save_points {
         o.write(&drawing, path)?;

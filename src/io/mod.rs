@@ -9,7 +9,7 @@ use std::path::PathBuf;
 
 pub use atomic::{BoxError, write_atomic};
 pub use exr_map::{ExrImage, read_exr, read_radius_map};
-pub use points::{PointFormat, write_points, write_points_pens};
+pub use points::{PointFormat, points_to, write_points, write_points_pens};
 
 /// What can go wrong reading or writing a file.
 #[derive(Debug, thiserror::Error)]

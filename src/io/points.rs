@@ -63,7 +63,20 @@ fn write_points_with(
     pens: Option<&crate::colour::PenSet>,
 ) -> Result<()> {
     let format = PointFormat::from_path(path)?;
-    super::write_atomic(path, |w| match (format, pens) {
+    super::write_atomic(path, |w| points_to(w, format, set, parameters, pens))
+}
+
+/// The points of `set` in `format` to `w` (what [`write_points`] and
+/// [`write_points_pens`] write into their file): `parameters` go into the
+/// JSON form, and with `pens` each point's pen.
+pub fn points_to(
+    w: &mut dyn Write,
+    format: PointFormat,
+    set: &SampleSet,
+    parameters: &impl Serialize,
+    pens: Option<&crate::colour::PenSet>,
+) -> Result<(), BoxError> {
+    match (format, pens) {
         (PointFormat::Csv, _) => write_csv(w, set, pens.is_some()),
         (PointFormat::Json, None) => write_json(w, set, parameters, None, &set.points),
         (PointFormat::Json, Some(pens)) => {
@@ -86,7 +99,7 @@ fn write_points_with(
                 .collect();
             write_json(w, set, parameters, Some(pens), &points)
         }
-    })
+    }
 }
 
 /// The points as CSV: x, y, radius, and with `pens` each point's pen.

@@ -5,8 +5,6 @@
 //! calibrated to its own ink, and the outputs: one Inkscape layer per pen,
 //! the composite PNG, a `pen` column in CSV and JSON.
 
-use std::path::Path;
-
 use super::{Format, Job, Stage, Stipple};
 use crate::stipple::{Dot, svg};
 use rayon::prelude::*;
@@ -205,15 +203,13 @@ impl Job {
         Ok(())
     }
 
-    /// Writes a colour drawing (its `pens` set) in `format` to `path`: one
-    /// layer per pen in SVG, the composite in PNG, a pen column in CSV and
-    /// JSON.
-    pub(crate) fn write_colour(
+    /// A colour drawing (its `pens` set) in `format`: one layer per pen in
+    /// SVG, the composite in PNG, a pen column in CSV and JSON.
+    pub(crate) fn encode_colour(
         &self,
         drawing: &Stipple,
         format: Format,
-        path: &Path,
-    ) -> crate::Result<()> {
+    ) -> crate::Result<Vec<u8>> {
         let Some(pens) = &drawing.pens else {
             return Err(
                 crate::stipple::Error::InvalidParameter("not a colour drawing".into()).into(),
@@ -221,11 +217,9 @@ impl Job {
         };
         let layers = self.pen_dots(drawing);
         let dots = layers.iter().map(Vec::len).sum::<usize>();
+        let mut out = Vec::new();
         match format {
-            Format::Svg => {
-                let text = self.svg(drawing)?;
-                crate::io::write_atomic(path, |w| Ok(w.write_all(&text)?))?;
-            }
+            Format::Svg => return self.svg(drawing),
             Format::Png => {
                 let papers = layers
                     .iter()
@@ -234,16 +228,15 @@ impl Job {
                 let linear = self.importance.tones == Tones::Linear;
                 let img =
                     crate::stipple::raster::composite(&papers, &RenderModel::new(pens, linear))?;
-                crate::io::write_atomic(path, |w| {
-                    Ok(crate::stipple::raster::write_png_rgb(w, &img, dots)?)
-                })?;
+                crate::stipple::raster::write_png_rgb(&mut out, &img, dots)?;
             }
             Format::Csv | Format::Json => {
                 let set = drawing.set.clone().with_points(drawing.points.clone());
-                crate::io::write_points_pens(path, &set, self, pens)?;
+                crate::io::points_to(&mut out, format.points(), &set, self, Some(pens))
+                    .map_err(|e| crate::io::Error::Invalid(e.to_string()))?;
             }
         }
-        Ok(())
+        Ok(out)
     }
 }
 

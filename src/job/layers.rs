@@ -96,6 +96,88 @@ impl Job {
         }
         Ok(layers)
     }
+
+    /// Where `drawing`'s dots lie on its page, when the page has a size in
+    /// mm (`width_mm` or `paper`): x mm = `offset.0 + scale × x px`, and
+    /// the same for y (the SVG's own frame).
+    pub fn page_transform(&self, domain: (u32, u32)) -> crate::Result<Option<PageTransform>> {
+        Ok(self
+            .svg_options(domain)?
+            .mm_frame()
+            .map(|(scale, offset)| PageTransform { scale, offset }))
+    }
+
+    /// The pen paths of `drawing` as the plotter draws them, layer by
+    /// layer in plotting order ([`Self::layers`]): each dot's polyline in
+    /// mm on the page. Err without a pen and a page size in mm.
+    pub fn pen_paths(&self, drawing: &Stipple) -> crate::Result<Vec<LayerPaths>> {
+        let opts = self.svg_options(drawing.domain)?;
+        let (Some(default_pen), Some(page)) =
+            (self.pen_width(), self.page_transform(drawing.domain)?)
+        else {
+            return Err(crate::stipple::Error::InvalidParameter(
+                "pen paths need a pen and a page: give pen_mm, and paper or width_mm".into(),
+            )
+            .into());
+        };
+        Ok(self
+            .layers(drawing)?
+            .into_iter()
+            .map(|l| {
+                let pen = l.pen_mm.unwrap_or(default_pen);
+                let paths = l
+                    .dots
+                    .iter()
+                    .map(|d| {
+                        let [x, y] = page.mm([d.x, d.y]);
+                        svg::pen_path(x, y, f64::from(d.radius) * page.scale, pen, opts.dot_path)
+                            .into_iter()
+                            .map(|(x, y)| [x, y])
+                            .collect()
+                    })
+                    .collect();
+                LayerPaths {
+                    name: l.name,
+                    ink: l.ink,
+                    pen_mm: pen,
+                    paths,
+                }
+            })
+            .collect())
+    }
+}
+
+/// Domain pixels to mm on the page ([`Job::page_transform`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PageTransform {
+    /// mm per domain pixel.
+    pub scale: f64,
+    /// Where the domain's origin lies on the page, in mm.
+    pub offset: (f64, f64),
+}
+
+impl PageTransform {
+    /// A point of the domain (px) on the page (mm).
+    #[must_use]
+    pub fn mm(&self, [x, y]: [f32; 2]) -> [f64; 2] {
+        [
+            self.offset.0 + f64::from(x) * self.scale,
+            self.offset.1 + f64::from(y) * self.scale,
+        ]
+    }
+}
+
+/// One layer's pen paths ([`Job::pen_paths`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct LayerPaths {
+    /// The layer's label, as the SVG's.
+    pub name: String,
+    /// The pen's ink.
+    pub ink: [u8; 3],
+    /// The pen's width in mm.
+    pub pen_mm: f64,
+    /// One polyline per dot, in drawing order, in mm on the page.
+    pub paths: Vec<Vec<[f64; 2]>>,
 }
 
 /// The length of a polyline.

@@ -35,14 +35,14 @@ mod run;
 mod sample;
 mod write;
 
-pub use layers::PenLayer;
+pub use layers::{LayerPaths, PageTransform, PenLayer};
 pub use options::{Correction, DotMode, Format, Ink, LayerOrder, Order, Spacing};
 pub use plan::{Plan, Planned};
-pub use preview::{PenCheck, PlotPen, plotted_dot};
+pub use preview::{PenCheck, PlotPen, plotted_dot, short_of};
 pub use radii::default_domain;
 pub use ramp::{RampError, ramp_error, ramp_error_sized};
 pub use run::{Decoded, Picture, Stage, Step, Stipple};
-pub use sample::{Radii, SampleJob, Sampled};
+pub use sample::{Radii, SampleJob, Sampled, not_maximal};
 
 use crate::colour::PenSet;
 use crate::importance::{Crop, ImportanceOptions};

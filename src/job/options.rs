@@ -150,6 +150,15 @@ pub enum Format {
 }
 
 impl Format {
+    /// The point-file form of `Csv` and `Json` (the others write no
+    /// points: CSV).
+    pub(crate) const fn points(self) -> crate::io::PointFormat {
+        match self {
+            Self::Json => crate::io::PointFormat::Json,
+            _ => crate::io::PointFormat::Csv,
+        }
+    }
+
     /// The file extension of the format.
     #[must_use]
     pub const fn extension(self) -> &'static str {

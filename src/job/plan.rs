@@ -147,7 +147,9 @@ impl Planned {
         }
         let t_relax = lap();
         stage(&mut progress, Stage::Order)?;
-        let (points, tour) = job.ordered(&set.points, all.len());
+        let (points, tour) = job.ordered(&set.points, all.len(), &mut || {
+            progress(Step::Busy(Stage::Order))
+        });
         let t_order = lap();
         stage(&mut progress, Stage::Size)?;
         let grid = grid.map(|g| g.grid(domain, points.len()));

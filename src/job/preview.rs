@@ -12,7 +12,7 @@
 
 use std::path::Path;
 
-use super::{Job, Stipple};
+use super::{Format, Job, Stipple};
 use crate::colour::{PenSet, RenderModel};
 use crate::importance::Tones;
 use crate::stipple::svg::DotPath;
@@ -308,6 +308,34 @@ impl Job {
             count,
         }))
     }
+
+    /// What a front end warns of after drawing `drawing` (to a file of
+    /// `output` format, when written), in the CLI's words without its
+    /// "warning: ": a count short of its target, a PNG too coarse for its
+    /// dots, and dots that the pen covers.
+    pub fn warnings(
+        &self,
+        drawing: &Stipple,
+        output: Option<Format>,
+    ) -> crate::Result<Vec<String>> {
+        let mut out = Vec::new();
+        if let Some(n) = drawing.short_of {
+            out.push(short_of(n, drawing.set.points.len()));
+        }
+        if output == Some(Format::Png)
+            && let Some(w) = self.png_check(drawing)
+        {
+            out.push(w);
+        }
+        if let Some(check) = self.pen_check(drawing)? {
+            out.push(format!(
+                "{}: give --points {}",
+                check.message(),
+                check.true_count
+            ));
+        }
+        Ok(out)
+    }
 }
 
 impl Job {
@@ -357,6 +385,16 @@ fn mean_grey(layers: &[Vec<Dot>], domain: (u32, u32), model: &RenderModel) -> cr
     let img = raster::composite(&papers, model)?;
     let raw = img.as_raw();
     Ok(raw.iter().map(|&v| f64::from(v)).sum::<f64>() / (255.0 * raw.len().max(1) as f64))
+}
+
+/// The warning of a count short of its target: `asked` points asked for,
+/// `got` reached.
+#[must_use]
+pub fn short_of(asked: usize, got: usize) -> String {
+    format!(
+        "asked for {asked} points, got {got}: the radii are at the sampler's limits \
+         (1 px at the darkest, the domain's size at the lightest); change --width/--height"
+    )
 }
 
 #[cfg(test)]

@@ -210,7 +210,14 @@ impl Job {
     /// The order stage: the points pen by pen in the pens' order, each
     /// pen's in the sampler's order or, with `--order tsp`, along its own
     /// tour (the tours joined, pen after pen).
-    pub(crate) fn ordered(&self, points: &[Point], pens: usize) -> (Vec<Point>, Option<tsp::Tour>) {
+    /// `stop` is asked every few milliseconds of a tour whether to end it
+    /// early (a shorter-worked tour of every dot).
+    pub(crate) fn ordered(
+        &self,
+        points: &[Point],
+        pens: usize,
+        stop: &mut dyn FnMut() -> bool,
+    ) -> (Vec<Point>, Option<tsp::Tour>) {
         let mut by_pen: Vec<Vec<Point>> = vec![Vec::new(); pens.max(1)];
         for p in points {
             if let Some(pen) = by_pen.get_mut(p.class as usize) {
@@ -232,7 +239,7 @@ impl Job {
                 .iter()
                 .map(|p| [f64::from(p.x), f64::from(p.y)])
                 .collect();
-            let t = tsp::plan(&xy, tsp::TspOptions::default());
+            let t = tsp::plan_until(&xy, tsp::TspOptions::default(), stop);
             let base = ordered.len();
             ordered.extend(t.order.iter().map(|&i| pen_points[i]));
             all.order.extend(t.order.iter().map(|&i| base + i));
@@ -317,6 +324,10 @@ pub enum Step {
     Stage(Stage),
     /// Relaxation steps done so far, of how many.
     Relaxed(u32, u32),
+    /// Still at work in a stage: said every few milliseconds of the long
+    /// loops that have no steps of their own (the tour), so that a false
+    /// answer stops them in time.
+    Busy(Stage),
 }
 
 /// Reports `stage`; an `Err` (cancelled) when `progress` says stop.

@@ -121,6 +121,40 @@ pub struct Sampled {
     pub short_of: Option<usize>,
 }
 
+impl Sampled {
+    /// What a front end warns of after the run, in the CLI's words without
+    /// its "warning: ": a count short of its target (`asked`), a set left
+    /// not maximal (`max_iterations`: the job's cap).
+    #[must_use]
+    pub fn warnings(&self, max_iterations: u32) -> Vec<String> {
+        let mut out = Vec::new();
+        if let Some(n) = self.short_of {
+            out.push(super::short_of(n, self.set.points.len()));
+        }
+        out.extend(not_maximal(&self.set, max_iterations));
+        out
+    }
+}
+
+/// The warning of a set that is not maximal: voids finer than the position
+/// grid left (exact mode), or the iteration cap reached.
+#[must_use]
+pub fn not_maximal(set: &SampleSet, max_iterations: u32) -> Option<String> {
+    if set.maximal() {
+        None
+    } else if set.stats.exact && set.iterations() < max_iterations {
+        Some(format!(
+            "{} voids finer than the position grid remain; the set is not maximal",
+            set.stats.empty_left
+        ))
+    } else {
+        Some(format!(
+            "stopped after {} iterations before the set was maximal",
+            set.iterations()
+        ))
+    }
+}
+
 impl SampleJob {
     /// Checks what excludes what, for radii from `radii` (a map or picture
     /// in memory, else the files this job names), and that a uniform job

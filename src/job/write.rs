@@ -89,39 +89,36 @@ impl Job {
     /// Options of other formats are ignored ([`Self::validate`] refuses
     /// them up front).
     pub fn write(&self, drawing: &Stipple, path: &Path) -> crate::Result<()> {
-        let format = Format::from_path(path)?;
+        let bytes = self.encode(drawing, Format::from_path(path)?)?;
+        crate::io::write_atomic(path, |w| Ok(w.write_all(&bytes)?))?;
+        Ok(())
+    }
+
+    /// The bytes [`Self::write`] writes for `drawing` in `format`.
+    pub fn encode(&self, drawing: &Stipple, format: Format) -> crate::Result<Vec<u8>> {
         self.check()?;
         if drawing.pens.is_some() {
-            return self.write_colour(drawing, format, path);
+            return self.encode_colour(drawing, format);
         }
-        let domain = drawing.domain;
+        let mut out = Vec::new();
         match format {
-            Format::Svg => {
-                let text = self.svg(drawing)?;
-                crate::io::write_atomic(path, |w| Ok(w.write_all(&text)?))?;
-            }
+            Format::Svg => return self.svg(drawing),
             Format::Png => {
                 let dots = self.dots(drawing);
-                let img = crate::stipple::raster::render(&dots, domain, self.scale)?;
+                let img = crate::stipple::raster::render(&dots, drawing.domain, self.scale)?;
                 let ink = self.ink_rgb();
-                crate::io::write_atomic(path, |w| {
-                    if ink == Ink::BLACK.0 {
-                        Ok(crate::stipple::raster::write_png(w, &img, dots.len())?)
-                    } else {
-                        Ok(crate::stipple::raster::write_png_ink(
-                            w,
-                            &img,
-                            ink,
-                            dots.len(),
-                        )?)
-                    }
-                })?;
+                if ink == Ink::BLACK.0 {
+                    crate::stipple::raster::write_png(&mut out, &img, dots.len())?;
+                } else {
+                    crate::stipple::raster::write_png_ink(&mut out, &img, ink, dots.len())?;
+                }
             }
             Format::Csv | Format::Json => {
                 let set = drawing.set.clone().with_points(drawing.points.clone());
-                crate::io::write_points(path, &set, self)?;
+                crate::io::points_to(&mut out, format.points(), &set, self, None)
+                    .map_err(|e| crate::io::Error::Invalid(e.to_string()))?;
             }
         }
-        Ok(())
+        Ok(out)
     }
 }

@@ -225,6 +225,16 @@ impl SvgOptions {
         Ok(o)
     }
 
+    /// The page's frame in mm, when it has a size in mm: mm per domain
+    /// pixel and the domain's origin on the page (as pen paths are
+    /// written).
+    #[must_use]
+    pub fn mm_frame(&self) -> Option<(f64, (f64, f64))> {
+        self.size_mm?;
+        let (_, _, _, scale, offset) = self.frame(true);
+        Some((scale, offset))
+    }
+
     /// The pen width and the page size in mm, if drawing with a pen; Err if
     /// the pen width is not a positive number or the page has no size in mm.
     fn pen(&self) -> Result<Option<(f64, (f64, f64))>> {

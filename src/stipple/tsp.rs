@@ -71,6 +71,17 @@ fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
 /// ```
 #[must_use]
 pub fn plan(points: &[[f64; 2]], opts: TspOptions) -> Tour {
+    plan_until(points, opts, &mut || false)
+}
+
+/// How many steps of the tour's loops run between two calls of
+/// [`plan_until`]'s `stop` (a few milliseconds of work).
+const STOP_EVERY: usize = 4096;
+
+/// [`plan`], asking `stop` every few milliseconds whether to end early: a
+/// stopped plan is still a tour of every dot (its remaining dots in any
+/// order, or 2-opt left where it was), only longer.
+pub fn plan_until(points: &[[f64; 2]], opts: TspOptions, stop: &mut dyn FnMut() -> bool) -> Tour {
     let n = points.len();
     if n == 0 {
         return Tour {
@@ -81,7 +92,7 @@ pub fn plan(points: &[[f64; 2]], opts: TspOptions) -> Tour {
         };
     }
     let grid = Grid::new(points);
-    let nn = nearest_neighbour_path(points, &grid);
+    let nn = nearest_neighbour_path(points, &grid, stop);
     let nn_length = path_length(points, &nn);
     if n < 4 {
         return Tour {
@@ -91,11 +102,21 @@ pub fn plan(points: &[[f64; 2]], opts: TspOptions) -> Tour {
             moves: 0,
         };
     }
-    let neighbours: Vec<Vec<u32>> = (0..n)
-        .map(|i| grid.nearest(points, i, opts.neighbours))
-        .collect();
+    let mut neighbours: Vec<Vec<u32>> = Vec::with_capacity(n);
+    for start in (0..n).step_by(STOP_EVERY) {
+        if stop() {
+            break;
+        }
+        neighbours.extend(
+            (start..n.min(start + STOP_EVERY)).map(|i| grid.nearest(points, i, opts.neighbours)),
+        );
+    }
     let mut opt = TwoOpt::new(points, &nn, opts.max_reversal.max(1));
-    let moves = opt.run(&neighbours);
+    let moves = if neighbours.len() == n {
+        opt.run(&neighbours, stop)
+    } else {
+        0
+    };
     let mut order = opt.open_path();
     let home = [0.0, 0.0];
     if let (Some(&first), Some(&last)) = (order.first(), order.last())
@@ -203,8 +224,13 @@ impl Grid {
     }
 }
 
-/// The nearest-neighbour path from the point nearest the origin.
-fn nearest_neighbour_path(points: &[[f64; 2]], grid: &Grid) -> Vec<usize> {
+/// The nearest-neighbour path from the point nearest the origin; when
+/// `stop` says so, the points left follow in grid order.
+fn nearest_neighbour_path(
+    points: &[[f64; 2]],
+    grid: &Grid,
+    stop: &mut dyn FnMut() -> bool,
+) -> Vec<usize> {
     let n = points.len();
     let mut cells = grid.cells.clone();
     let mut slot = vec![0u32; n];
@@ -235,6 +261,10 @@ fn nearest_neighbour_path(points: &[[f64; 2]], grid: &Grid) -> Vec<usize> {
     order.push(cur);
     let max_r = grid.nx.max(grid.ny);
     while order.len() < n {
+        if order.len().is_multiple_of(STOP_EVERY) && stop() {
+            order.extend(cells.iter().flatten().map(|&j| j as usize));
+            break;
+        }
         let p = points[cur];
         let c = grid.cell_of(p);
         let mut best: Option<(f64, usize)> = None;
@@ -330,9 +360,9 @@ impl<'a> TwoOpt<'a> {
         true
     }
 
-    /// Runs to a 2-opt local optimum over the neighbour lists; returns the
-    /// number of moves.
-    fn run(&mut self, neighbours: &[Vec<u32>]) -> usize {
+    /// Runs to a 2-opt local optimum over the neighbour lists, or until
+    /// `stop`; returns the number of moves.
+    fn run(&mut self, neighbours: &[Vec<u32>], stop: &mut dyn FnMut() -> bool) -> usize {
         const EPS: f64 = 1e-9;
         let n = self.points.len();
         let mut queue: VecDeque<u32> = self
@@ -344,7 +374,12 @@ impl<'a> TwoOpt<'a> {
         let mut queued = vec![true; n + 1];
         queued[n] = false;
         let mut moves = 0;
+        let mut popped = 0usize;
         while let Some(a) = queue.pop_front() {
+            popped += 1;
+            if popped.is_multiple_of(STOP_EVERY) && stop() {
+                break;
+            }
             queued[a as usize] = false;
             let mut touched = None;
             'search: for forward in [true, false] {
