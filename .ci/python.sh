@@ -25,7 +25,7 @@ if [ ! -d "$venv" ]; then
     "$python" -m venv "$venv"
 fi
 pip=("$venv/bin/python" -m pip --disable-pip-version-check)
-"${pip[@]}" install --quiet --only-binary=:all: "maturin>=1.9,<2" numpy scipy pytest pillow
+"${pip[@]}" install --quiet --only-binary=:all: "maturin>=1.9,<2" numpy scipy pytest pillow mypy
 # The wheel is built once, into $target/wheels (the only pixelpie wheel
 # there), and installed from there: here, and with the vpype extra into the
 # vpype venv by .ci/vpype-plugin.sh.

@@ -44,6 +44,21 @@ pub fn grouped(n: usize) -> String {
 #[must_use]
 pub fn setting_error(name: &str, message: &str) -> String {
     let message = message.trim();
+    if let Some(rest) = message.strip_prefix("unknown variant `")
+        && let Some((given, expected)) = rest.split_once("`, expected ")
+    {
+        let expected = expected.split(" at line ").next().unwrap_or(expected);
+        let names: Vec<&str> = expected
+            .trim_start_matches("one of ")
+            .split([',', ' '])
+            .filter(|w| w.starts_with('`'))
+            .map(|w| w.trim_matches('`'))
+            .collect();
+        return format!(
+            "{name} must be one of {}, not \"{given}\"",
+            names.join(", ")
+        );
+    }
     let parsed = ["invalid type: ", "invalid value: "]
         .iter()
         .find_map(|p| message.strip_prefix(p))
@@ -68,6 +83,7 @@ pub fn setting_error(name: &str, message: &str) -> String {
         "a boolean" | "bool" => "true or false",
         "a string" | "a borrowed string" | "char" => "text",
         "a sequence" => "a list",
+        "string or map" => "text: one of its names",
         other => other,
     };
     let tick = |s: &str| s.trim_matches('`').to_owned();
@@ -110,7 +126,18 @@ mod tests {
         );
         assert_eq!(
             setting_error("order", "unknown variant `x`, expected `none` or `tsp`"),
-            "order: unknown variant `x`, expected `none` or `tsp`"
+            r#"order must be one of none, tsp, not "x""#
+        );
+        assert_eq!(
+            setting_error(
+                "dot",
+                "unknown variant `big`, expected one of `sized`, `fixed`"
+            ),
+            r#"dot must be one of sized, fixed, not "big""#
+        );
+        assert_eq!(
+            setting_error("gamma", "gamma: must be positive"),
+            "gamma: must be positive"
         );
     }
 }

@@ -6,13 +6,18 @@ backend: the same points as the ``pixelpie`` command line, bit for bit.
 
 * :func:`sample` -- a maximal Poisson-disk set as an (N, 3) float32 array
   of x, y and radius, uniform, from a radius map or from an image;
-* :func:`stipple` -- a picture as a stipple drawing (SVG or PNG), and its
-  dots;
+* :func:`stipple` -- a picture as a stipple drawing (SVG or PNG): a
+  :class:`Drawing`, with its dots, plan, files and pen paths;
+* :func:`plan` -- what :func:`stipple` would do, without drawing;
 * :func:`analyze` -- the measures of ``pixelpie analyze`` for any point set.
 
-The GIL is released while the library works, and Ctrl-C (KeyboardInterrupt)
-stops a run between iterations. Bad arguments raise ``ValueError``; files
-that cannot be read or written raise ``OSError``.
+The library works without the GIL, on threads of the calling process's own
+(a child made by ``fork`` makes its own), and Ctrl-C raises
+``KeyboardInterrupt`` within a few milliseconds in any stage, leaving no
+output file. Bad values raise ``ValueError``, bad types ``TypeError``, files
+that cannot be read or written ``OSError`` with its ``errno`` and
+``filename`` (``FileNotFoundError``, ``PermissionError``, ...); what the
+command line warns of is warned as :class:`PixelpieWarning`.
 """
 
 from __future__ import annotations
@@ -22,7 +27,7 @@ import math
 import operator
 import os
 import warnings
-from typing import Any, Callable, Dict, Optional, Tuple, Union
+from typing import Any, Callable, Dict, Iterator, List, NamedTuple, Optional, Tuple, Union
 
 import numpy as np
 
@@ -33,13 +38,50 @@ __all__ = [
     "sample_options",
     "stipple",
     "stipple_options",
+    "plan",
     "analyze",
+    "Drawing",
+    "Pen",
+    "PenPaths",
+    "PixelpieWarning",
     "__version__",
 ]
 __version__: str = _pixelpie.__version__
 
-PathLike = Union[str, "os.PathLike[str]"]
-Progress = Callable[[int, int, int, int], Any]
+PathLike = Union[str, bytes, "os.PathLike[str]", "os.PathLike[bytes]"]
+Progress = Callable[[int, int, int, int], object]
+
+
+class PixelpieWarning(UserWarning):
+    """What the command line prints as ``warning: ...``, with its words: a
+    count short of its target, a set left not maximal, a PNG too coarse for
+    its dots, a picture cut short, a job file from another version."""
+
+
+def _warn(messages: List[str]) -> None:
+    for m in messages:
+        warnings.warn(m, PixelpieWarning, stacklevel=3)
+
+
+def _as_path(value: Any) -> Optional[str]:
+    """``value`` as a path string when it is one (``str``, ``bytes`` or
+    ``os.PathLike``), else ``None``."""
+    if isinstance(value, (str, bytes, os.PathLike)):
+        return os.fsdecode(value)
+    return None
+
+
+def _readable(path: str) -> str:
+    """``path``, opened once: a missing or unreadable file raises Python's
+    own ``FileNotFoundError``, ``PermissionError`` or ``IsADirectoryError``,
+    with its ``errno`` and ``filename``."""
+    with open(path, "rb"):
+        pass
+    return path
+
+
+def _path(p: Optional[PathLike]) -> Optional[str]:
+    return None if p is None else os.fsdecode(p)
 
 
 def _grid(values: Any, name: str) -> np.ndarray:
@@ -47,10 +89,6 @@ def _grid(values: Any, name: str) -> np.ndarray:
     if a.ndim != 2:
         raise ValueError(f"{name} must be a 2-D (height, width) array, not {a.ndim}-D")
     return a
-
-
-def _path(p: Optional[PathLike]) -> Optional[str]:
-    return None if p is None else os.fspath(p)
 
 
 def _count(value: Any, name: str) -> int:
@@ -94,10 +132,12 @@ def sample(
       many points (within 3%), the radius found for it;
     * ``radius_map`` -- a (height, width) array of radii in pixels (at
       least 1), or the path of a single-channel EXR; ``points`` scales it;
-    * ``importance`` -- an image path, or a (H, W) array of grey values in
-      [0, 1] (0 = black, taken as it is: linear unless ``tones`` says
-      otherwise), resized to the domain (its aspect kept): dark pixels get
-      small disks. ``min_radius`` is then the black pixels' radius (white
+    * ``importance`` -- a picture as :func:`stipple` takes it (a path, an
+      (H, W, C) array or a PIL image, decoded as a file is), or a (H, W)
+      grey array whose values are taken as they are (uint8 over 255,
+      uint16 over 65535, float in [0, 1]; 0 = black; linear unless
+      ``tones`` says otherwise), resized to the domain (its aspect kept):
+      dark pixels get small disks. ``min_radius`` is then the black pixels' radius (white
       gets 8 times it, or ``max_radius``), ``points`` a count target; give
       at least one. ``radius`` is refused here, as on the command line.
 
@@ -119,8 +159,10 @@ def sample(
     in acceptance order, and the run's statistics (``points``,
     ``iterations``, ``maximal`` -- no pixel left empty --, ``exact``,
     ``seconds``, per-stage seconds, ...), as ``pixelpie sample --stats``
-    writes them. A bad argument raises ``ValueError`` (``TypeError`` for a
-    wrong type).
+    writes them, with ``target``, the count asked for (``None`` without
+    one). A count short of its target, or a set left not maximal, warns
+    (:class:`PixelpieWarning`). A bad value raises ``ValueError``, a wrong
+    type ``TypeError``, a missing file ``FileNotFoundError``.
     """
     # The options' types are the job's own: its serde form refuses a float,
     # a string or a negative number for a count (ValueError naming it).
@@ -129,20 +171,26 @@ def sample(
         given["width"] = _count(width, "width")
     if height is not None:
         given["height"] = _count(height, "height")
-    rmap = values = None
+    rmap = values = pixels = None
     if radius_map is not None:
-        if isinstance(radius_map, (str, os.PathLike)):
-            given["radius_map"] = os.fspath(radius_map)
+        path = _as_path(radius_map)
+        if path is not None:
+            given["radius_map"] = _readable(path)
         else:
             rmap = _grid(radius_map, "radius_map")
     if importance is not None:
-        if isinstance(importance, (str, os.PathLike)):
-            given["importance"] = os.fspath(importance)
+        path = _as_path(importance)
+        if path is not None:
+            given["importance"] = _readable(path)
+        elif _is_pil(importance) or np.ndim(importance) == 3:
+            pixels = _picture(importance, "importance")
         else:
-            values = _grid(importance, "importance")
-    return _pixelpie.sample(
-        json.dumps(_finite(given), default=_option), rmap, values, backend, progress
+            values = _grey_values(importance, "importance")
+    points, stats, said = _pixelpie.sample(
+        json.dumps(_finite(given), default=_option), rmap, values, pixels, backend, progress
     )
+    _warn(said)
+    return points, stats
 
 
 def _finite(options: Dict[str, Any]) -> Dict[str, Any]:
@@ -169,29 +217,153 @@ def stipple_options() -> Dict[str, Any]:
     return json.loads(_pixelpie.stipple_defaults())
 
 
-def _picture(image: Any) -> Optional[np.ndarray]:
+def _is_pil(value: Any) -> bool:
+    return type(value).__module__.startswith("PIL.") and hasattr(value, "mode")
+
+
+#: PIL modes taken as they are (8 bits a channel), and those converted first.
+_PIL_AS_IS = ("L", "LA", "RGB", "RGBA")
+_PIL_CONVERT = {
+    "1": "L",
+    "La": "LA",
+    "RGBa": "RGBA",
+    "RGBX": "RGB",
+    "CMYK": "RGB",
+    "YCbCr": "RGB",
+    "HSV": "RGB",
+}
+_PIL_16 = ("I;16", "I;16L", "I;16B", "I;16N")
+
+
+def _pil_pixels(image: Any, name: str) -> np.ndarray:
+    """A PIL image's pixels as an array the picture rule takes: every
+    common mode, each read as its values mean."""
+    mode = image.mode
+    if mode in ("P", "PA"):
+        # The palette's colours, not its indices; its transparency kept.
+        has_alpha = mode == "PA" or "transparency" in image.info
+        return np.asarray(image.convert("RGBA" if has_alpha else "RGB"))
+    if mode in _PIL_AS_IS:
+        return np.asarray(image)
+    if mode in _PIL_CONVERT:
+        return np.asarray(image.convert(_PIL_CONVERT[mode]))
+    if mode in _PIL_16:
+        return np.asarray(image).astype(np.uint16)
+    if mode in ("I", "F"):
+        # 32-bit values: scaled by the range they fill, [0, 1] (F only),
+        # [0, 255] or [0, 65535].
+        a = np.asarray(image)
+        if a.size == 0:
+            return a.astype(np.uint16)
+        lo, hi = float(a.min()), float(a.max())
+        if not (math.isfinite(lo) and math.isfinite(hi)):
+            raise ValueError(f"{name}: the PIL image of mode {mode!r} holds NaN or infinite values")
+        if lo < 0 or hi > 65535:
+            raise ValueError(
+                f"{name}: the PIL image of mode {mode!r} holds values from {lo:g} to {hi:g}; "
+                "a picture's values lie in [0, 1], [0, 255] or [0, 65535]"
+            )
+        if mode == "F" and hi <= 1.0:
+            return a.astype(np.float32)
+        if hi <= 255:
+            return np.round(a.astype(np.float64) * 257.0).astype(np.uint16)
+        return np.round(a.astype(np.float64)).astype(np.uint16)
+    raise ValueError(
+        f"{name}: PIL images of mode {mode!r} are not supported; convert it first "
+        "(image.convert('RGB') or image.convert('L'))"
+    )
+
+
+def _picture(image: Any, name: str = "image") -> Optional[np.ndarray]:
     """A picture given as an array or a PIL image, as sRGB-encoded 16-bit
-    values of shape (H, W) or (H, W, channels); ``None`` for a path."""
-    if isinstance(image, (str, os.PathLike)):
+    values of shape (H, W) or (H, W, channels); ``None`` for a path. The
+    one input rule of every picture argument: uint8 (0 to 255), uint16 (0
+    to 65535), float (0 to 1) or bool arrays, and PIL images of every
+    common mode; anything else is refused by name."""
+    if _as_path(image) is not None:
         return None
-    a = np.asarray(image)
+    if _is_pil(image):
+        a = _pil_pixels(image, name)
+    elif isinstance(image, np.ndarray):
+        a = image
+    elif isinstance(image, (list, tuple)):
+        a = np.asarray(image)
+        if a.dtype.kind in "iu" and a.size and 0 <= a.min() and a.max() <= 255:
+            a = a.astype(np.uint8)
+    else:
+        raise TypeError(
+            f"{name} must be a path, a numpy array or a PIL image, not {type(image).__name__}"
+        )
     if a.dtype == np.uint8:
         a = a.astype(np.uint16) * 257
     elif a.dtype == np.uint16:
-        pass
-    elif a.dtype.kind == "f":
-        if not np.all(np.isfinite(a)):
-            raise ValueError("the picture array holds NaN or infinite values")
-        a = np.round(np.clip(a, 0.0, 1.0) * 65535.0).astype(np.uint16)
+        a = a.astype(np.uint16, copy=False)
     elif a.dtype == bool:
         a = a.astype(np.uint16) * 65535
+    elif a.dtype.kind == "f":
+        a = _unit(a, name)
+        a = np.round(a.astype(np.float64) * 65535.0).astype(np.uint16)
     else:
         raise TypeError(
-            f"a picture array must be uint8, uint16, float (0 to 1) or bool, not {a.dtype}"
+            f"{name}: a picture array must be uint8 (0 to 255), uint16 (0 to 65535), "
+            f"float (0 to 1) or bool, not {a.dtype}; convert it, e.g. with "
+            ".astype(np.uint8)"
         )
     if a.ndim not in (2, 3):
-        raise ValueError(f"a picture array must be (H, W) or (H, W, C), not {a.ndim}-D")
+        raise ValueError(f"{name}: a picture array must be (H, W) or (H, W, C), not {a.ndim}-D")
     return np.ascontiguousarray(a)
+
+
+def _unit(a: np.ndarray, name: str) -> np.ndarray:
+    """A float array checked to hold values in [0, 1]: NaN, infinities and
+    values outside refused, naming the range found."""
+    if a.size == 0:
+        return a
+    if not np.all(np.isfinite(a)):
+        raise ValueError(f"{name}: the array holds NaN or infinite values")
+    lo, hi = float(a.min()), float(a.max())
+    if lo < 0.0 or hi > 1.0:
+        hint = " (divide by 255)" if hi <= 255.0 and lo >= 0.0 else ""
+        raise ValueError(
+            f"{name}: a float array must hold values in [0, 1]; this one's lie outside "
+            f"[0, 1], from {lo:g} to {hi:g}{hint}"
+        )
+    return a
+
+
+def _grey_values(values: Any, name: str) -> np.ndarray:
+    """A (H, W) grey array's values in [0, 1] as float32, taken as they
+    are: uint8 over 255, uint16 over 65535, float checked to lie in [0, 1]."""
+    a = np.asarray(values)
+    if a.dtype == np.uint8:
+        a = a.astype(np.float32) / 255.0
+    elif a.dtype == np.uint16:
+        a = a.astype(np.float32) / 65535.0
+    elif a.dtype == bool:
+        a = a.astype(np.float32)
+    elif a.dtype.kind == "f":
+        a = _unit(a, name)
+    else:
+        raise TypeError(
+            f"{name}: a grey array must be uint8, uint16, float (0 to 1) or bool, not {a.dtype}"
+        )
+    return _grid(a, name)
+
+
+def _pens(value: Any) -> Any:
+    """The ``pens`` option checked for its type; a pen file is opened once
+    (``FileNotFoundError`` when missing)."""
+    path = _as_path(value)
+    if path is not None:
+        if not isinstance(value, str) or value.strip().lower().endswith(".toml"):
+            _readable(path)
+        return path
+    if isinstance(value, (list, tuple)) and all(isinstance(v, (str, dict)) for v in value):
+        return list(value)
+    raise TypeError(
+        "pens must be 'cmyk', 'black', a pen file's path (.toml), or a list of "
+        f"'#rrggbb' colours, not {type(value).__name__}"
+    )
 
 
 def stipple(
@@ -206,14 +378,23 @@ def stipple(
 ) -> Any:
     """Draws ``image`` as stipples, as ``pixelpie stipple`` does.
 
-    ``image`` is a file's path, a numpy array -- (H, W) grey or (H, W, 3 or
-    4) RGB(A), uint8, uint16 or float in [0, 1], sRGB-encoded as in an image
-    file -- or a PIL image. With ``output`` (``.svg``, ``.png``, ``.csv`` or
+    ``image`` is a file's path (``str``, ``bytes`` or ``os.PathLike``), a
+    numpy array -- (H, W) grey, (H, W, 2) grey and alpha, (H, W, 3) RGB or
+    (H, W, 4) RGBA; uint8, uint16, float in [0, 1] or bool; sRGB-encoded as
+    in an image file -- or a PIL image of any common mode (``L``, ``LA``,
+    ``RGB``, ``RGBA``, ``P`` through its palette, ``CMYK`` and ``YCbCr``
+    converted to RGB, ``1``, ``I;16``, and ``I`` and ``F`` scaled by the
+    range their values fill: [0, 1], [0, 255] or [0, 65535]). Anything else
+    is refused by name. With ``output`` (``.svg``, ``.png``, ``.csv`` or
     ``.json``) the drawing is written there: the same file as the command
-    line writes for the same options. Returns the dots as an (N, 3) float32
-    array of x, y and drawn radius, in domain pixels and in drawing order;
-    with ``pens`` an (N, 4) array whose fourth column is each dot's pen (its
-    index in the pens); with ``svg=True`` the SVG's text instead.
+    line writes for the same options (nothing when interrupted).
+
+    Returns a :class:`Drawing`: its ``dots`` (an (N, 3) float32 array of x,
+    y and drawn radius in domain pixels, in drawing order; with ``pens`` an
+    (N, 4) array whose fourth column is each dot's pen), its ``domain``,
+    ``plan``, counts, pens, files and pen paths. It also behaves as its
+    ``dots`` array where code indexes it (``d[:, 0]``, ``len(d)``,
+    ``np.asarray(d)``). With ``svg=True`` the SVG's text instead.
 
     ``options`` are the command line's, with underscores, and the same
     defaults (the library's drawing job, ``pixelpie::job::Job``, holds
@@ -251,16 +432,20 @@ def stipple(
     """
     given, job_file = _job(options, job)
     pixels = _picture(image)
-    return _pixelpie.stipple(
-        None if pixels is not None else os.fspath(image),
+    native = _pixelpie.stipple(
+        None if pixels is not None else _readable(os.fsdecode(image)),
         pixels,
         _path(output),
         given,
         job_file,
         backend,
-        bool(svg),
         progress,
     )
+    _warn(native.warnings())
+    drawing = Drawing(native)
+    if svg:
+        return drawing.svg().decode("utf-8")
+    return drawing
 
 
 def _job(options: Dict[str, Any], job: Optional[PathLike]) -> Tuple[str, Optional[str]]:
@@ -268,16 +453,18 @@ def _job(options: Dict[str, Any], job: Optional[PathLike]) -> Tuple[str, Optiona
     the job file's path; a job file from another version warns. The
     library lays the options over the file, as the command line does."""
     given = {
-        k: os.fspath(v) if isinstance(v, os.PathLike) else v
+        k: os.fsdecode(v) if isinstance(v, os.PathLike) else v
         for k, v in options.items()
         if v is not None
     }
+    if "pens" in given:
+        given["pens"] = _pens(given["pens"])
     job_file = None
     if job is not None:
-        job_file = os.fspath(job)
+        job_file = _readable(os.fsdecode(job))
         _, warning = _pixelpie.read_job(job_file)
         if warning:
-            warnings.warn(f"{job_file}: {warning}", stacklevel=3)
+            warnings.warn(f"{job_file}: {warning}", PixelpieWarning, stacklevel=3)
     return json.dumps(_finite(given), default=_option), job_file
 
 
@@ -292,9 +479,167 @@ def plan(image: Any, *, job: Optional[PathLike] = None, **options: Any) -> Dict[
     pixels = _picture(image)
     return json.loads(
         _pixelpie.plan(
-            None if pixels is not None else os.fspath(image), pixels, given, job_file
+            None if pixels is not None else _readable(os.fsdecode(image)),
+            pixels,
+            given,
+            job_file,
         )
     )
+
+
+class Pen(NamedTuple):
+    """A pen of a colour drawing."""
+
+    #: Its name.
+    name: str
+    #: Its colour, ``"#rrggbb"``.
+    colour: str
+    #: Its own width in mm, when its pen file gives one.
+    width_mm: Optional[float]
+
+
+class PenPaths(NamedTuple):
+    """One layer's pen paths, as the plotter draws them
+    (:meth:`Drawing.paths`)."""
+
+    #: The layer's name, as the SVG's.
+    name: str
+    #: The pen's colour, ``"#rrggbb"``.
+    colour: str
+    #: The pen's width in mm.
+    pen_mm: float
+    #: One (K, 2) float64 array of x, y in mm on the page per dot, in
+    #: drawing order.
+    paths: List[np.ndarray]
+
+
+class Drawing:
+    """A stipple drawing, as :func:`stipple` returns it.
+
+    * ``dots`` -- (N, 3) float32 x, y and drawn radius in domain pixels, in
+      drawing order; in colour (N, 4), the fourth column each dot's pen;
+    * ``domain`` -- (width, height) of the domain in pixels: the frame of
+      ``dots``, as :func:`analyze` takes it
+      (``analyze(d.dots, *d.domain)``);
+    * ``asked`` and ``reached`` -- the dot count asked for (``None`` when
+      the radii set it) and the count drawn;
+    * ``plan`` -- the plan it was made by (:func:`plan`);
+    * ``pens`` -- the pens of a colour drawing (:class:`Pen`), else ``None``;
+    * ``warnings`` -- what the run warned of;
+    * :meth:`to_mm`, :meth:`svg`, :meth:`png`, :meth:`save`, :meth:`paths`
+      and :meth:`to_vpype`.
+
+    It behaves as its ``dots`` array where code indexes it: ``d[:, 0]``,
+    ``len(d)``, ``d.shape``, ``np.asarray(d)`` and array methods.
+    """
+
+    __slots__ = ("_native", "dots", "domain", "asked", "reached", "plan", "pens", "warnings")
+
+    def __init__(self, native: Any) -> None:
+        self._native = native
+        self.dots: np.ndarray = native.dots()
+        self.domain: Tuple[int, int] = tuple(native.domain)  # type: ignore[assignment]
+        self.asked: Optional[int] = native.asked
+        self.reached: int = native.reached
+        self.plan: Dict[str, Any] = json.loads(native.plan())
+        pens = native.pens()
+        self.pens: Optional[List[Pen]] = None if pens is None else [Pen(*p) for p in pens]
+        self.warnings: List[str] = list(native.warnings())
+
+    def __repr__(self) -> str:
+        w, h = self.domain
+        return f"<pixelpie.Drawing: {self.reached} dots on {w}x{h} px>"
+
+    # The array's behaviour.
+    def __array__(self, dtype: Any = None, copy: Optional[bool] = None) -> np.ndarray:
+        if copy:
+            return np.array(self.dots, dtype=dtype, copy=True)
+        return np.asarray(self.dots, dtype=dtype)
+
+    def __len__(self) -> int:
+        return len(self.dots)
+
+    def __getitem__(self, key: Any) -> Any:
+        return self.dots[key]
+
+    def __iter__(self) -> Iterator[np.ndarray]:
+        return iter(self.dots)
+
+    def __getattr__(self, name: str) -> Any:
+        # Array attributes and methods (shape, dtype, min, astype, ...).
+        if name.startswith("_"):
+            raise AttributeError(name)
+        return getattr(self.dots, name)
+
+    @property
+    def page(self) -> Optional[Tuple[float, float]]:
+        """The page's size in mm (the sheet, or ``width_mm`` and its
+        height), when it has one."""
+        t = self._native.transform()
+        return None if t is None else (float(t[1][0]), float(t[1][1]))
+
+    def to_mm(self, xy: Any) -> np.ndarray:
+        """Domain pixels to mm on the page: an (N, 2) (or wider: its first
+        two columns) array of x, y in pixels as float64 mm, the page's
+        origin at its top left. ``ValueError`` when the page has no size in
+        mm (give ``paper`` or ``width_mm``)."""
+        t = self._native.transform()
+        if t is None:
+            raise ValueError("the drawing's page has no size in mm: give paper or width_mm")
+        (scale, ox, oy), _ = t
+        a = np.asarray(xy, dtype=np.float64)
+        if a.ndim != 2 or a.shape[1] < 2:
+            raise ValueError(f"xy must be an (N, 2) array, not of shape {a.shape}")
+        return np.stack([ox + a[:, 0] * scale, oy + a[:, 1] * scale], axis=1)
+
+    def svg(self) -> bytes:
+        """The SVG file the job writes."""
+        data: bytes = self._native.encode("svg")
+        return data
+
+    def png(self) -> bytes:
+        """The PNG file the job writes (at its ``scale``)."""
+        data: bytes = self._native.encode("png")
+        return data
+
+    def save(self, path: PathLike) -> None:
+        """Writes the drawing to ``path`` in the format of its extension
+        (``.svg``, ``.png``, ``.csv`` or ``.json``), atomically."""
+        self._native.save(os.fsdecode(path))
+
+    def paths(self) -> List[PenPaths]:
+        """The pen paths as the plotter draws them, layer by layer in
+        plotting order (the SVG's layers: ``layer_order``, ``refill_mm``),
+        each dot's path in mm on the page. Needs a pen and a page size
+        (``pen_mm``, and ``paper`` or ``width_mm``): ``ValueError``
+        otherwise."""
+        return [PenPaths(*layer) for layer in self._native.paths()]
+
+    def to_vpype(self) -> Any:
+        """The pen paths as a ``vpype.Document`` (layer k for the k-th layer
+        of :meth:`paths`, with its name, colour and pen width, and the page
+        size), when vpype is installed (``pip install "pixelpie[vpype]"``)."""
+        try:
+            import vpype  # type: ignore[import-not-found]
+        except ImportError as e:
+            raise ImportError(
+                'Drawing.to_vpype needs vpype: pip install "pixelpie[vpype]"'
+            ) from e
+        px = 96.0 / 25.4  # vpype's unit: CSS pixels per mm
+        doc = vpype.Document()
+        page = self.page
+        if page is not None:
+            doc.page_size = (page[0] * px, page[1] * px)
+        for k, layer in enumerate(self.paths(), start=1):
+            lines = vpype.LineCollection(
+                [(p[:, 0] + 1j * p[:, 1]) * px for p in layer.paths]
+            )
+            doc.add(lines, layer_id=k)
+            props = doc.layers[k]
+            props.set_property("vp_name", layer.name)
+            props.set_property("vp_color", vpype.Color(layer.colour))
+            props.set_property("vp_pen_width", layer.pen_mm * px)
+        return doc
 
 
 def analyze(

@@ -127,13 +127,22 @@ fn panic_text(payload: &(dyn std::any::Any + Send)) -> String {
     format!("pixelpie failed inside ({what}); please report it with the call that made it")
 }
 
+/// What the working thread tells the waiting one.
+enum Note {
+    /// An iteration is done: check for signals now, and answer.
+    Iteration(mpsc::Sender<()>),
+    /// The work is done.
+    Done,
+}
+
 /// Runs `work` on a thread of its own in this process's pool ([`pool`]),
 /// without the GIL, with a sampler control whose progress calls
 /// `progress(iteration, points, empty, pixels)`. The calling thread waits,
-/// checking for signals every [`POLL`]: a signal's exception
-/// (KeyboardInterrupt from Ctrl-C) or one raised by `progress` cancels the
-/// run, which every stage heeds within a few milliseconds, and is raised. A
-/// panic becomes `RuntimeError`.
+/// checking for signals every [`POLL`] and after every sampler iteration
+/// (which waits for it): a signal's exception (KeyboardInterrupt from
+/// Ctrl-C) or one raised by `progress` cancels the run, which every stage
+/// heeds within a few milliseconds, and is raised. A panic becomes
+/// `RuntimeError`.
 fn cancellable<T: Send>(
     py: Python<'_>,
     progress: Option<Py<PyAny>>,
@@ -149,6 +158,7 @@ fn cancellable<T: Send>(
             .get_or_insert(e);
         cancel.store(true, Ordering::Relaxed);
     };
+    let (notes, heard) = mpsc::channel::<Note>();
     let report = |p: Progress| {
         if let Some(f) = &progress {
             Python::attach(|py| {
@@ -157,23 +167,35 @@ fn cancellable<T: Send>(
                 }
             });
         }
+        // The waiting thread checks for signals before the next iteration.
+        let (answer, answered) = mpsc::channel();
+        if notes.send(Note::Iteration(answer)).is_ok() {
+            let _ = answered.recv();
+        }
     };
     let outcome = py.detach(|| {
+        let heard = heard;
         std::thread::scope(|s| {
-            let (done, finished) = mpsc::channel::<()>();
-            let (pool, cancel, report) = (&pool, &cancel, &report);
+            let (pool, cancel, report, done) = (&pool, &cancel, &report, notes.clone());
             let worker = s.spawn(move || {
                 let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
                     pool.install(|| work(Control::new().with_progress(report).with_cancel(cancel)))
                 }));
-                let _ = done.send(());
+                let _ = done.send(Note::Done);
                 result
             });
             let mut listening = true;
-            while let Err(mpsc::RecvTimeoutError::Timeout) = finished.recv_timeout(POLL) {
+            loop {
+                let note = heard.recv_timeout(POLL);
+                if let Ok(Note::Done) | Err(mpsc::RecvTimeoutError::Disconnected) = note {
+                    break;
+                }
                 if listening && let Err(e) = Python::attach(|py| py.check_signals()) {
                     raise(e);
                     listening = false;
+                }
+                if let Ok(Note::Iteration(answer)) = note {
+                    let _ = answer.send(());
                 }
             }
             worker.join()
@@ -670,14 +692,17 @@ impl Drawing {
             .map_err(|e| py_err(&e))
     }
 
-    /// Domain pixels to mm on the page, (scale, x offset, y offset), when
-    /// the page has a size in mm; else `None`.
-    fn transform(&self) -> PyResult<Option<(f64, f64, f64)>> {
-        Ok(self
-            .job
-            .page_transform(self.drawing.domain)
-            .map_err(|e| py_err(&e))?
-            .map(|t| (t.scale, t.offset.0, t.offset.1)))
+    /// Domain pixels to mm on the page, (scale, x offset, y offset), and
+    /// the page's size in mm (width, height), when the page has a size in
+    /// mm; else `None`.
+    #[expect(clippy::type_complexity, reason = "the Python tuple, as it is")]
+    fn transform(&self) -> PyResult<Option<((f64, f64, f64), (f64, f64))>> {
+        let domain = self.drawing.domain;
+        let opts = self.job.svg_options(domain).map_err(|e| py_err(&e))?;
+        let page = opts.sheet_mm.or(opts.size_mm);
+        let t = self.job.page_transform(domain).map_err(|e| py_err(&e))?;
+        Ok(t.zip(page)
+            .map(|(t, page)| ((t.scale, t.offset.0, t.offset.1), page)))
     }
 
     /// The pen paths as the plotter draws them, layer by layer in plotting

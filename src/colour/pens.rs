@@ -222,7 +222,13 @@ impl<'de> Deserialize<'de> for PenSet {
             List(Vec<Entry>),
         }
         use serde::de::Error;
-        match Form::deserialize(d)? {
+        let form = Form::deserialize(d).map_err(|_: D::Error| {
+            D::Error::custom(
+                "must be \"cmyk\", \"black\", a pen file's path (.toml), or a list of \
+                 \"#rrggbb\" colours or of pens",
+            )
+        })?;
+        match form {
             Form::Spec(s) => Self::parse(&s).map_err(D::Error::custom),
             Form::List(entries) => {
                 let pens = entries

@@ -21,7 +21,9 @@ pub fn write_atomic(
     // tempfile names its temporary file in its errors: keep the cause only,
     // so that a message speaks of the user's file.
     let plain = |e: std::io::Error| -> BoxError {
-        match e.raw_os_error() {
+        // tempfile's wrapper hides the OS's error number: its kind says it.
+        let code = e.raw_os_error().or_else(|| errno_of(e.kind()));
+        match code {
             Some(code) => Box::new(std::io::Error::from_raw_os_error(code)),
             None => Box::new(std::io::Error::new(e.kind(), e.kind().to_string())),
         }
@@ -47,4 +49,20 @@ pub fn write_atomic(
     }
     tmp.persist(path).map_err(|e| fail(plain(e.error)))?;
     Ok(())
+}
+
+/// The POSIX error number of an error kind a write meets (the same on
+/// Linux and macOS).
+fn errno_of(kind: std::io::ErrorKind) -> Option<i32> {
+    use std::io::ErrorKind as K;
+    Some(match kind {
+        K::NotFound => 2,
+        K::PermissionDenied => 13,
+        K::AlreadyExists => 17,
+        K::NotADirectory => 20,
+        K::IsADirectory => 21,
+        K::StorageFull => 28,
+        K::ReadOnlyFilesystem => 30,
+        _ => return None,
+    })
 }

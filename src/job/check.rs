@@ -28,6 +28,13 @@ impl Job {
     /// output's format.
     pub fn check(&self) -> Result<(), Error> {
         let bad = |m: String| Err(Error::InvalidParameter(m));
+        for (name, size) in [("--width", self.width), ("--height", self.height)] {
+            if size == Some(0) {
+                return bad(format!(
+                    "{name} 0 must be at least 1 px (or left out: the picture's aspect sets it)"
+                ));
+            }
+        }
         if let Some(pen) = self.pen_mm {
             if !(pen.is_finite() && pen > 0.0) {
                 return bad(format!("--pen-mm {pen} must be a positive number"));

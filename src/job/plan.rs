@@ -148,7 +148,7 @@ impl Planned {
         let t_relax = lap();
         stage(&mut progress, Stage::Order)?;
         let (points, tour) = job.ordered(&set.points, all.len(), &mut || {
-            progress(Step::Busy(Stage::Order))
+            !progress(Step::Busy(Stage::Order))
         });
         let t_order = lap();
         stage(&mut progress, Stage::Size)?;
