@@ -526,6 +526,8 @@ class Drawing:
     * ``plan`` -- the plan it was made by (:func:`plan`);
     * ``pens`` -- the pens of a colour drawing (:class:`Pen`), else ``None``;
     * ``warnings`` -- what the run warned of;
+    * ``stages`` -- seconds in each stage (prepare, sample, relax, order,
+      size);
     * :meth:`to_mm`, :meth:`svg`, :meth:`png`, :meth:`save`, :meth:`paths`
       and :meth:`to_vpype`.
 
@@ -533,7 +535,9 @@ class Drawing:
     ``len(d)``, ``d.shape``, ``np.asarray(d)`` and array methods.
     """
 
-    __slots__ = ("_native", "dots", "domain", "asked", "reached", "plan", "pens", "warnings")
+    __slots__ = (
+        "_native", "dots", "domain", "asked", "reached", "plan", "pens", "warnings", "stages",
+    )
 
     def __init__(self, native: Any) -> None:
         self._native = native
@@ -545,6 +549,7 @@ class Drawing:
         pens = native.pens()
         self.pens: Optional[List[Pen]] = None if pens is None else [Pen(*p) for p in pens]
         self.warnings: List[str] = list(native.warnings())
+        self.stages: Dict[str, float] = dict(native.stages())
 
     def __repr__(self) -> str:
         w, h = self.domain

@@ -122,6 +122,7 @@ class Drawing:
     plan: Plan
     pens: Optional[List[Pen]]
     warnings: List[str]
+    stages: Dict[str, float]
     @property
     def page(self) -> Optional[Tuple[float, float]]: ...
     @property

@@ -667,6 +667,16 @@ impl Drawing {
         })
     }
 
+    /// Seconds in each stage of the run, in order (prepare, sample, relax,
+    /// order, size).
+    fn stages(&self) -> Vec<(String, f64)> {
+        self.drawing
+            .stages
+            .iter()
+            .map(|(s, t)| (s.to_string(), *t))
+            .collect()
+    }
+
     /// The warnings of the run, in the CLI's words.
     fn warnings(&self) -> Vec<String> {
         self.warnings.clone()

@@ -94,20 +94,10 @@ _INTERRUPTED = textwrap.dedent(
 )
 
 
-@pytest.mark.parametrize(
-    "delay,options",
-    [
-        # 0.3 s in: the first stipple of a fresh process, in its sampling.
-        (0.3, dict(points=1_000_000)),
-        # Later: in the 2-opt tour of a million dots (several seconds long).
-        (2.5, dict(points=1_000_000, order="tsp")),
-        # Relaxation and the correction of 200K dots.
-        (0.8, dict(points=200_000)),
-    ],
-)
-def test_ctrl_c_raises_keyboard_interrupt_within_half_a_second_and_leaves_no_file(
-    tmp_path, delay, options
-):
+def _interrupted(tmp_path, delay, options):
+    """What a fresh process says when SIGINT comes ``delay`` s into
+    ``stipple(astronaut, out, **options)``: how late the KeyboardInterrupt
+    came, and whether the output or a temporary file exists."""
     out = tmp_path / "drawing.svg"
     run = subprocess.run(
         [sys.executable, "-c", _INTERRUPTED, str(out), str(delay), repr(options),
@@ -116,10 +106,41 @@ def test_ctrl_c_raises_keyboard_interrupt_within_half_a_second_and_leaves_no_fil
     )
     assert run.returncode == 0, run.stderr
     assert "finished" not in run.stdout, f"the run ended before the interrupt at {delay} s"
-    said = dict(line.split(" ", 1) for line in run.stdout.splitlines())
-    assert float(said["late"]) < 0.5, run.stdout
-    assert said["exists"] == "False" and said["strays"] == "[]", run.stdout
     assert "PanicException" not in run.stderr and "panicked" not in run.stderr
+    return dict(line.split(" ", 1) for line in run.stdout.splitlines())
+
+
+def _assert_prompt(said):
+    assert float(said["late"]) < 0.5, said
+    assert said["exists"] == "False" and said["strays"] == "[]", said
+
+
+@pytest.mark.parametrize(
+    "delay,options",
+    [
+        # 0.3 s in: the first stipple of a fresh process, in its sampling.
+        (0.3, dict(points=1_000_000)),
+        # Later: in the 2-opt tour of a million dots (several seconds long).
+        (2.5, dict(points=1_000_000, order="tsp")),
+    ],
+)
+def test_ctrl_c_raises_keyboard_interrupt_within_half_a_second_and_leaves_no_file(
+    tmp_path, delay, options
+):
+    _assert_prompt(_interrupted(tmp_path, delay, options))
+
+
+@pytest.mark.parametrize("stage", ["relax", "size"])
+def test_ctrl_c_stops_the_relaxation_and_the_correction_too(tmp_path, stage):
+    # Where each stage lies in time, from an uninterrupted run (the fresh
+    # process adds its imports, about as long as this process's warm call
+    # saves), and the interrupt in its middle.
+    options = dict(points=200_000)
+    d = pixelpie.stipple(ASSETS / "astronaut.jpg", **options)
+    names = list(d.stages)
+    assert d.stages[stage] > 0.1, d.stages
+    before = sum(d.stages[n] for n in names[: names.index(stage)])
+    _assert_prompt(_interrupted(tmp_path, before + d.stages[stage] / 2, options))
 
 
 # --- one input rule for every picture ------------------------------------------

@@ -7,10 +7,13 @@ through vpype.
 * A grey drawing gives vpype the same paths as the command line's SVG read
   by vpype; the page is the sheet.
 * HPGL (vpype's ``write --device hp7475a``) selects one pen per layer
-  (SP1..SP4) and puts it down once per path; G-code (vpype-gcode's
+  (SP1..SP4) and puts it down once per path; no dot is cut by the
+  plotter's reach: ``--device`` fits the drawing inside it, and without it a
+  warning names the plotters that would cut dots; G-code (vpype-gcode's
   ``gwrite`` with our profile) pauses for one pen change per layer and
   lowers the pen once per path.
-* Bad input is a usage error, with no traceback.
+* Bad input is a usage error, with no traceback; ``--help`` lists each
+  choice's values, the command line's.
 
 They run in a venv holding vpype, vpype-gcode and the wheel with its
 ``vpype`` extra (``bash .ci/vpype-plugin.sh``). Without vpype they are
@@ -22,6 +25,8 @@ from __future__ import annotations
 
 import importlib.metadata
 import importlib.util
+import io
+import logging
 import os
 import re
 import shutil
@@ -149,6 +154,52 @@ def test_the_plugin_loads_through_its_entry_point():
     assert re.search(r"^\s+pixelpie\s", listed, re.M), listed
 
 
+def cli_choices() -> dict:
+    """Each option of `pixelpie stipple --help` with "Possible values", and
+    its values in order."""
+    assert CLI.is_file(), f"the pixelpie binary is missing at {CLI} (cargo build --release)"
+    text = subprocess.run([str(CLI), "stipple", "--help"], capture_output=True, text=True, check=True).stdout
+    blocks = re.split(r"^\s+(?:-\w, )?(--[\w-]+)\b.*$", text, flags=re.M)
+    return {
+        name: re.findall(r"^\s+- ([\w-]+):", body, re.M)
+        for name, body in zip(blocks[1::2], blocks[2::2])
+        if "Possible values:" in body
+    }
+
+
+def test_help_lists_each_choices_values():
+    helped = run_vpype("pixelpie", "--help").stdout
+    assert "CHOICE" not in helped
+    cli_values = cli_choices()
+    assert len(vpype_plugin.CHOICES) == 5
+    for name, values in vpype_plugin.CHOICES.items():
+        option = "--" + name.replace("_", "-")
+        # The command line's values, in its order ...
+        assert cli_values[option] == values, option
+        # ... listed beside the option, as click lists a choice's.
+        shown = re.escape(f"{option} [{'|'.join(values)}]")
+        assert re.search(rf"^\s+{shown}(\s|$)", helped, re.M), (option, helped)
+
+
+def luminance(c: vp.Color) -> float:
+    return 0.2126 * c.red + 0.7152 * c.green + 0.0722 * c.blue
+
+
+def test_layers_go_from_the_lightest_ink_unless_layer_order_pens(colour):
+    image, doc, _ = colour
+    names = [doc.layers[lid].property(vp.METADATA_FIELD_NAME) for lid in (1, 2, 3, 4)]
+    assert names == ["yellow", "cyan", "magenta", "black"]
+    light = [luminance(doc.layers[lid].property(vp.METADATA_FIELD_COLOR)) for lid in (1, 2, 3, 4)]
+    assert light == sorted(light, reverse=True) and light[0] > light[-1]
+    # --layer-order pens: cyan, magenta, yellow, black, as --pens cmyk names
+    # them, each with the same dots.
+    pens = plugin(str(image), *COLOUR, "--layer-order", "pens")
+    assert [pens.layers[lid].property(vp.METADATA_FIELD_NAME) for lid in (1, 2, 3, 4)] == [
+        "cyan", "magenta", "yellow", "black"]
+    for pen in range(4):
+        assert len(pens.layers[pen + 1]) == len(doc.layers[LAYER_PENS.index(pen) + 1]), pen
+
+
 def test_cmyk_gives_one_layer_per_pen_with_its_colour_and_width(colour):
     _, doc, counts = colour
     assert sorted(doc.layers) == [1, 2, 3, 4]
@@ -184,7 +235,10 @@ def test_grey_paths_are_the_clis_svg_read_by_vpype(tmp_path):
     want = vpype_cli.execute(f"read --no-crop '{svg}'")
     got = plugin(str(image), *opts)
     assert sorted(got.layers) == sorted(want.layers) == [1]
-    assert got.page_size == want.page_size
+    # The page is A4 in vpype's own mm, as its paper sizes are; vpype's
+    # reader takes an inch as 25.39999 mm.
+    assert got.page_size == (210 * PX_PER_MM, 297 * PX_PER_MM) == vp.convert_page_size("a4")
+    assert got.page_size == pytest.approx(want.page_size, rel=1e-6)
     a, b = paths(got.layers[1]), paths(want.layers[1])
     assert len(a) == len(b) == svg.read_text().count("<path")
     assert all(same_path(p, q) for p, q in zip(a, b))
@@ -245,6 +299,10 @@ def test_the_fast_reader_is_vpypes_read(tmp_path, dot_path):
     text = svg.read_text()
     fast = vpype_plugin.read_drawing(text)
     whole = vpype_plugin._read_svg(text, 0.1 * PX_PER_MM)
+    # The page is the sheet in vpype's mm (vpype's reader: 5e-7 larger).
+    assert fast.page_size == vp.convert_page_size("a4")
+    assert whole.page_size == pytest.approx(fast.page_size, rel=1e-6)
+    whole.page_size = fast.page_size
     same_document(fast, whole)
     assert sorted(fast.layers) == [1, 2, 3, 4]
 
@@ -322,6 +380,10 @@ def test_extra_options_reach_the_job(tmp_path):
         (["{image}", "--option", "bogus=1"], "bogus"),
         (["{image}", "--order", "fast"], "fast"),
         (["{image}", "--points", "many"], "many"),
+        (["{image}", "--layer-order", "dark-first"], "dark-first"),
+        (["{image}", "--device", "hp9999"], "vpype knows no plotter of that name"),
+        (["{image}", "--paper", "a5", "--device", "hp7475a"], "has no paper of this 148 x 210 mm sheet"),
+        (["{image}", "--width-mm", "150", "--device", "hp7475a"], "give --paper"),
     ],
 )
 def test_bad_input_is_a_usage_error_without_traceback(tmp_path, args, message):
@@ -385,6 +447,151 @@ def test_hpgl_through_vpype(tmp_path, colour):
     assert counts == cli_pen_counts(tmp_path, image, COLOUR_CLI + margins)
 
 
+def hpgl_strokes(hpgl: str) -> list:
+    """The number of points of each pen-down stroke of vpype's HPGL (``PD``
+    and the relative moves from the stroke's first point), in order."""
+    return [len(moves.split(",")) // 2 + 1 for moves in re.findall(r"PD([-\d,]+);", hpgl)]
+
+
+def path_points(doc: vp.Document) -> list:
+    """The number of points of each path, layer by layer."""
+    return [len(line) for lid in sorted(doc.layers) for line in doc.layers[lid]]
+
+
+def hpgl_of(lines: list, page_size, device: str = "hp7475a") -> list:
+    """hpgl_strokes of ``lines`` written alone by vpype's HPGL writer, as
+    `write --device DEVICE` writes a page of ``page_size``."""
+    doc = vp.Document(page_size=page_size)
+    doc.add(vp.LineCollection(lines), 1)
+    paper = vp.config_manager.get_plotter_config(device).paper_config_from_size(page_size)
+    out = io.StringIO()
+    vp.write_hpgl(out, doc, page_size=paper.name, landscape=page_size[0] > page_size[1], center=False,
+                  device=device, velocity=None, quiet=True)
+    return hpgl_strokes(out.getvalue())
+
+
+def test_plotter_reach_is_what_vpypes_hpgl_writer_keeps():
+    # Every plotter and paper of vpype's configuration, both ways round: a
+    # short path 0.3 mm inside each edge of the reach comes out whole, one
+    # 0.3 mm outside is cropped away.
+    checked = set()
+    for device in vp.config_manager.get_plotter_list():
+        try:
+            plotter = vp.config_manager.get_plotter_config(device)
+        except ValueError:
+            continue  # vpype 1.15's designmate ("285mmmm")
+        for paper in plotter.paper_configs:
+            if paper.paper_size is None or paper.x_range is None:
+                continue
+            w, h = sorted(paper.paper_size)
+            for page in ((w, h), (h, w)):
+                reach = vpype_plugin.plotter_reach(device, page)
+                if reach.paper != paper.name:
+                    continue  # another paper of this size comes first, as in vpype
+                x0, y0, x1, y1 = reach.box
+                d, cx, cy = 0.3 * PX_PER_MM, (x0 + x1) / 2, (y0 + y1) / 2
+                for x, y, inside in [(x0 + d, cy, True), (x1 - d, cy, True), (cx, y0 + d, True),
+                                     (cx, y1 - d, True), (x0 - d, cy, False), (x1 + d, cy, False),
+                                     (cx, y0 - d, False), (cx, y1 + d, False)]:
+                    line = np.array([x + 1j * y, x + 0.1 + 1j * y])
+                    assert hpgl_of([line], page, device) == ([2] if inside else []), (device, paper.name, page)
+                checked.add((device, paper.name, page))
+    assert len(checked) >= 30 and {d for d, _, _ in checked} >= {"hp7475a", "hp7550", "artisan", "dxy"}
+    assert vpype_plugin.plotter_reach("hp7475a", vp.convert_page_size("a5")) is None
+
+
+def test_device_keeps_every_dot_within_the_plotters_reach(tmp_path, caplog):
+    # The issue's pipeline, with pixelpie told the plotter: 8000 dots on A4,
+    # written by vpype for the HP 7475A (the paper found from the page).
+    image = ASSETS / "astronaut.jpg"
+    out = tmp_path / "out.hpgl"
+    with caplog.at_level(logging.INFO):
+        doc = vpype_cli.execute(
+            f"pixelpie '{image}' --points 8000 --device hp7475a write --device hp7475a '{out}'", global_opt="-v")
+    # One pen-down per dot, each with all its points: no dot is cut.
+    strokes = hpgl_strokes(out.read_text())
+    assert len(strokes) == len(doc.layers[1]) > 7900
+    assert strokes == path_points(doc)
+    # The margin pixelpie chose, wider than the default 10 mm, is the
+    # command line's for the same dots.
+    found = re.search(r"--margin ([\d.]+) keeps every dot within hp7475a's reach", caplog.text)
+    assert found, caplog.text
+    assert 10 < float(found.group(1)) < 20
+    svg = tmp_path / "cli.svg"
+    cli("stipple", str(image), "-o", str(svg), "--points", "8000", "--paper", "a4", "--pen-mm", "0.3",
+        "--margin", found.group(1))
+    want = vpype_plugin.read_drawing(svg.read_text())
+    assert all(same_path(p, q) for p, q in zip(paths(doc.layers[1]), paths(want.layers[1])))
+    assert len(want.layers[1]) == len(doc.layers[1])
+
+
+def test_without_a_device_a_warning_names_the_dots_each_plotter_would_cut(tmp_path, caplog):
+    # The issue's pipeline as it was written: pixelpie is not told the
+    # plotter, and keeps its 10 mm margin.
+    image = ASSETS / "astronaut.jpg"
+    out = tmp_path / "out.hpgl"
+    with caplog.at_level(logging.WARNING):
+        doc = vpype_cli.execute(f"pixelpie '{image}' --points 8000 write --device hp7475a '{out}'")
+    found = re.search(r"hp7475a cuts (\d+) \(--margin ([\d.]+) keeps them whole\)", caplog.text)
+    assert found, caplog.text
+    cut, margin = int(found.group(1)), found.group(2)
+    assert "--device NAME" in caplog.text
+    # vpype's writer cuts the dots written: not one stroke per dot of its points.
+    lines = [line for lid in sorted(doc.layers) for line in doc.layers[lid]]
+    assert hpgl_strokes(out.read_text()) != [len(line) for line in lines]
+    # Exactly the dots the warning counts: the others come out whole, each
+    # of those is cut or cropped away.
+    x0, y0, x1, y1 = vpype_plugin.plotter_reach("hp7475a", doc.page_size).box
+    b = vpype_plugin._dot_bounds(doc)
+    past = (b[:, 0] < x0) | (b[:, 1] < y0) | (b[:, 2] > x1) | (b[:, 3] > y1)
+    assert past.sum() == cut > 50
+    inside = [line for line, p in zip(lines, past) if not p]
+    assert hpgl_of(inside, doc.page_size) == [len(line) for line in inside]
+    for line in (line for line, p in zip(lines, past) if p):
+        assert hpgl_of([line], doc.page_size) != [len(line)]
+    # The margin the warning gives keeps every dot whole.
+    caplog.clear()
+    out = tmp_path / "margin.hpgl"
+    with caplog.at_level(logging.WARNING):
+        doc = vpype_cli.execute(f"pixelpie '{image}' --points 8000 --margin {margin} write --device hp7475a '{out}'")
+    assert "hp7475a" not in caplog.text
+    assert hpgl_strokes(out.read_text()) == path_points(doc)
+
+
+def test_a_margin_too_narrow_for_the_device_is_refused(tmp_path, caplog):
+    image = str(ASSETS / "rocket.jpg")
+    refused = run_vpype("pixelpie", image, "--points", "3000", "--margin", "12", "--device", "hp7475a", check=False)
+    assert refused.returncode == 2 and "Traceback" not in refused.stderr
+    found = re.search(r"(\d+) of (\d+) dots lie past what hp7475a reaches .* give --margin ([\d.]+) or more",
+                      refused.stderr)
+    assert found, refused.stderr
+    assert 0 < int(found.group(1)) < int(found.group(2))
+    # The margin it names is enough.
+    out = tmp_path / "out.hpgl"
+    doc = vpype_cli.execute(
+        f"pixelpie '{image}' --points 3000 --margin {found.group(3)} --device hp7475a write --device hp7475a '{out}'")
+    assert hpgl_strokes(out.read_text()) == path_points(doc)
+    # --device none: no HPGL plotter, no check and no warning.
+    with caplog.at_level(logging.WARNING):
+        vpype_cli.execute(f"pixelpie '{image}' --points 3000 --device none")
+    assert "would cut" not in caplog.text
+
+
+def test_vpypes_default_hpgl_device_is_the_plugins(tmp_path):
+    # With vpype's default_hpgl_device, `write out.hpgl` plots on it, and
+    # pixelpie fits the drawing to it unasked.
+    config = tmp_path / "vpype.toml"
+    config.write_text('[command.write]\ndefault_hpgl_device = "hp7475a"\n')
+    out = tmp_path / "out.hpgl"
+    done = run_vpype("-c", str(config), "-v", "pixelpie", str(ASSETS / "rocket.jpg"), "--points", "3000",
+                     "--landscape", "stat", "write", str(out))
+    assert "would cut" not in done.stderr
+    assert re.search(r"--margin [\d.]+ keeps every dot within hp7475a's reach", done.stderr), done.stderr
+    count = int(re.findall(r"Path count: (\d+)", done.stdout)[-1])
+    strokes = hpgl_strokes(out.read_text())
+    assert len(strokes) == count > 2900
+
+
 def test_gcode_through_vpype_gcode(tmp_path, colour):
     if importlib.util.find_spec("vpype_gcode") is None:
         if EXPECT:
@@ -443,5 +650,7 @@ def test_the_docs_vpype_examples_run_as_written(tmp_path, page):
         out = subprocess.run(["sh", "-c", line], cwd=tmp_path, env=env, capture_output=True, text=True)
         assert out.returncode == 0, f"{page}: `{line}` failed:\n{out.stderr}"
     # What they write is there.
-    for name in re.findall(r"(?:write|gwrite --profile pixelpie)(?: --device \S+ --page-size \S+ --landscape)? (\S+)", " ".join(lines)):
+    written = r"(?:write|gwrite --profile pixelpie)(?: --device \S+)?(?: --page-size \S+)?(?: --landscape)? (\S+)"
+    for name in re.findall(written, " ".join(lines)):
+        assert not name.startswith("-"), name
         assert (tmp_path / name).stat().st_size > 0, name

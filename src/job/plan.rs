@@ -140,9 +140,13 @@ impl Planned {
                 iterations: steps,
                 periodic: job.sampler.periodic,
             };
-            let moved = crate::stipple::relax_points(all, range, &set.points, options, |n| {
-                progress(Step::Relaxed(n, steps))
-            })?;
+            let moved =
+                crate::stipple::relax_points(all, range, &set.points, options, &mut |done| {
+                    match done {
+                        Some(n) => progress(Step::Relaxed(n, steps)),
+                        None => progress(Step::Busy(Stage::Relax)),
+                    }
+                })?;
             set = set.with_points(moved);
         }
         let t_relax = lap();

@@ -325,8 +325,8 @@ pub enum Step {
     /// Relaxation steps done so far, of how many.
     Relaxed(u32, u32),
     /// Still at work in a stage: said every few milliseconds of the long
-    /// loops that have no steps of their own (the tour), so that a false
-    /// answer stops them in time.
+    /// loops (the tour, within a relaxation step), so that a false answer
+    /// stops them in time.
     Busy(Stage),
 }
 

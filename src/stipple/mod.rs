@@ -127,13 +127,13 @@ impl DotSize {
 /// samples at the pixel ([`crate::importance::Classes`]): the pens keep
 /// their interleaving and each point its pen. Each point's radius becomes
 /// its pen's sample radius at its new pixel. `progress` as in
-/// [`relax::relax`].
+/// [`relax::relax_until`].
 pub fn relax_points(
     maps: &[Prepared],
     range: RadiusRange,
     points: &[Point],
     options: relax::RelaxOptions,
-    progress: impl FnMut(u32) -> bool,
+    progress: &mut dyn FnMut(Option<u32>) -> bool,
 ) -> Result<Vec<Point>> {
     let Some(first) = maps.first() else {
         return Err(Error::InvalidParameter("nothing to relax".into()));
@@ -170,7 +170,7 @@ pub fn relax_points(
     };
     relax::check(&density)?;
     let xy: Vec<[f32; 2]> = points.iter().map(|p| [p.x, p.y]).collect();
-    let moved = relax::relax(&xy, &density, options, progress);
+    let moved = relax::relax_until(&xy, &density, options, progress);
     // Each point's new radius: its pen's at its new pixel (what the map's
     // `radii` hold there), found for the points alone.
     let radius: Vec<_> = maps

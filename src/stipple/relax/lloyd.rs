@@ -35,24 +35,42 @@ struct Scratch {
     out: Vec<(usize, [f64; 3])>,
 }
 
-/// One Lloyd iteration.
-pub(super) fn lloyd_step(points: &[[f32; 2]], field: &Field<'_>, periodic: bool) -> Vec<[f32; 2]> {
+/// Rows of top tiles done in parallel between two calls of
+/// [`lloyd_step`]'s `stop`.
+const ROWS_AT_ONCE: usize = 16;
+
+/// One Lloyd iteration; `None` when `stop`, asked between groups of tile
+/// rows, says to end it.
+pub(super) fn lloyd_step(
+    points: &[[f32; 2]],
+    field: &Field<'_>,
+    periodic: bool,
+    stop: &mut dyn FnMut() -> bool,
+) -> Option<Vec<[f32; 2]>> {
     let dom = [field.width as f64, field.height as f64];
     let tree = SiteTree::new(points, dom, periodic);
     let tile_rows = field.height.div_ceil(1 << TOP_LEVEL);
-    let rows: Vec<Vec<(usize, [f64; 3])>> = (0..tile_rows)
-        .into_par_iter()
-        .map(|ty| tile_row(field, &tree, ty << TOP_LEVEL))
-        .collect();
     let mut sums = vec![[0.0f64; 3]; points.len()];
-    for &(id, m) in rows.iter().flatten() {
-        (0..3).for_each(|k| sums[id][k] += m[k]);
+    for first in (0..tile_rows).step_by(ROWS_AT_ONCE) {
+        if stop() {
+            return None;
+        }
+        let rows: Vec<Vec<(usize, [f64; 3])>> = (first..tile_rows.min(first + ROWS_AT_ONCE))
+            .into_par_iter()
+            .map(|ty| tile_row(field, &tree, ty << TOP_LEVEL))
+            .collect();
+        // In row order, as one pass over all rows would add them.
+        for &(id, m) in rows.iter().flatten() {
+            (0..3).for_each(|k| sums[id][k] += m[k]);
+        }
     }
-    points
-        .iter()
-        .zip(&sums)
-        .map(|(p, s)| centroid(*p, s, dom, periodic))
-        .collect()
+    Some(
+        points
+            .iter()
+            .zip(&sums)
+            .map(|(p, s)| centroid(*p, s, dom, periodic))
+            .collect(),
+    )
 }
 
 /// The new position of point `p` from its sums `[Σw, Σw·dx, Σw·dy]`.

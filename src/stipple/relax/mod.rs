@@ -128,13 +128,30 @@ pub fn relax(
     options: RelaxOptions,
     mut progress: impl FnMut(u32) -> bool,
 ) -> Vec<[f32; 2]> {
+    relax_until(points, density, options, &mut |done| {
+        done.is_none_or(&mut progress)
+    })
+}
+
+/// [`relax`], with `progress(Some(done))` after each iteration and
+/// `progress(None)` every few milliseconds within one: false stops (an
+/// iteration stopped within leaves the points of the one before).
+pub fn relax_until(
+    points: &[[f32; 2]],
+    density: &Density<'_>,
+    options: RelaxOptions,
+    progress: &mut dyn FnMut(Option<u32>) -> bool,
+) -> Vec<[f32; 2]> {
     let mut current = points.to_vec();
     let Some(field) = Field::new(density) else {
         return current;
     };
     for done in 1..=options.iterations {
-        current = lloyd_step(&current, &field, options.periodic);
-        if !progress(done) {
+        match lloyd_step(&current, &field, options.periodic, &mut || !progress(None)) {
+            Some(moved) => current = moved,
+            None => break,
+        }
+        if !progress(Some(done)) {
             break;
         }
     }
