@@ -555,6 +555,12 @@ class Drawing:
         w, h = self.domain
         return f"<pixelpie.Drawing: {self.reached} dots on {w}x{h} px>"
 
+    def __reduce__(self) -> Any:
+        raise TypeError(
+            "a pixelpie.Drawing holds the library's drawing and does not pickle: "
+            "return drawing.dots, drawing.svg() or drawing.png() from a worker"
+        )
+
     # The array's behaviour.
     def __array__(self, dtype: Any = None, copy: Optional[bool] = None) -> np.ndarray:
         if copy:

@@ -372,6 +372,15 @@ def test_a_colour_drawing_names_its_pens_and_their_layers():
     assert {l.name: len(l.paths) for l in layers} == per_pen
 
 
+def test_a_drawing_says_in_words_that_it_does_not_pickle():
+    import pickle
+
+    d = pixelpie.stipple(ASSETS / "default.png", points=300)
+    with pytest.raises(TypeError, match="drawing.dots"):
+        pickle.dumps(d)
+    assert np.array_equal(pickle.loads(pickle.dumps(d.dots)), d.dots)
+
+
 def test_paths_without_a_pen_and_page_are_refused_in_words():
     d = pixelpie.stipple(ASSETS / "default.png", points=300)
     with pytest.raises(ValueError, match="pen_mm"):

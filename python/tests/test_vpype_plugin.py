@@ -654,3 +654,22 @@ def test_the_docs_vpype_examples_run_as_written(tmp_path, page):
     for name in re.findall(written, " ".join(lines)):
         assert not name.startswith("-"), name
         assert (tmp_path / name).stat().st_size > 0, name
+
+
+def test_a_drawing_becomes_a_vpype_document_of_its_pen_paths():
+    d = pixelpie.stipple(ASSETS / "rocket.jpg", points=1500, pens="cmyk", paper="a5",
+                         pen_mm=0.3, seed=2)
+    doc = d.to_vpype()
+    layers = d.paths()
+    assert doc.page_size == pytest.approx((148 * 96 / 25.4, 210 * 96 / 25.4))
+    assert sorted(doc.layers) == list(range(1, len(layers) + 1))
+    for k, layer in enumerate(layers, start=1):
+        lc = doc.layers[k]
+        assert lc.property("vp_name") == layer.name
+        assert lc.property("vp_pen_width") == pytest.approx(layer.pen_mm * 96 / 25.4)
+        assert len(lc) == len(layer.paths)
+        # Each line is its dot's path, in vpype's px.
+        first = np.asarray(lc[0])
+        assert np.allclose(first.real, layer.paths[0][:, 0] * 96 / 25.4)
+        assert np.allclose(first.imag, layer.paths[0][:, 1] * 96 / 25.4)
+    assert sum(len(doc.layers[k]) for k in doc.layers) == d.reached
