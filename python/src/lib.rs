@@ -3,7 +3,7 @@
 //! arrays to float32) and documents the functions.
 //!
 //! * The library works on a thread of its own, in this process's thread
-//!   pool, without the GIL; the calling thread waits for it and checks for
+//!   pool, without the GIL (every call that does work: [`cancellable`]); the calling thread waits for it and checks for
 //!   signals every [`POLL`], so that Ctrl-C (KeyboardInterrupt) cancels any
 //!   stage in well under half a second ([`cancellable`]).
 //! * The thread pool is this process's own: a child made by `fork` (which
@@ -440,11 +440,10 @@ fn plan_py(
         .as_ref()
         .map(|a| encoded_png(a, "image"))
         .transpose()?;
-    py.detach(|| {
+    cancellable(py, None, |_| {
         let picture = decoded(&job, image.as_deref(), encoded.as_deref())?;
         job.plan(picture.picture())?.plan.to_json()
     })
-    .map_err(|e| py_err(&e))
 }
 
 /// The settings of the job file at `path` (`pixelpie stipple
@@ -690,16 +689,13 @@ impl Drawing {
                 "format must be svg, png, csv or json, not {format:?}"
             ))
         })?;
-        let bytes = py
-            .detach(|| self.job.encode(&self.drawing, format))
-            .map_err(|e| py_err(&e))?;
+        let bytes = cancellable(py, None, |_| self.job.encode(&self.drawing, format))?;
         Ok(PyBytes::new(py, &bytes))
     }
 
     /// Writes the drawing to `path` as its extension says, atomically.
     fn save(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
-        py.detach(|| self.job.write(&self.drawing, &path))
-            .map_err(|e| py_err(&e))
+        cancellable(py, None, |_| self.job.write(&self.drawing, &path))
     }
 
     /// Domain pixels to mm on the page, (scale, x offset, y offset), and
@@ -723,9 +719,7 @@ impl Drawing {
         &self,
         py: Python<'py>,
     ) -> PyResult<Vec<(String, String, f64, Vec<Bound<'py, PyAny>>)>> {
-        let layers = py
-            .detach(|| self.job.pen_paths(&self.drawing))
-            .map_err(|e| py_err(&e))?;
+        let layers = cancellable(py, None, |_| self.job.pen_paths(&self.drawing))?;
         layers
             .into_iter()
             .map(|l| {
@@ -804,15 +798,14 @@ fn analyze_py<'py>(
         height,
         periodic,
     };
-    let report = py.detach(|| {
+    let report = cancellable(py, None, |_| {
         let cover = match (radius, &radii) {
             (Some(r), _) => Some(CoverRadius::Uniform(r)),
             (None, Some(r)) => Some(CoverRadius::PerPoint(r)),
             (None, None) => None,
         };
-        pixelpie::analyze::report(&xy, domain, cover)
-    });
-    let report = report.map_err(|e| py_err(&e.into()))?;
+        Ok(pixelpie::analyze::report(&xy, domain, cover)?)
+    })?;
     to_python(py, &report)
 }
 

@@ -29,9 +29,14 @@ ASSETS = ROOT / "assets"
 
 
 def _work(seed: int) -> bytes:
+    """Every call that works on the library's threads."""
     pts, _ = pixelpie.sample(300, 300, radius=3.0, seed=seed)
-    dots = pixelpie.stipple(ASSETS / "default.png", points=1500, seed=seed).dots
-    return pts.tobytes() + dots.tobytes()
+    d = pixelpie.stipple(ASSETS / "default.png", points=1500, seed=seed, paper="a6", pen_mm=0.3)
+    plan = pixelpie.plan(ASSETS / "default.png", points=1500)
+    count = pixelpie.analyze(pts, 300, 300)["count"]
+    paths = sum(len(p) for layer in d.paths() for p in layer.paths)
+    said = f"{plan['line']} {count} {paths}".encode()
+    return pts.tobytes() + d.dots.tobytes() + d.svg() + d.png() + said
 
 
 @pytest.mark.parametrize("method", ["fork", "forkserver", "spawn"])
@@ -53,8 +58,7 @@ def test_a_raw_fork_child_samples_and_stipples():
     pid = os.fork()
     if pid == 0:  # the child: exit 0 only when both calls return
         try:
-            pixelpie.sample(200, 200, radius=3.0)
-            pixelpie.stipple(ASSETS / "default.png", points=500)
+            _work(1)
             os._exit(0)
         except BaseException:
             os._exit(1)
