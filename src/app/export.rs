@@ -50,7 +50,7 @@ impl PixelPieApp {
             ui.selectable_value(&mut job.order, Order::None, "As sampled")
                 .on_hover_text("The sampler's order");
             ui.selectable_value(&mut job.order, Order::Tsp, "Plotter (TSP)")
-                .on_hover_text("A short pen path (nearest neighbour and 2-opt), as --order tsp");
+                .on_hover_text("A short pen path (a Hilbert curve and 2-opt), as --order tsp");
         });
         ui.horizontal(|ui| {
             // The paper and a width exclude each other: with paper, the

@@ -261,14 +261,14 @@ fn draw(a: &StippleArgs, o: &Job, image: &Path, output: &Path) -> Result<()> {
     if let Some(tour) = &drawing.tour
         && !a.run.quiet
     {
-        let saved = if tour.nearest_neighbour_length > 0.0 {
-            100.0 * (1.0 - tour.length / tour.nearest_neighbour_length)
+        let saved = if tour.start_length > 0.0 {
+            100.0 * (1.0 - tour.length / tour.start_length)
         } else {
             0.0
         };
         eprintln!(
-            "tsp: pen travel {:.0} px (nearest neighbour) -> {:.0} px (2-opt, {} moves, -{saved:.1}%)",
-            tour.nearest_neighbour_length, tour.length, tour.moves,
+            "tsp: pen travel {:.0} px (Hilbert curve) -> {:.0} px (2-opt, {} moves, -{saved:.1}%)",
+            tour.start_length, tour.length, tour.moves,
         );
     }
     o.write(&drawing, output)?;

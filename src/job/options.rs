@@ -131,7 +131,7 @@ pub enum Order {
     /// The sampler's acceptance order.
     #[default]
     None,
-    /// Nearest-neighbour tour improved by 2-opt.
+    /// A Hilbert-curve tour improved by 2-opt.
     Tsp,
 }
 

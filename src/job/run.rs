@@ -229,7 +229,7 @@ impl Job {
         }
         let mut all = tsp::Tour {
             order: Vec::with_capacity(points.len()),
-            nearest_neighbour_length: 0.0,
+            start_length: 0.0,
             length: 0.0,
             moves: 0,
         };
@@ -243,7 +243,7 @@ impl Job {
             let base = ordered.len();
             ordered.extend(t.order.iter().map(|&i| pen_points[i]));
             all.order.extend(t.order.iter().map(|&i| base + i));
-            all.nearest_neighbour_length += t.nearest_neighbour_length;
+            all.start_length += t.start_length;
             all.length += t.length;
             all.moves += t.moves;
         }
