@@ -104,14 +104,18 @@ pub fn plan_until(points: &[[f64; 2]], opts: TspOptions, stop: &mut dyn FnMut() 
             moves: 0,
         };
     }
-    let neighbours = nearest_lists(points, opts.neighbours, stop);
-    let mut opt = TwoOpt::new(points, &start, opts.max_reversal.max(1));
+    // The work on the points renumbered along the curve: neighbours in
+    // space are neighbours in memory (the tree, the lists and the tour).
+    let sorted: Vec<[f64; 2]> = start.iter().map(|&i| points[i]).collect();
+    let neighbours = nearest_lists(&sorted, opts.neighbours, stop);
+    let along: Vec<usize> = (0..n).collect();
+    let mut opt = TwoOpt::new(&sorted, &along, opts.max_reversal.max(1));
     let moves = if neighbours.len() == n {
         opt.run(&neighbours, stop)
     } else {
         0
     };
-    let mut order = opt.open_path();
+    let mut order: Vec<usize> = opt.open_path().into_iter().map(|s| start[s]).collect();
     let home = [0.0, 0.0];
     if let (Some(&first), Some(&last)) = (order.first(), order.last())
         && dist(points[last], home) < dist(points[first], home)
@@ -133,8 +137,9 @@ const LISTS_AT_ONCE: usize = 1 << 16;
 
 /// Each point's `k` nearest other points, nearest first (kiddo's k-d tree,
 /// in parallel: on a photo's dots, dense in the dark and sparse in the
-/// light, a uniform grid's cells hold tens of points where it is dark).
-/// Fewer lists than points when `stop` says so.
+/// light, a uniform grid's cells hold tens of points where it is dark),
+/// queried in the points' order (along the curve, so neighbouring queries
+/// walk the same branches). No lists when `stop` says so.
 fn nearest_lists(points: &[[f64; 2]], k: usize, stop: &mut dyn FnMut() -> bool) -> Vec<Vec<u32>> {
     use rayon::prelude::*;
     let tree: kiddo::ImmutableKdTree<f64, 2> = kiddo::ImmutableKdTree::new_from_slice(points);
@@ -142,12 +147,12 @@ fn nearest_lists(points: &[[f64; 2]], k: usize, stop: &mut dyn FnMut() -> bool) 
         return vec![Vec::new(); points.len()];
     };
     let mut lists = Vec::with_capacity(points.len());
-    for start in (0..points.len()).step_by(LISTS_AT_ONCE) {
+    for first in (0..points.len()).step_by(LISTS_AT_ONCE) {
         if stop() {
-            break;
+            return Vec::new();
         }
-        let end = points.len().min(start + LISTS_AT_ONCE);
-        lists.par_extend((start..end).into_par_iter().map(|i| {
+        let end = points.len().min(first + LISTS_AT_ONCE);
+        lists.par_extend((first..end).into_par_iter().map(|i| {
             tree.nearest_n::<kiddo::SquaredEuclidean>(&points[i], asked)
                 .into_iter()
                 .map(|n| n.item as u32)
