@@ -140,16 +140,19 @@ pub fn relax_points(
     };
     let own = (first.map.width(), first.map.height());
     let weights: Vec<f32> = if let ([prepared], true) = (maps, first.domain() == own) {
+        use rayon::prelude::*;
+        // One parallel pass: each pixel's radius (as the map's `radii`
+        // gives it) and its weight.
+        let radius = crate::importance::ImportanceMap::radius_fn(prepared.mapping, range);
         prepared
             .map
-            .radii(prepared.mapping, range)
-            .iter()
-            .zip(prepared.map.values())
-            .map(|(&r, &v)| {
+            .values()
+            .par_iter()
+            .map(|&v| {
                 if prepared.cutoff.is_some_and(|c| v > c) {
                     0.0
                 } else {
-                    (1.0 / f64::from(r).powi(4)) as f32
+                    (1.0 / f64::from(radius(v)).powi(4)) as f32
                 }
             })
             .collect()
