@@ -39,55 +39,72 @@ pub fn grouped(n: usize) -> String {
 
 /// serde's "invalid type: FOUND, expected EXPECTED" (or "invalid value")
 /// for the setting `name`, in a user's words: "relax must be a whole
-/// number, not the text \"tsp\"". Other messages come back as they are,
-/// after `name: `.
+/// number, at least 0, not the text \"tsp\"". Other messages come back as
+/// they are, after `name: `.
 #[must_use]
 pub fn setting_error(name: &str, message: &str) -> String {
     let message = message.trim();
     if let Some(rest) = message.strip_prefix("unknown variant `")
-        && let Some((given, expected)) = rest.split_once("`, expected ")
+        && let Some((given, _)) = rest.split_once("`, expected ")
+        && let Some(names) = choices(message)
     {
-        let expected = expected.split(" at line ").next().unwrap_or(expected);
-        let names: Vec<&str> = expected
-            .trim_start_matches("one of ")
-            .split([',', ' '])
-            .filter(|w| w.starts_with('`'))
-            .map(|w| w.trim_matches('`'))
-            .collect();
         return format!(
             "{name} must be one of {}, not \"{given}\"",
             names.join(", ")
         );
     }
-    let parsed = ["invalid type: ", "invalid value: "]
-        .iter()
-        .find_map(|p| message.strip_prefix(p))
-        .and_then(|rest| rest.split_once(", expected "));
-    let Some((found, expected)) = parsed else {
+    let (Some(found), Some(expected)) = (found(message), expected(message)) else {
         return if message.starts_with(&format!("{name}:")) {
             message.to_owned()
         } else {
             format!("{name}: {message}")
         };
     };
-    // serde may add " at line L column C" (TOML, JSON text).
-    let expected = expected
-        .split(" at line ")
-        .next()
-        .unwrap_or(expected)
-        .trim_end_matches('.');
-    let expected = match expected {
-        "u8" | "u16" | "u32" | "u64" | "usize" => "a whole number, at least 0",
-        "i8" | "i16" | "i32" | "i64" | "isize" | "integer" => "a whole number",
-        "f32" | "f64" => "a number",
-        "a boolean" | "bool" => "true or false",
-        "a string" | "a borrowed string" | "char" => "text",
-        "a sequence" => "a list",
-        "string or map" => "text: one of its names",
-        other => other,
-    };
+    format!("{name} must be {expected}, not {found}")
+}
+
+/// The names serde's "unknown variant `x`, expected `a` or `b`" (or "one
+/// of `a`, `b`, …") accepts.
+#[must_use]
+pub fn choices(message: &str) -> Option<Vec<String>> {
+    let rest = message.trim().strip_prefix("unknown variant `")?;
+    let (_, expected) = rest.split_once("`, expected ")?;
+    let expected = expected.split(" at line ").next().unwrap_or(expected);
+    let names: Vec<String> = expected
+        .trim_start_matches("one of ")
+        .split([',', ' '])
+        .filter(|w| w.starts_with('`'))
+        .map(|w| w.trim_matches('`').to_owned())
+        .collect();
+    (!names.is_empty()).then_some(names)
+}
+
+/// What serde's "invalid type: …, expected X" (or "invalid value") says
+/// is accepted, in a user's words.
+#[must_use]
+pub fn expected(message: &str) -> Option<String> {
+    let (_, expected) = type_parts(message)?;
+    Some(
+        match expected {
+            "u8" | "u16" | "u32" | "u64" | "usize" => "a whole number, at least 0",
+            "i8" | "i16" | "i32" | "i64" | "isize" | "integer" => "a whole number",
+            "f32" | "f64" => "a number",
+            "a boolean" | "bool" => "true or false",
+            "a string" | "a borrowed string" | "char" => "text",
+            "a sequence" => "a list",
+            "string or map" | "string only" => "text: one of its names",
+            other => other,
+        }
+        .to_owned(),
+    )
+}
+
+/// What serde's "invalid type: FOUND, expected …" says was given, in a
+/// user's words.
+fn found(message: &str) -> Option<String> {
+    let (found, _) = type_parts(message)?;
     let tick = |s: &str| s.trim_matches('`').to_owned();
-    let found = if let Some(v) = found.strip_prefix("string ") {
+    Some(if let Some(v) = found.strip_prefix("string ") {
         format!("the text {v}")
     } else if let Some(v) = found
         .strip_prefix("floating point ")
@@ -102,8 +119,23 @@ pub fn setting_error(name: &str, message: &str) -> String {
             "map" => "a table".into(),
             other => other.into(),
         }
-    };
-    format!("{name} must be {expected}, not {found}")
+    })
+}
+
+/// serde's "invalid type: FOUND, expected EXPECTED" (or "invalid value"),
+/// split; serde's " at line L column C" left out.
+fn type_parts(message: &str) -> Option<(&str, &str)> {
+    let message = message.trim();
+    let (found, expected) = ["invalid type: ", "invalid value: "]
+        .iter()
+        .find_map(|p| message.strip_prefix(p))?
+        .split_once(", expected ")?;
+    let expected = expected
+        .split(" at line ")
+        .next()
+        .unwrap_or(expected)
+        .trim_end_matches('.');
+    Some((found, expected))
 }
 
 #[cfg(test)]

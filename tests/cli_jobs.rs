@@ -376,3 +376,60 @@ fn a_png_of_dots_under_a_pixel_warns_with_a_count() {
     ]);
     assert!(!String::from_utf8_lossy(&r.stderr).contains("warning"));
 }
+
+#[test]
+fn every_key_given_a_wrong_type_is_named_with_its_value_and_what_it_takes() {
+    use pixelpie::job::Job;
+    use pixelpie::job::file::KEYS;
+    // For each key, the first of these values its form refuses.
+    let wrong = [
+        toml::Value::String("zz".into()),
+        toml::Value::Float(1.5),
+        toml::Value::Boolean(true),
+        toml::Value::Array(vec![toml::Value::Integer(1)]),
+        toml::Value::Integer(-7),
+    ];
+    let mut named = 0;
+    for &key in KEYS {
+        let refused = wrong.iter().find_map(|v| {
+            let table = toml::Table::from_iter([(key.to_owned(), v.clone())]);
+            Job::from_table(table).err().map(|e| (v, e.to_string()))
+        });
+        let Some((value, message)) = refused else {
+            continue;
+        };
+        let given = value.to_string();
+        assert!(
+            message.starts_with(&format!("{key} = {given}: ")),
+            "{key} = {given}: {message}"
+        );
+        assert!(
+            !message.contains("invalid type") && !message.contains("variant"),
+            "{message}"
+        );
+        named += 1;
+    }
+    assert!(named >= 30, "only {named} keys refused a wrong type");
+    // Through the command line: one line, the file first, then the key.
+    let dir = tempfile::tempdir().unwrap();
+    let job = dir.path().join("j.toml");
+    std::fs::write(&job, "pixelpie = \"0.1.0\"\nrelax = \"tsp\"\n").unwrap();
+    let out = dir.path().join("x.svg");
+    let r = pixelpie(&[
+        "stipple",
+        &asset("default.png"),
+        "--job",
+        s(&job),
+        "-o",
+        s(&out),
+    ]);
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert!(!r.status.success() && !out.exists());
+    assert_eq!(
+        err.trim(),
+        format!(
+            "error: {}: relax = \"tsp\": expected a whole number, at least 0",
+            job.display()
+        )
+    );
+}

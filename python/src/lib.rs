@@ -44,6 +44,7 @@ fn py_err(e: &pixelpie::Error) -> PyErr {
         E::Sampler(e) if e.is_backend() => PyRuntimeError::new_err(text),
         E::Importance(importance::Error::InvalidParameter(_))
         | E::Stipple(pixelpie::stipple::Error::InvalidParameter(_))
+        | E::Stipple(pixelpie::stipple::Error::Setting(_))
         | E::Io(pixelpie::io::Error::Invalid(_))
         | E::Sampler(_)
         | E::Pens(_)

@@ -104,9 +104,9 @@ impl Job {
     /// The job of a table of settings ([`KEYS`]), every other setting at
     /// its default, checked.
     pub fn from_table(table: toml::Table) -> crate::Result<Self> {
-        let job: Self = toml::Value::Table(table)
+        let job: Self = toml::Value::Table(table.clone())
             .try_into()
-            .map_err(|e: toml::de::Error| bad(format!("job file: {}", e.message())))?;
+            .map_err(|e: toml::de::Error| Error::Setting(setting_problem(&table, &e)))?;
         job.check()?;
         Ok(job)
     }
@@ -155,8 +155,8 @@ impl JobFile {
     /// ([`KEYS`]) by name, and a warning when another version wrote it.
     pub fn read(path: &Path) -> crate::Result<Self> {
         let text = std::fs::read_to_string(path)
-            .map_err(|e| bad(format!("cannot read job file {}: {e}", path.display())))?;
-        Self::parse(&text).map_err(|e| bad(format!("{}: {e}", path.display())).into())
+            .map_err(|e| Error::Setting(format!("{}: cannot read it: {e}", path.display())))?;
+        Self::parse(&text).map_err(|e| Error::Setting(format!("{}: {e}", path.display())).into())
     }
 
     /// [`Self::read`] of a file's text.
@@ -243,6 +243,38 @@ fn distance(a: &str, b: &str) -> usize {
 
 fn bad(message: String) -> Error {
     Error::InvalidParameter(message)
+}
+
+/// What is wrong with a job file's `table`, which the job's form refused
+/// with `error`: the first key that fails on its own, as "key = value:
+/// what is accepted" ([`describe`]); serde's message when none does alone.
+fn setting_problem(table: &toml::Table, error: &toml::de::Error) -> String {
+    let alone = |key: &str, value: toml::Value| {
+        let one = toml::Table::from_iter([(key.to_owned(), value)]);
+        toml::Value::Table(one).try_into::<Job>().err()
+    };
+    table
+        .iter()
+        .find_map(|(key, value)| {
+            let e = alone(key, value.clone())?;
+            // The choices of a key that takes names, when it has them.
+            let probe = alone(key, toml::Value::String("\u{1}".into()));
+            let choices = probe.and_then(|p| crate::text::choices(p.message()));
+            Some(describe(key, value, e.message(), choices))
+        })
+        .unwrap_or_else(|| format!("job file: {}", error.message().trim()))
+}
+
+/// "key = value: expected …" of serde's `message` about `value` (the
+/// names accepted when `choices` has them).
+fn describe(key: &str, value: &toml::Value, message: &str, choices: Option<Vec<String>>) -> String {
+    let given = crate::text::single_line(&value.to_string());
+    let wanted = match (choices, crate::text::expected(message)) {
+        (Some(names), _) => format!("expected one of {}", names.join(", ")),
+        (None, Some(expected)) => format!("expected {expected}"),
+        (None, None) => crate::text::single_line(message.trim()),
+    };
+    format!("{key} = {given}: {wanted}")
 }
 
 #[cfg(test)]

@@ -26,6 +26,11 @@ pub enum Error {
     /// A parameter out of range.
     #[error("invalid parameter: {0}")]
     InvalidParameter(String),
+    /// A setting of a job file, or the file itself, that cannot be used:
+    /// the message names the file or the key, the value and what is
+    /// accepted ("relax = \"tsp\": expected a whole number, at least 0").
+    #[error("{0}")]
+    Setting(String),
     /// Writing the output failed.
     #[error(transparent)]
     Io(#[from] std::io::Error),
