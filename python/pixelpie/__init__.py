@@ -80,6 +80,23 @@ def _readable(path: str) -> str:
     return path
 
 
+def _max_memory(value: Any) -> Optional[int]:
+    """The ``max_memory`` keyword in bytes: a number of bytes or a size
+    such as ``"8G"``; ``None`` keeps the default (4 GB, or half the
+    machine's memory when less)."""
+    if value is None:
+        return None
+    if isinstance(value, str):
+        return int(_pixelpie.parse_size(value))
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise TypeError(
+            f"max_memory must be a number of bytes or a size such as '8G', not {type(value).__name__}"
+        )
+    if value < 1:
+        raise ValueError(f"max_memory {value} must be at least one byte")
+    return int(value)
+
+
 def _path(p: Optional[PathLike]) -> Optional[str]:
     return None if p is None else os.fsdecode(p)
 
@@ -120,6 +137,7 @@ def sample(
     importance: Any = None,
     backend: str = "auto",
     progress: Optional[Progress] = None,
+    max_memory: Union[int, str, None] = None,
     **options: Any,
 ) -> Tuple[np.ndarray, Dict[str, Any]]:
     """Samples a maximal Poisson-disk set on a ``width`` x ``height`` domain,
@@ -187,7 +205,13 @@ def sample(
         else:
             values = _grey_values(importance, "importance")
     points, stats, said = _pixelpie.sample(
-        json.dumps(_finite(given), default=_option), rmap, values, pixels, backend, progress
+        json.dumps(_finite(given), default=_option),
+        rmap,
+        values,
+        pixels,
+        backend,
+        progress,
+        _max_memory(max_memory),
     )
     _warn(said)
     return points, stats
@@ -374,6 +398,7 @@ def stipple(
     progress: Optional[Progress] = None,
     svg: bool = False,
     job: Optional[PathLike] = None,
+    max_memory: Union[int, str, None] = None,
     **options: Any,
 ) -> Any:
     """Draws ``image`` as stipples, as ``pixelpie stipple`` does.
@@ -429,6 +454,11 @@ def stipple(
     ``job`` is a job file (``pixelpie stipple --save-job``, the app's
     presets): its settings, with ``options`` over them, as ``--job`` takes
     it; a file from another version warns (``UserWarning``).
+
+    ``max_memory`` (bytes, or ``"8G"``) is the memory a picture may take,
+    as ``--max-memory``: a picture whose drawing would need more, said
+    from its header, raises ``MemoryError`` before it is decoded (default
+    4 GB, or half the machine's memory when less).
     """
     given, job_file = _job(options, job)
     pixels = _picture(image)
@@ -440,6 +470,7 @@ def stipple(
         job_file,
         backend,
         progress,
+        _max_memory(max_memory),
     )
     _warn(native.warnings())
     drawing = Drawing(native)
@@ -468,7 +499,13 @@ def _job(options: Dict[str, Any], job: Optional[PathLike]) -> Tuple[str, Optiona
     return json.dumps(_finite(given), default=_option), job_file
 
 
-def plan(image: Any, *, job: Optional[PathLike] = None, **options: Any) -> Dict[str, Any]:
+def plan(
+    image: Any,
+    *,
+    job: Optional[PathLike] = None,
+    max_memory: Union[int, str, None] = None,
+    **options: Any,
+) -> Dict[str, Any]:
     """The plan of the drawing :func:`stipple` would make of ``image`` with
     these ``options`` (and ``job`` file), as ``pixelpie stipple --plan``
     prints it: every decision made once (``domain``, ``points``, ``dots``,
@@ -483,6 +520,7 @@ def plan(image: Any, *, job: Optional[PathLike] = None, **options: Any) -> Dict[
             pixels,
             given,
             job_file,
+            _max_memory(max_memory),
         )
     )
 

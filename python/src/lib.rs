@@ -22,13 +22,15 @@ use std::time::Duration;
 use numpy::{
     PyArray1, PyArrayMethods, PyReadonlyArray2, PyReadonlyArrayDyn, PyUntypedArrayMethods,
 };
-use pyo3::exceptions::{PyKeyboardInterrupt, PyOSError, PyRuntimeError, PyTypeError, PyValueError};
+use pyo3::exceptions::{
+    PyKeyboardInterrupt, PyMemoryError, PyOSError, PyRuntimeError, PyTypeError, PyValueError,
+};
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 
 use pixelpie::analyze::{CoverRadius, Domain};
 use pixelpie::backend::{self, BackendChoice};
-use pixelpie::importance::{self, ImportanceMap, Tones};
+use pixelpie::importance::{self, ImportanceMap, Tones, budget};
 use pixelpie::job::{Decoded, Format, Job, Radii, SampleJob, Stipple};
 use pixelpie::sampler::{self, Control, Progress};
 
@@ -41,6 +43,7 @@ fn py_err(e: &pixelpie::Error) -> PyErr {
     }
     match e {
         E::Sampler(sampler::Error::Cancelled) => PyKeyboardInterrupt::new_err(text),
+        E::Importance(importance::Error::TooLarge { .. }) => PyMemoryError::new_err(text),
         E::Sampler(e) if e.is_backend() => PyRuntimeError::new_err(text),
         E::Importance(importance::Error::InvalidParameter(_))
         | E::Stipple(pixelpie::stipple::Error::InvalidParameter(_))
@@ -245,7 +248,11 @@ fn grid(a: &PyReadonlyArray2<'_, f32>, what: &str) -> PyResult<(u32, u32, Vec<f3
 /// is: [`encoded_png`]) takes the place of a file. Returns the points, the
 /// statistics (with the count `target`) and the warnings.
 #[pyfunction]
-#[pyo3(signature = (options, radius_map, importance_values, importance_pixels, backend_name, progress))]
+#[pyo3(signature = (options, radius_map, importance_values, importance_pixels, backend_name, progress, max_memory))]
+#[expect(
+    clippy::too_many_arguments,
+    reason = "the Python function's arguments, one by one"
+)]
 fn sample<'py>(
     py: Python<'py>,
     options: &str,
@@ -254,6 +261,7 @@ fn sample<'py>(
     importance_pixels: Option<PyReadonlyArrayDyn<'py, u16>>,
     backend_name: &str,
     progress: Option<Py<PyAny>>,
+    max_memory: Option<u64>,
 ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>, Vec<String>)> {
     let mut job: SampleJob = from_options(options, "sample", &sample_options()?)?;
     let choice: BackendChoice = named(backend_name, "backend")?;
@@ -284,16 +292,16 @@ fn sample<'py>(
         Radii::Picture(ImportanceMap::from_values(w, h, values).map_err(|e| py_err(&e.into()))?)
     } else if let Some(a) = &importance_pixels {
         let bytes = encoded_png(a, "importance")?;
+        let hdr = job.importance_options.hdr_white;
         Radii::Picture(
-            ImportanceMap::from_encoded(
-                &bytes,
-                Path::new("<importance>"),
-                job.importance_options.hdr_white,
-            )
+            budget::within(max_memory, || {
+                ImportanceMap::from_encoded(&bytes, Path::new("<importance>"), hdr)
+            })
             .map_err(|e| py_err(&e.into()))?,
         )
     } else {
-        job.radii().map_err(|e| py_err(&e))?
+        let job = &job;
+        cancellable(py, None, |_| budget::within(max_memory, || job.radii()))?
     };
     job.check(&radii).map_err(|e| py_err(&e.into()))?;
     let cap = job.max_iterations;
@@ -428,13 +436,14 @@ fn decoded(
 
 /// The native `plan`; see `pixelpie.plan`: the drawing's plan as JSON.
 #[pyfunction(name = "plan")]
-#[pyo3(signature = (image, pixels, options, job_file))]
+#[pyo3(signature = (image, pixels, options, job_file, max_memory))]
 fn plan_py(
     py: Python<'_>,
     image: Option<PathBuf>,
     pixels: Option<PyReadonlyArrayDyn<'_, u16>>,
     options: &str,
     job_file: Option<PathBuf>,
+    max_memory: Option<u64>,
 ) -> PyResult<String> {
     let job = job_from(options, job_file.as_deref())?;
     let encoded = pixels
@@ -442,7 +451,9 @@ fn plan_py(
         .map(|a| encoded_png(a, "image"))
         .transpose()?;
     cancellable(py, None, |_| {
-        let picture = decoded(&job, image.as_deref(), encoded.as_deref())?;
+        let picture = budget::within(max_memory, || {
+            decoded(&job, image.as_deref(), encoded.as_deref())
+        })?;
         job.plan(picture.picture())?.plan.to_json()
     })
 }
@@ -541,7 +552,7 @@ fn encoded_png(a: &PyReadonlyArrayDyn<'_, u16>, what: &str) -> PyResult<Vec<u8>>
 /// (`image`) or an array (`pixels`). Writes `output` when given (nothing
 /// when interrupted), and returns the drawing.
 #[pyfunction(name = "stipple")]
-#[pyo3(signature = (image, pixels, output, options, job_file, backend_name, progress))]
+#[pyo3(signature = (image, pixels, output, options, job_file, backend_name, progress, max_memory))]
 #[expect(
     clippy::too_many_arguments,
     reason = "the Python function's arguments, one by one"
@@ -555,6 +566,7 @@ fn stipple_py(
     job_file: Option<PathBuf>,
     backend_name: &str,
     progress: Option<Py<PyAny>>,
+    max_memory: Option<u64>,
 ) -> PyResult<Drawing> {
     let job = job_from(options, job_file.as_deref())?;
     let choice: BackendChoice = named(backend_name, "backend")?;
@@ -574,7 +586,9 @@ fn stipple_py(
         let sample = |params: &pixelpie::sampler::Params| {
             Ok(backend::sample(params, choice, ctl, &mut |_| {})?)
         };
-        let picture = decoded(&job, image.as_deref(), encoded.as_deref())?;
+        let picture = budget::within(max_memory, || {
+            decoded(&job, image.as_deref(), encoded.as_deref())
+        })?;
         let drawing = job.draw(picture.picture(), sample, |_| ctl.check().is_ok())?;
         ctl.check()?;
         if let (Some(out), Some(format)) = (&output, format) {
@@ -810,6 +824,12 @@ fn analyze_py<'py>(
     to_python(py, &report)
 }
 
+/// A size in bytes from "4G", "512M" or a number of bytes (`max_memory=`).
+#[pyfunction]
+fn parse_size(text: &str) -> PyResult<u64> {
+    budget::parse_size(text).map_err(|e| bad(format!("max_memory: {e}")))
+}
+
 /// The native module. NumPy's C API is loaded here, at import: loaded
 /// lazily by the first array, an interrupt arriving then would become a
 /// panic.
@@ -824,6 +844,7 @@ fn _pixelpie(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(read_job, m)?)?;
     m.add_function(wrap_pyfunction!(sample_defaults, m)?)?;
     m.add_function(wrap_pyfunction!(analyze_py, m)?)?;
+    m.add_function(wrap_pyfunction!(parse_size, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -119,27 +119,23 @@ def _assert_prompt(said):
     assert said["exists"] == "False" and said["strays"] == "[]", said
 
 
+def test_ctrl_c_raises_keyboard_interrupt_within_half_a_second_and_leaves_no_file(tmp_path):
+    # 0.3 s into the first stipple of a fresh process: its sampling.
+    _assert_prompt(_interrupted(tmp_path, 0.3, dict(points=1_000_000)))
+
+
 @pytest.mark.parametrize(
-    "delay,options",
+    "stage,options",
     [
-        # 0.3 s in: the first stipple of a fresh process, in its sampling.
-        (0.3, dict(points=1_000_000)),
-        # Later: in the 2-opt tour of a million dots (several seconds long).
-        (2.5, dict(points=1_000_000, order="tsp")),
+        ("order", dict(points=1_000_000, order="tsp")),
+        ("relax", dict(points=200_000)),
+        ("size", dict(points=200_000)),
     ],
 )
-def test_ctrl_c_raises_keyboard_interrupt_within_half_a_second_and_leaves_no_file(
-    tmp_path, delay, options
-):
-    _assert_prompt(_interrupted(tmp_path, delay, options))
-
-
-@pytest.mark.parametrize("stage", ["relax", "size"])
-def test_ctrl_c_stops_the_relaxation_and_the_correction_too(tmp_path, stage):
-    # Where each stage lies in time, from an uninterrupted run (the fresh
+def test_ctrl_c_stops_the_tour_the_relaxation_and_the_correction_too(tmp_path, stage, options):
+    # Where the stage lies in time, from an uninterrupted run (the fresh
     # process adds its imports, about as long as this process's warm call
     # saves), and the interrupt in its middle.
-    options = dict(points=200_000)
     d = pixelpie.stipple(ASSETS / "astronaut.jpg", **options)
     names = list(d.stages)
     assert d.stages[stage] > 0.1, d.stages
@@ -449,3 +445,51 @@ def test_mypy_strict_accepts_every_documented_call_with_no_any(tmp_path):
         capture_output=True, text=True, cwd=tmp_path,
     )
     assert run.returncode == 0, run.stdout + run.stderr
+
+
+# --- the memory budget ---------------------------------------------------------
+
+
+def _png_bomb(path: Path, w: int, h: int) -> None:
+    """A grey PNG of one value: its rows compress to almost nothing."""
+    import struct
+    import zlib
+
+    row = b"\x00" + b"\x80" * w
+    z = zlib.compressobj(1)
+    data = b"".join(z.compress(row) for _ in range(h)) + z.flush()
+
+    def chunk(kind: bytes, body: bytes) -> bytes:
+        crc = zlib.crc32(kind + body) & 0xFFFFFFFF
+        return struct.pack(">I", len(body)) + kind + body + struct.pack(">I", crc)
+
+    header = struct.pack(">IIBBBBB", w, h, 8, 0, 0, 0, 0)
+    path.write_bytes(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"IDAT", data)
+                     + chunk(b"IEND", b""))
+
+
+def test_a_picture_over_the_memory_budget_raises_memory_error_at_once(tmp_path):
+    bomb = tmp_path / "bomb.png"
+    _png_bomb(bomb, 20_000, 20_000)  # 400 Mpx: about 8 GB to draw
+    out = tmp_path / "x.svg"
+    for call in [
+        lambda: pixelpie.stipple(bomb, out),
+        lambda: pixelpie.plan(bomb),
+        lambda: pixelpie.sample(importance=bomb, points=1000),
+    ]:
+        start = time.monotonic()
+        with pytest.raises(MemoryError, match=r"20000×20000 \(400 Mpx\).*allowed"):
+            call()
+        assert time.monotonic() - start < 2
+    assert not out.exists()
+    # A call's own budget: a small picture refused under a small one, in
+    # every picture form, and drawn under a larger one.
+    grey = np.zeros((1500, 2000), dtype=np.uint8)
+    for form in [grey, Image.fromarray(grey)]:
+        with pytest.raises(MemoryError, match="2000×1500"):
+            pixelpie.stipple(form, points=300, max_memory="50M")
+    assert pixelpie.stipple(grey, points=300, max_memory=100 << 20).reached > 0
+    with pytest.raises(ValueError, match="not a size"):
+        pixelpie.stipple(grey, max_memory="lots")
+    with pytest.raises(TypeError, match="max_memory"):
+        pixelpie.stipple(grey, max_memory=1.5)

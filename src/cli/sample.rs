@@ -49,6 +49,11 @@ pub struct RunArgs {
     /// Print the backend, adapter, radii and timings on stderr.
     #[arg(long, short)]
     pub verbose: bool,
+    /// The memory a picture may take (4G, 512M, …): a picture whose
+    /// drawing would need more, said from its header, is refused before
+    /// it is decoded [default: 4G, or half the machine's memory when less]
+    #[arg(long, value_name = "SIZE", value_parser = pixelpie::importance::budget::parse_size)]
+    pub max_memory: Option<u64>,
 }
 
 impl RunArgs {
@@ -152,6 +157,7 @@ pub fn run_with_progress(
 }
 
 pub fn run(a: &SampleArgs) -> Result<()> {
+    pixelpie::importance::budget::set_max_memory(a.run.max_memory);
     io::PointFormat::from_path(&a.output)?;
     if let Some(s) = &a.stats {
         check_json_path(s)?;

@@ -99,6 +99,7 @@ fn is_folder(path: &Path) -> bool {
 }
 
 pub fn run(a: &StippleArgs, matches: Option<&clap::ArgMatches>) -> Result<()> {
+    pixelpie::importance::budget::set_max_memory(a.run.max_memory);
     let o = job(a, matches)?;
     let batch = a.images.len() > 1 || is_folder(&a.output);
     let format = match (batch, a.format) {

@@ -9,7 +9,7 @@
 
 use std::path::Path;
 
-use super::{Error, ImportanceMap, Range, Result, load};
+use super::{Error, ImportanceMap, Range, Result};
 use crate::colour::Separation;
 
 /// A colour picture: linear RGB in [0, 1] per pixel, row-major.
@@ -42,7 +42,7 @@ impl ColourMap {
     pub fn open(path: &Path, hdr_white: Option<f32>) -> Result<Self> {
         // The grey loader checks the file (empty, damaged, NaN) and finds
         // the white point; the colours are decoded next to it.
-        let lum = load(path)?;
+        let lum = super::load::load_within(path, super::budget::COLOUR_BYTES_PER_PIXEL)?;
         let exr = path
             .extension()
             .and_then(|e| e.to_str())
@@ -58,7 +58,8 @@ impl ColourMap {
     /// [`Self::open`] of an image file held in memory (PNG, JPEG, TIFF, BMP,
     /// WebP); `name` names it in errors.
     pub fn from_encoded(bytes: &[u8], name: &Path, hdr_white: Option<f32>) -> Result<Self> {
-        let lum = super::load::load_bytes(bytes, name)?;
+        let lum =
+            super::load::load_bytes_within(bytes, name, super::budget::COLOUR_BYTES_PER_PIXEL)?;
         let img = image::ImageReader::new(std::io::Cursor::new(bytes))
             .with_guessed_format()
             .ok()

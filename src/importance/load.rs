@@ -44,6 +44,12 @@ pub struct Luminance {
 /// assert!(lum.values.iter().all(|&y| (0.0..=1.0).contains(&y)));
 /// ```
 pub fn load(path: &Path) -> Result<Luminance> {
+    load_within(path, super::budget::GREY_BYTES_PER_PIXEL)
+}
+
+/// [`load`], refusing from its header a picture that would need more than
+/// the memory budget at `per_pixel` bytes a pixel ([`super::budget`]).
+pub(crate) fn load_within(path: &Path, per_pixel: u64) -> Result<Luminance> {
     let io = |error| Error::Io {
         path: path.to_owned(),
         error,
@@ -64,7 +70,11 @@ pub fn load(path: &Path) -> Result<Luminance> {
         .extension()
         .and_then(|e| e.to_str())
         .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
-    let lum = if magic == EXR_MAGIC || exr_extension {
+    let exr = magic == EXR_MAGIC || exr_extension;
+    if let Some(size) = super::budget::file_size(path, exr) {
+        super::budget::check(path, size, per_pixel)?;
+    }
+    let lum = if exr {
         load_exr(path)?
     } else {
         load_image(path)?
@@ -100,6 +110,14 @@ pub use crate::colour::{linear_to_srgb, srgb_to_linear};
 /// Decodes an image file held in memory (PNG, JPEG, TIFF, BMP, WebP) into
 /// linear luminance, as [`load`] does a file; `name` names it in errors.
 pub fn load_bytes(bytes: &[u8], name: &Path) -> Result<Luminance> {
+    load_bytes_within(bytes, name, super::budget::GREY_BYTES_PER_PIXEL)
+}
+
+/// [`load_bytes`] under the memory budget ([`load_within`]).
+pub(crate) fn load_bytes_within(bytes: &[u8], name: &Path, per_pixel: u64) -> Result<Luminance> {
+    if let Some(size) = super::budget::encoded_size(bytes) {
+        super::budget::check(name, size, per_pixel)?;
+    }
     let decode = |e: &dyn std::fmt::Display| Error::Decode {
         path: name.to_owned(),
         message: crate::text::single_line(&e.to_string()),

@@ -24,6 +24,7 @@
 //!    between r_min and r_max; [`ImportanceMap::keeps`] applies the white
 //!    cutoff (no dots where v is above it).
 
+pub mod budget;
 mod colour;
 mod fit;
 mod frame;
@@ -71,6 +72,15 @@ pub enum Error {
         /// The file.
         path: PathBuf,
         /// The decoder's message.
+        message: String,
+    },
+    /// The picture would take more memory than the budget allows
+    /// ([`budget`]): said from its header, before decoding.
+    #[error("'{}' {message}", path.display())]
+    TooLarge {
+        /// The file.
+        path: PathBuf,
+        /// Its size, what it needs and what is allowed.
         message: String,
     },
     /// The image has no pixels.
