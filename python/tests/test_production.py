@@ -493,3 +493,30 @@ def test_a_picture_over_the_memory_budget_raises_memory_error_at_once(tmp_path):
         pixelpie.stipple(grey, max_memory="lots")
     with pytest.raises(TypeError, match="max_memory"):
         pixelpie.stipple(grey, max_memory=1.5)
+
+
+# --- random keywords -------------------------------------------------------------
+
+
+def test_random_keywords_give_a_drawing_or_a_typed_error():
+    import random
+
+    rnd = random.Random(7)
+    names = sorted(pixelpie.stipple_options())
+    values = [None, True, False, 0, 1, -1, 3, 2.5, -0.5, 1e9, float("nan"), "", "x", "a4",
+              "#ff0000", "cmyk", "tsp", "on", [1, 2], ["#000000"], {"a": 1}, b"x"]
+    picture = np.tile(np.linspace(0, 255, 32, dtype=np.uint8), (24, 1))
+    drew = refused = 0
+    for _ in range(400):
+        options = {n: rnd.choice(values) for n in rnd.sample(names, rnd.randint(1, 3))}
+        options.setdefault("points", rnd.randint(20, 300))
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                d = pixelpie.stipple(picture, **options)
+            assert d.reached >= 0
+            drew += 1
+        except (ValueError, TypeError, FileNotFoundError, MemoryError) as e:
+            assert "\n" not in str(e) and str(e), (options, e)
+            refused += 1
+    assert drew > 5 and refused > 100, (drew, refused)
