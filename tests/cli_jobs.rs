@@ -433,3 +433,22 @@ fn every_key_given_a_wrong_type_is_named_with_its_value_and_what_it_takes() {
         )
     );
 }
+
+#[test]
+fn a_pen_files_wrong_value_is_named_with_its_pen_and_key() {
+    use pixelpie::colour::PenSet;
+    let text = "[[pen]]\nname = \"a\"\ncolour = \"#000000\"\n\n[[pen]]\nname = \"b\"\ncolour = \"#ff0000\"\n";
+    for (line, want) in [
+        (
+            "width_mm = \"x\"",
+            "pens: pen 2: width_mm = \"x\": expected a number",
+        ),
+        (
+            "dot_gain = true",
+            "pens: pen 2: dot_gain = true: expected a number",
+        ),
+    ] {
+        let e = PenSet::from_toml(&format!("{text}{line}\n")).unwrap_err();
+        assert_eq!(e.to_string(), want);
+    }
+}

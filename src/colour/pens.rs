@@ -158,8 +158,7 @@ impl PenSet {
             #[serde(default)]
             pen: Vec<Pen>,
         }
-        let file: File = toml::from_str(text)
-            .map_err(|e| PenError(crate::colour::pens::one_line(&e.to_string())))?;
+        let file: File = toml::from_str(text).map_err(|e| PenError(toml_problem(text, &e)))?;
         Self::new(file.pen)
     }
 
@@ -255,6 +254,32 @@ fn pen(name: &str, colour: [u8; 3]) -> Pen {
         width_mm: None,
         dot_gain: None,
     }
+}
+
+/// A pen file's TOML error in a user's words: the pen (by its place in
+/// the file), the line's key and value, and what the key takes ("pen 2:
+/// width_mm = \"x\": expected a number"); the parser's own words, on one
+/// line, where the error is not a value's.
+fn toml_problem(text: &str, e: &toml::de::Error) -> String {
+    let message = e.message();
+    let plain = || one_line(&e.to_string());
+    let (Some(span), Some(expected)) = (e.span(), crate::text::expected(message)) else {
+        return plain();
+    };
+    let before = &text[..span.start.min(text.len())];
+    let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+    let line_end = text[line_start..]
+        .find('\n')
+        .map_or(text.len(), |i| line_start + i);
+    let Some((key, value)) = text[line_start..line_end].split_once('=') else {
+        return plain();
+    };
+    let pen = before.matches("[[pen]]").count();
+    format!(
+        "pen {pen}: {} = {}: expected {expected}",
+        key.trim(),
+        value.trim()
+    )
 }
 
 /// `#rrggbb` of an 8-bit colour.
