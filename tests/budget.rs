@@ -126,3 +126,44 @@ fn the_budget_is_an_option_and_guards_exr_too() {
     assert!(!r.status.success());
     assert!(String::from_utf8_lossy(&r.stderr).contains("'lots' is not a size"));
 }
+
+#[test]
+fn the_same_budget_guards_the_domain_and_the_plan_predicts_the_peak() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.svg");
+    let photo = fixtures::asset("astronaut.jpg");
+    let t = Instant::now();
+    let r = pixelpie(&[
+        "stipple",
+        &photo,
+        "-o",
+        s(&out),
+        "--width",
+        "20000",
+        "--height",
+        "20000",
+    ]);
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert!(!r.status.success() && !out.exists());
+    assert!(
+        err.contains("20000×20000 domain") && err.contains("allowed") && err.contains("--width"),
+        "{err}"
+    );
+    assert!(t.elapsed() < Duration::from_secs(2));
+    // The plan's predicted peak grows with the domain.
+    let plan = |points: &str| -> u64 {
+        let r = pixelpie(&[
+            "stipple",
+            &photo,
+            "-o",
+            s(&out),
+            "--points",
+            points,
+            "--plan",
+        ]);
+        let v: serde_json::Value = serde_json::from_slice(&r.stdout).unwrap();
+        v["memory_mb"].as_u64().unwrap()
+    };
+    let (small, large) = (plan("10000"), plan("1000000"));
+    assert!(small >= 10 && large > 10 * small, "{small} MB, {large} MB");
+}

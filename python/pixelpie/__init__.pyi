@@ -96,6 +96,7 @@ class Plan(TypedDict):
     order: str
     layer_order: Optional[str]
     seconds: float
+    memory_mb: int
 
 class Pen(NamedTuple):
     """A pen of a colour drawing."""

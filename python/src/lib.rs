@@ -43,7 +43,9 @@ fn py_err(e: &pixelpie::Error) -> PyErr {
     }
     match e {
         E::Sampler(sampler::Error::Cancelled) => PyKeyboardInterrupt::new_err(text),
-        E::Importance(importance::Error::TooLarge { .. }) => PyMemoryError::new_err(text),
+        E::Importance(importance::Error::TooLarge { .. } | importance::Error::Memory(_)) => {
+            PyMemoryError::new_err(text)
+        }
         E::Sampler(e) if e.is_backend() => PyRuntimeError::new_err(text),
         E::Importance(importance::Error::InvalidParameter(_))
         | E::Stipple(pixelpie::stipple::Error::InvalidParameter(_))

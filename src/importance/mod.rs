@@ -83,6 +83,9 @@ pub enum Error {
         /// Its size, what it needs and what is allowed.
         message: String,
     },
+    /// A drawing that would take more memory than the budget allows.
+    #[error("{0}")]
+    Memory(String),
     /// The image has no pixels.
     #[error("image '{}' has no pixels", path.display())]
     Empty {

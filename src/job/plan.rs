@@ -64,6 +64,9 @@ pub struct Plan {
     /// The estimated seconds of the run on two CPU cores (sampling on the
     /// CPU), the picture's loading not included.
     pub seconds: f64,
+    /// The predicted peak memory of the run in MB (the picture's decoding
+    /// or the domain's maps, [`crate::importance::budget`]).
+    pub memory_mb: u64,
 }
 
 /// Grey correction: the fewest render pixels between dots; a
@@ -232,6 +235,7 @@ impl Job {
             let colour = picture.colour();
             let size = (colour.width(), colour.height());
             let domain = self.domain_for(size, points);
+            crate::importance::budget::check_domain(domain)?;
             (
                 Maps::Colour(self.separate(&colour, domain, count_target)?),
                 size,
@@ -239,6 +243,7 @@ impl Job {
         } else {
             let map = picture.grey();
             let size = (map.width(), map.height());
+            crate::importance::budget::check_domain(self.domain_for(size, points))?;
             let mut prepared = self.importance.prepare_map(
                 &map,
                 |w, h| self.domain_for((w, h), points),
@@ -281,6 +286,7 @@ impl Job {
             order: self.order,
             layer_order: colour.then_some(self.layer_order),
             seconds: 0.0,
+            memory_mb: crate::importance::budget::peak_mb(size, domain, colour),
         };
         let plan = Plan {
             seconds: plan.estimate(),
