@@ -167,3 +167,25 @@ fn the_same_budget_guards_the_domain_and_the_plan_predicts_the_peak() {
     let (small, large) = (plan("10000"), plan("1000000"));
     assert!(small >= 10 && large > 10 * small, "{small} MB, {large} MB");
 }
+
+#[test]
+fn an_exr_whose_header_claims_40000_squared_is_refused_at_once() {
+    // The bundled EXR with its windows rewritten: 40000² in its header.
+    let mut bytes = std::fs::read(fixtures::asset("gradient.exr")).unwrap();
+    for name in [&b"dataWindow\0box2i\0"[..], b"displayWindow\0box2i\0"] {
+        let at = bytes.windows(name.len()).position(|w| w == name).unwrap() + name.len() + 4;
+        for (k, v) in [0i32, 0, 39_999, 39_999].iter().enumerate() {
+            bytes[at + 4 * k..at + 4 * k + 4].copy_from_slice(&v.to_le_bytes());
+        }
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let exr = dir.path().join("bomb.exr");
+    std::fs::write(&exr, &bytes).unwrap();
+    let out = dir.path().join("x.svg");
+    refused(
+        &["stipple", s(&exr), "-o", s(&out)],
+        "bomb.exr",
+        "40000×40000 (1.6 Gpx)",
+        &out,
+    );
+}
