@@ -29,6 +29,10 @@ fn main() -> ExitCode {
             let _ = e.print();
             return ExitCode::SUCCESS;
         }
+        Err(e) if let Some(line) = file_value_error(&e) => {
+            eprintln!("{line}");
+            return ExitCode::FAILURE;
+        }
         Err(e) => {
             // clap's first line names the argument and the problem; the
             // rest is usage advice. Bad input gets one line.
@@ -45,6 +49,27 @@ fn main() -> ExitCode {
             ExitCode::FAILURE
         }
     }
+}
+
+/// A value naming a file the option reads (a pen file) whose contents are
+/// wrong, said as a job file's are: "error: FILE: pen 2: width_mm = \"x\":
+/// expected a number" (clap would put "invalid value … for '--pens'"
+/// first).
+fn file_value_error(e: &clap::Error) -> Option<String> {
+    use std::error::Error as _;
+    let clap::error::ContextValue::String(value) = e.get(clap::error::ContextKind::InvalidValue)?
+    else {
+        return None;
+    };
+    if !value.to_ascii_lowercase().ends_with(".toml") {
+        return None;
+    }
+    let source = e.source()?.to_string();
+    let (_, problem) = source.split_once(&format!("'{value}': "))?;
+    Some(format!(
+        "error: {value}: {}",
+        pixelpie::single_line(problem)
+    ))
 }
 
 /// Mesa's Vulkan device-selection layer probes for a Wayland display, and

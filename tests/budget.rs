@@ -189,3 +189,42 @@ fn an_exr_whose_header_claims_40000_squared_is_refused_at_once() {
         &out,
     );
 }
+
+#[test]
+fn a_point_set_too_large_for_the_budget_is_refused_before_sampling() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.csv");
+    let t = Instant::now();
+    let r = pixelpie(&[
+        "sample",
+        "--width",
+        "30000",
+        "--height",
+        "30000",
+        "--radius",
+        "3",
+        "-o",
+        s(&out),
+    ]);
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert!(!r.status.success() && !out.exists());
+    assert!(
+        err.contains("30000×30000 domain") && err.contains("allowed"),
+        "{err}"
+    );
+    assert!(t.elapsed() < Duration::from_secs(2));
+    // A small one runs as before.
+    let r = pixelpie(&[
+        "sample",
+        "--width",
+        "300",
+        "--height",
+        "300",
+        "--radius",
+        "3",
+        "-o",
+        s(&out),
+        "-q",
+    ]);
+    assert!(r.status.success() && out.exists());
+}

@@ -451,4 +451,25 @@ fn a_pen_files_wrong_value_is_named_with_its_pen_and_key() {
         let e = PenSet::from_toml(&format!("{text}{line}\n")).unwrap_err();
         assert_eq!(e.to_string(), want);
     }
+    // Through the command line, as a job file's: the file, then the pen.
+    let dir = tempfile::tempdir().unwrap();
+    let pens = dir.path().join("pens.toml");
+    std::fs::write(&pens, format!("{text}width_mm = \"x\"\n")).unwrap();
+    let out = dir.path().join("x.svg");
+    let r = pixelpie(&[
+        "stipple",
+        &asset("default.png"),
+        "--pens",
+        s(&pens),
+        "-o",
+        s(&out),
+    ]);
+    assert!(!r.status.success() && !out.exists());
+    assert_eq!(
+        String::from_utf8_lossy(&r.stderr).trim(),
+        format!(
+            "error: {}: pen 2: width_mm = \"x\": expected a number",
+            pens.display()
+        )
+    );
 }

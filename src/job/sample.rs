@@ -265,6 +265,25 @@ impl SampleJob {
         mut sample: impl FnMut(&Params) -> crate::Result<SampleSet>,
     ) -> crate::Result<Sampled> {
         self.check(radii)?;
+        // Past the sampler's own limit its message says more.
+        let guard = |w: u32, h: u32| {
+            if u64::from(w) * u64::from(h) > crate::sampler::MAX_PIXELS {
+                return Ok(());
+            }
+            crate::importance::budget::check_pixels(
+                "a point set",
+                (w, h),
+                crate::importance::budget::SAMPLE_BYTES_PER_PIXEL,
+            )
+        };
+        match radii {
+            Radii::Uniform => guard(self.width.unwrap_or(1), self.height.unwrap_or(1))?,
+            Radii::Map { width, height, .. } => guard(*width, *height)?,
+            Radii::Picture(map) => {
+                let (w, h) = fit_size((map.width(), map.height()), self.width, self.height);
+                guard(w, h)?;
+            }
+        }
         let (start, make): (f64, Box<dyn Fn(f64) -> crate::Result<Params> + '_>) = match radii {
             Radii::Picture(map) => return self.run_picture(map, sample),
             Radii::Uniform => {
