@@ -1943,3 +1943,34 @@ fn the_app_shows_the_plan_the_cli_prints() {
         assert!(shows(&h, &line), "the status shows the plan line");
     }
 }
+
+#[test]
+fn a_picture_over_the_memory_budget_is_refused_in_the_panel() {
+    use std::io::Write;
+    let (dir, _, mut h) = ready(160, 120);
+    // 20000² grey in a PNG of a few MB: about 7.5 GB to draw.
+    let bomb = dir.path().join("bomb.png");
+    let file = std::io::BufWriter::new(std::fs::File::create(&bomb).unwrap());
+    let mut encoder = png::Encoder::new(file, 20_000, 20_000);
+    encoder.set_color(png::ColorType::Grayscale);
+    encoder.set_compression(png::Compression::Fast);
+    let mut writer = encoder.write_header().unwrap();
+    let mut stream = writer.stream_writer().unwrap();
+    let row = vec![0x80u8; 20_000];
+    for _ in 0..20_000 {
+        stream.write_all(&row).unwrap();
+    }
+    stream.finish().unwrap();
+    h.state_mut().open_path = bomb.display().to_string();
+    h.get_by_label("Open").click();
+    let start = Instant::now();
+    while h.state().open_error.is_none() && start.elapsed() < Duration::from_secs(10) {
+        h.step();
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let e = h.state().open_error.clone().expect("the refusal");
+    assert!(e.contains("20000×20000") && e.contains("allowed"), "{e}");
+    assert!(start.elapsed() < Duration::from_secs(3));
+    // The picture before it stays.
+    assert!(h.state().error.is_none());
+}
