@@ -338,3 +338,65 @@ fn random_jobs_run_the_whole_pipeline() {
         "only {drawn} of {cases} random jobs drew"
     );
 }
+
+#[test]
+fn the_chart_scan_reader_never_panics_on_damaged_scans() {
+    use pixelpie::stipple::calibrate::{Chart, ScanOptions, fit::fit, simulate};
+    let chart = Chart::read_svg(&String::from_utf8(corpus("chart.svg")).unwrap()).unwrap();
+    let options = ScanOptions {
+        px_per_mm: 3.0,
+        ..ScanOptions::default()
+    };
+    let clean = simulate::scan(&chart, &options).unwrap();
+    assert!(fit(&chart, &clean).is_ok(), "the clean scan must fit");
+    let mut rng = Rng::new(23);
+    let cases = 60 * scale();
+    for case in 0..cases {
+        let mut pick = |n: u32| (rng.next_f64() * f64::from(n)) as u32;
+        let mut img = clean.clone();
+        let (w, h) = img.dimensions();
+        match case % 4 {
+            // Painted rectangles (tape, a hand, a shadow).
+            0 => {
+                for _ in 0..1 + pick(6) {
+                    let (x0, y0) = (pick(w), pick(h));
+                    let (x1, y1) = ((x0 + pick(w / 2)).min(w), (y0 + pick(h / 2)).min(h));
+                    let c = [pick(256) as u8, pick(256) as u8, pick(256) as u8];
+                    for y in y0..y1 {
+                        for x in x0..x1 {
+                            img.put_pixel(x, y, image::Rgb(c));
+                        }
+                    }
+                }
+            }
+            // Noise over everything.
+            1 => {
+                let amount = pick(256);
+                for p in img.pixels_mut() {
+                    for c in &mut p.0 {
+                        *c = c.wrapping_add((pick(amount + 1)) as u8);
+                    }
+                }
+            }
+            // A crop: part of the sheet missing.
+            2 => {
+                let (cw, ch) = (1 + pick(w), 1 + pick(h));
+                img = image::imageops::crop_imm(&img, pick(w - cw + 1), pick(h - ch + 1), cw, ch)
+                    .to_image();
+            }
+            // Another resolution, down to a few pixels.
+            _ => {
+                let (nw, nh) = (1 + pick(w * 2), 1 + pick(h * 2));
+                img = image::imageops::resize(&img, nw, nh, image::imageops::FilterType::Nearest);
+            }
+        }
+        let read = catch_unwind(AssertUnwindSafe(|| {
+            let _ = fit(&chart, &img);
+        }));
+        assert!(
+            read.is_ok(),
+            "case {case}: a panic on a {:?} scan",
+            img.dimensions()
+        );
+    }
+}
