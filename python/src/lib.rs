@@ -309,8 +309,10 @@ fn sample<'py>(
     let cap = job.max_iterations;
     let target = job.points;
     let done = cancellable(py, progress, move |ctl| {
-        job.run(&radii, |p| {
-            Ok(backend::sample(p, choice, ctl, &mut |_| {})?)
+        budget::within(max_memory, || {
+            job.run(&radii, |p| {
+                Ok(backend::sample(p, choice, ctl, &mut |_| {})?)
+            })
         })
     })?;
     let rows = done.set.points.iter().map(|p| [p.x, p.y, p.radius]);
@@ -452,11 +454,12 @@ fn plan_py(
         .as_ref()
         .map(|a| encoded_png(a, "image"))
         .transpose()?;
+    // The call's budget holds for the picture and the plan's domain.
     cancellable(py, None, |_| {
-        let picture = budget::within(max_memory, || {
-            decoded(&job, image.as_deref(), encoded.as_deref())
-        })?;
-        job.plan(picture.picture())?.plan.to_json()
+        budget::within(max_memory, || {
+            let picture = decoded(&job, image.as_deref(), encoded.as_deref())?;
+            job.plan(picture.picture())?.plan.to_json()
+        })
     })
 }
 
@@ -588,10 +591,13 @@ fn stipple_py(
         let sample = |params: &pixelpie::sampler::Params| {
             Ok(backend::sample(params, choice, ctl, &mut |_| {})?)
         };
-        let picture = budget::within(max_memory, || {
-            decoded(&job, image.as_deref(), encoded.as_deref())
+        // The call's budget holds for the picture and the drawing's domain.
+        let (picture, drawing) = budget::within(max_memory, || -> pixelpie::Result<_> {
+            let picture = decoded(&job, image.as_deref(), encoded.as_deref())?;
+            let drawing = job.draw(picture.picture(), sample, |_| ctl.check().is_ok())?;
+            Ok((picture, drawing))
         })?;
-        let drawing = job.draw(picture.picture(), sample, |_| ctl.check().is_ok())?;
+        drop(picture);
         ctl.check()?;
         if let (Some(out), Some(format)) = (&output, format) {
             let bytes = job.encode(&drawing, format)?;

@@ -489,6 +489,16 @@ def test_a_picture_over_the_memory_budget_raises_memory_error_at_once(tmp_path):
         with pytest.raises(MemoryError, match="2000×1500"):
             pixelpie.stipple(form, points=300, max_memory="50M")
     assert pixelpie.stipple(grey, points=300, max_memory=100 << 20).reached > 0
+    # The call's budget holds for the drawing's domain too.
+    small = np.zeros((24, 32), dtype=np.uint8)
+    with pytest.raises(MemoryError, match="2000×1500 domain"):
+        pixelpie.stipple(small, points=300, width=2000, height=1500, max_memory="50M")
+    with pytest.raises(MemoryError, match="2000×1500 domain"):
+        pixelpie.plan(small, points=300, width=2000, height=1500, max_memory="50M")
+    assert pixelpie.stipple(small, points=300, width=2000, height=1500,
+                            max_memory="100M").domain == (2000, 1500)
+    with pytest.raises(MemoryError, match="point set on a 3000×3000"):
+        pixelpie.sample(3000, 3000, radius=5.0, max_memory="100M")
     with pytest.raises(ValueError, match="not a size"):
         pixelpie.stipple(grey, max_memory="lots")
     with pytest.raises(TypeError, match="max_memory"):
