@@ -41,17 +41,20 @@ thread_local! {
 }
 
 /// 4 GB, or half of the machine's memory when that is less (Linux's
-/// `/proc/meminfo`; elsewhere 4 GB).
+/// `/proc/meminfo`, read once; elsewhere 4 GB).
 #[must_use]
 pub fn default_budget() -> u64 {
-    let total = std::fs::read_to_string("/proc/meminfo")
-        .ok()
-        .and_then(|text| {
-            let line = text.lines().find(|l| l.starts_with("MemTotal:"))?;
-            let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-            Some(kb * 1024)
-        });
-    total.map_or(DEFAULT_MAX, |t| DEFAULT_MAX.min(t / 2))
+    static DEFAULT: std::sync::OnceLock<u64> = std::sync::OnceLock::new();
+    *DEFAULT.get_or_init(|| {
+        let total = std::fs::read_to_string("/proc/meminfo")
+            .ok()
+            .and_then(|text| {
+                let line = text.lines().find(|l| l.starts_with("MemTotal:"))?;
+                let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+                Some(kb * 1024)
+            });
+        total.map_or(DEFAULT_MAX, |t| DEFAULT_MAX.min(t / 2))
+    })
 }
 
 /// The budget in force on this thread.

@@ -12,6 +12,7 @@ use rayon::prelude::*;
 
 use crate::colour::pens::MAX_PENS;
 use crate::sampler::Point;
+use crate::stipple::tsp::hilbert;
 
 /// Hilbert-curve cells per pixel side (points lie at least 1 px apart).
 const CELLS_PER_PX: f32 = 4.0;
@@ -178,29 +179,6 @@ const PARTS: usize = 8;
 /// The reach of a point's residual, in its sample radii (the union's
 /// points lie about two radii apart).
 const REACH: f32 = 2.5;
-
-/// The index of cell (`x`, `y`) along the Hilbert curve through a
-/// 2^`order`-cell square.
-fn hilbert(mut x: u64, mut y: u64, order: u32) -> u64 {
-    let n = 1u64 << order;
-    let mut d = 0u64;
-    let mut s = n / 2;
-    while s > 0 {
-        let rx = u64::from(x & s > 0);
-        let ry = u64::from(y & s > 0);
-        d += s * s * ((3 * rx) ^ ry);
-        // Rotate the quadrant.
-        if ry == 0 {
-            if rx == 1 {
-                x = n - 1 - x;
-                y = n - 1 - y;
-            }
-            std::mem::swap(&mut x, &mut y);
-        }
-        s /= 2;
-    }
-    d
-}
 
 #[cfg(test)]
 mod tests {

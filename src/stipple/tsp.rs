@@ -450,7 +450,11 @@ fn hilbert_path(points: &[[f64; 2]]) -> Vec<usize> {
         .enumerate()
         .map(|(i, p)| {
             (
-                hilbert_key(side, cell(p[0], lo[0]), cell(p[1], lo[1])),
+                hilbert(
+                    u64::from(cell(p[0], lo[0])),
+                    u64::from(cell(p[1], lo[1])),
+                    ORDER,
+                ),
                 i as u32,
             )
         })
@@ -459,18 +463,22 @@ fn hilbert_path(points: &[[f64; 2]]) -> Vec<usize> {
     keyed.into_iter().map(|(_, i)| i as usize).collect()
 }
 
-/// The distance along a Hilbert curve of `side`² cells to cell (x, y).
-fn hilbert_key(side: u32, mut x: u32, mut y: u32) -> u64 {
+/// The index of cell (`x`, `y`) along the Hilbert curve through a
+/// 2^`order`-cell square (the tour's start, and the pens' assignment in
+/// `job::assign`).
+pub(crate) fn hilbert(mut x: u64, mut y: u64, order: u32) -> u64 {
+    let n = 1u64 << order;
     let mut d = 0u64;
-    let mut s = side / 2;
+    let mut s = n / 2;
     while s > 0 {
-        let rx = u32::from(x & s > 0);
-        let ry = u32::from(y & s > 0);
-        d += u64::from(s) * u64::from(s) * u64::from((3 * rx) ^ ry);
+        let rx = u64::from(x & s > 0);
+        let ry = u64::from(y & s > 0);
+        d += s * s * ((3 * rx) ^ ry);
+        // Rotate the quadrant.
         if ry == 0 {
             if rx == 1 {
-                x = side - 1 - x;
-                y = side - 1 - y;
+                x = n - 1 - x;
+                y = n - 1 - y;
             }
             std::mem::swap(&mut x, &mut y);
         }
