@@ -15,6 +15,7 @@ use pixelpie::colour::{Lab, PenSet, delta_e00};
 use pixelpie::importance::Tones;
 use pixelpie::job::{Job, Stipple};
 use pixelpie::sampler::cpu;
+use pixelpie::stipple::plot::{Motion, Plotter, plot_paths};
 
 /// Six in-gamut colours of the CMYK pens, 8-bit sRGB.
 const PATCHES: [[u8; 3]; 6] = [
@@ -525,9 +526,30 @@ fn plot_stats_count_each_pens_dots_lifts_and_time() {
             row[4].parse().unwrap(),
             row[5].parse().unwrap(),
         );
-        // The time is the distances at the given speeds plus the lifts.
-        let want = (down / 50.0 + up / 200.0 + dots as f64 * 0.5) / 60.0;
+        // The time is the motion model's over the layer's own paths, with
+        // the flags over an AxiDraw's profile: no faster than the top
+        // speeds allow.
+        let paths: Vec<Vec<(f64, f64)>> = d
+            .paths
+            .iter()
+            .zip(&d.layer_of)
+            .filter(|(_, l)| **l == k)
+            .map(|(p, _)| p.clone())
+            .collect();
+        let base = Plotter::default();
+        let plotter = Plotter {
+            pen_down: Motion {
+                max_velocity: 50.0,
+                ..base.pen_down
+            },
+            pen_drop_s: 0.25,
+            pen_lift_s: 0.25,
+            ..base
+        };
+        let want = plot_paths(name, dots, &paths, &plotter).seconds / 60.0;
         assert!((minutes - want).abs() < 0.06, "{name}: {minutes} vs {want}");
+        let floor = (down / 50.0 + up / 200.0 + dots as f64 * 0.5) / 60.0;
+        assert!(minutes > floor, "{name}: {minutes} vs {floor}");
         total += minutes;
     }
     let last: f64 = rows[4].last().unwrap().parse().unwrap();

@@ -6,6 +6,7 @@
 use std::path::Path;
 use std::process::Command;
 
+use pixelpie::stipple::plot::{Motion, Plotter, plot_paths};
 use pixelpie::stipple::read::read_svg;
 
 fn pixelpie(args: &[&str]) -> std::process::Output {
@@ -266,7 +267,24 @@ fn plot_stats_on_paper_start_from_the_sheets_corner() {
         at = *p.last().unwrap();
     }
     up += at.0.hypot(at.1);
-    let minutes = (down / 50.0 + up / 100.0 + ps.len() as f64 * 0.2) / 60.0;
+    // The motion model over the file's own paths, with the flags over an
+    // AxiDraw's profile; never faster than the top speeds allow.
+    let d = Plotter::default();
+    let plotter = Plotter {
+        pen_down: Motion {
+            max_velocity: 50.0,
+            ..d.pen_down
+        },
+        pen_up: Motion {
+            max_velocity: 100.0,
+            ..d.pen_up
+        },
+        pen_drop_s: 0.1,
+        pen_lift_s: 0.1,
+    };
+    let minutes = plot_paths("ink", ps.len(), &ps, &plotter).seconds / 60.0;
+    let floor = (down / 50.0 + up / 100.0 + ps.len() as f64 * 0.2) / 60.0;
+    assert!(minutes > floor, "{minutes} {floor}");
     assert_eq!(row[1].parse::<usize>().unwrap(), ps.len());
     assert!(
         (row[3].parse::<f64>().unwrap() - down).abs() < 0.1,

@@ -566,8 +566,8 @@ class Drawing:
     * ``warnings`` -- what the run warned of;
     * ``stages`` -- seconds in each stage (prepare, sample, relax, order,
       size);
-    * :meth:`to_mm`, :meth:`svg`, :meth:`png`, :meth:`save`, :meth:`paths`
-      and :meth:`to_vpype`.
+    * :meth:`to_mm`, :meth:`svg`, :meth:`png`, :meth:`save`, :meth:`paths`,
+      :meth:`plot_stats` and :meth:`to_vpype`.
 
     It behaves as its ``dots`` array where code indexes it: ``d[:, 0]``,
     ``len(d)``, ``d.shape``, ``np.asarray(d)`` and array methods.
@@ -663,6 +663,38 @@ class Drawing:
         (``pen_mm``, and ``paper`` or ``width_mm``): ``ValueError``
         otherwise."""
         return [PenPaths(*layer) for layer in self._native.paths()]
+
+    def plot_stats(self, plotter: Any = None) -> List[Dict[str, Any]]:
+        """How a pen plotter draws the drawing, pen by pen in plotting
+        order, as ``--plot-stats`` prints it: ``pen``, ``dots``, ``lifts``,
+        ``pen_down_mm``, ``pen_up_mm``, ``pen_down_s``, ``pen_up_s`` and the
+        estimated ``seconds``, from an AxiDraw's motion model
+        (acceleration, cornering, pen drop and lift; saxi's defaults).
+        ``plotter`` overrides the profile: a profile file's path (TOML) or
+        a dict of its keys (``{"pen_down_max_velocity": 30}``). Needs a pen
+        and a page size, as :meth:`paths` does."""
+        if plotter is None:
+            text = None
+        elif isinstance(plotter, dict):
+            lines = []
+            for key, value in plotter.items():
+                number = isinstance(value, (int, float)) and not isinstance(value, bool)
+                if not (isinstance(key, str) and number):
+                    raise TypeError(
+                        f"plotter: {key!r} = {value!r}: expected a key and a number"
+                    )
+                lines.append(f"{key} = {float(value)!r}")
+            text = "\n".join(lines)
+        elif isinstance(plotter, (str, bytes, os.PathLike)):
+            path = os.fsdecode(plotter)
+            with open(path, encoding="utf-8") as f:
+                text = f.read()
+        else:
+            raise TypeError(
+                f"plotter must be a profile file's path or a dict, not {type(plotter).__name__}"
+            )
+        stats: List[Dict[str, Any]] = json.loads(self._native.plot_stats(text))
+        return stats
 
     def to_vpype(self) -> Any:
         """The pen paths as a ``vpype.Document`` (layer k for the k-th layer

@@ -8,6 +8,7 @@ from typing import (
     Iterator,
     List,
     Literal,
+    Mapping,
     NamedTuple,
     Optional,
     Sequence,
@@ -113,6 +114,18 @@ class PenPaths(NamedTuple):
     pen_mm: float
     paths: List[npt.NDArray[np.float64]]
 
+class PlotStats(TypedDict):
+    """One pen's plot, as ``--plot-stats`` prints it."""
+
+    pen: str
+    dots: int
+    lifts: int
+    pen_down_mm: float
+    pen_up_mm: float
+    pen_down_s: float
+    pen_up_s: float
+    seconds: float
+
 class Drawing:
     """A stipple drawing: its dots and what comes with them."""
 
@@ -133,6 +146,9 @@ class Drawing:
     def png(self) -> bytes: ...
     def save(self, path: PathLike) -> None: ...
     def paths(self) -> List[PenPaths]: ...
+    def plot_stats(
+        self, plotter: Union[PathLike, Mapping[str, float], None] = ...
+    ) -> List[PlotStats]: ...
     def to_vpype(self) -> object:
         """A ``vpype.Document`` of the pen paths."""
     def __array__(

@@ -33,6 +33,7 @@ use pixelpie::backend::{self, BackendChoice};
 use pixelpie::importance::{self, ImportanceMap, Tones, budget};
 use pixelpie::job::{Decoded, Format, Job, Radii, SampleJob, Stipple};
 use pixelpie::sampler::{self, Control, Progress};
+use pixelpie::stipple::plot::Plotter;
 
 /// The Python exception for a library error.
 fn py_err(e: &pixelpie::Error) -> PyErr {
@@ -732,6 +733,18 @@ impl Drawing {
         let t = self.job.page_transform(domain).map_err(|e| py_err(&e))?;
         Ok(t.zip(page)
             .map(|(t, page)| ((t.scale, t.offset.0, t.offset.1), page)))
+    }
+
+    /// The plot's statistics pen by pen, as JSON (`--plot-stats`'s
+    /// table), under the plotter profile `profile` (a profile file's TOML
+    /// text; `None`: an AxiDraw's).
+    fn plot_stats(&self, py: Python<'_>, profile: Option<&str>) -> PyResult<String> {
+        let plotter = match profile {
+            Some(text) => Plotter::from_toml(text).map_err(|e| bad(e.to_string()))?,
+            None => Plotter::default(),
+        };
+        let plots = cancellable(py, None, |_| self.job.plot_stats(&self.drawing, &plotter))?;
+        serde_json::to_string(&plots).map_err(|e| bad(e.to_string()))
     }
 
     /// The pen paths as the plotter draws them, layer by layer in plotting

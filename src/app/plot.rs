@@ -1,5 +1,5 @@
 //! The plot time: with a pen width, how long a pen plotter takes to draw
-//! the drawing, from `Job::plot_stats` at an AxiDraw's default speeds (as
+//! the drawing, from `Job::plot_stats` with an AxiDraw's motion profile (as
 //! `pixelpie stipple --plot-stats` reports it). It is worked out on a
 //! thread of its own when the drawing changes, or once the controls rest
 //! after a change of the job, never per frame.
@@ -11,7 +11,7 @@ use std::time::Instant;
 use super::dots::DotInstance;
 use super::{DEBOUNCE, PixelPieApp};
 use crate::job::{Job, PenCheck};
-use crate::stipple::plot::{PenPlot, PlotSpeeds};
+use crate::stipple::plot::{PenPlot, Plotter};
 use crate::text::grouped;
 
 /// An estimate: each pen's plot, or why there is none.
@@ -122,7 +122,7 @@ impl PixelPieApp {
             .name("pixelpie-plot-time".into())
             .spawn(move || {
                 let estimate = job
-                    .plot_stats(&drawing, PlotSpeeds::default())
+                    .plot_stats(&drawing, &Plotter::default())
                     .map_err(|e| crate::text::one_line(&e));
                 let _ = tx.send(estimate);
                 let plotted = plotted(&job, &drawing, scale).map(|(layers, check)| Plotted {
@@ -205,12 +205,17 @@ impl PixelPieApp {
                 );
             }
         }
-        let s = PlotSpeeds::default();
+        let s = Plotter::default();
         text += &format!(
-            "How long a pen plotter takes at an AxiDraw's default speeds: drawing {} mm/s, \
-             travel {} mm/s, {} s to lift and lower the pen (pixelpie stipple --plot-stats). \
-             Acceleration is left out, so short moves make it an underestimate.",
-            s.draw_mm_s, s.travel_mm_s, s.lift_s
+            "How long an AxiDraw takes, as its motion planner (saxi) plans it: drawing at \
+             {} mm/s² up to {} mm/s, slowing for corners; travel at {} mm/s² up to {} mm/s; \
+             {} s to drop and {} s to lift the pen (pixelpie stipple --plot-stats).",
+            s.pen_down.acceleration,
+            s.pen_down.max_velocity,
+            s.pen_up.acceleration,
+            s.pen_up.max_velocity,
+            s.pen_drop_s,
+            s.pen_lift_s
         );
         text
     }

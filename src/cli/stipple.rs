@@ -13,7 +13,7 @@ use clap::parser::ValueSource;
 use pixelpie::io;
 use pixelpie::job::file::{JobFile, KEYS};
 use pixelpie::job::{Decoded, Format, Job, Stage, Step};
-use pixelpie::stipple::plot::PlotSpeeds;
+use pixelpie::stipple::plot::Plotter;
 
 use super::sample::{RunArgs, progress_bar, run_with_progress, sampling_bar};
 
@@ -56,15 +56,23 @@ pub struct StippleArgs {
     /// an estimated plotting time (needs --pen-mm, and --width-mm or --paper).
     #[arg(long)]
     plot_stats: bool,
-    /// Pen-down speed for --plot-stats, mm/s [default: an AxiDraw's 95].
-    #[arg(long, default_value_t = PlotSpeeds::default().draw_mm_s, requires = "plot_stats")]
-    plot_speed: f64,
-    /// Pen-up speed for --plot-stats, mm/s.
-    #[arg(long, default_value_t = PlotSpeeds::default().travel_mm_s, requires = "plot_stats")]
-    travel_speed: f64,
-    /// Seconds to lift and lower the pen, for --plot-stats.
-    #[arg(long, default_value_t = PlotSpeeds::default().lift_s, requires = "plot_stats")]
-    pen_delay: f64,
+    /// The plotter's motion profile for --plot-stats: a TOML file of
+    /// saxi's options (pen_down_acceleration, pen_down_max_velocity,
+    /// pen_down_cornering_factor, pen_up_acceleration, pen_up_max_velocity,
+    /// pen_drop_duration, pen_lift_duration; mm and s) [default: an
+    /// AxiDraw's, as saxi plans it].
+    #[arg(long, value_name = "FILE.toml", requires = "plot_stats")]
+    plotter: Option<PathBuf>,
+    /// Top pen-down speed for --plot-stats, mm/s [default: the profile's, an AxiDraw's 50].
+    #[arg(long, requires = "plot_stats")]
+    plot_speed: Option<f64>,
+    /// Top pen-up speed for --plot-stats, mm/s [default: the profile's, 200].
+    #[arg(long, requires = "plot_stats")]
+    travel_speed: Option<f64>,
+    /// Seconds to drop and lift the pen, both together, for --plot-stats
+    /// [default: the profile's, 0.24].
+    #[arg(long, requires = "plot_stats")]
+    pen_delay: Option<f64>,
     /// Print the drawing's plan as JSON (every decision: the domain, the
     /// count, the dots, relaxation, the correction, an estimated time) and
     /// draw nothing.
@@ -187,21 +195,52 @@ pub fn run(a: &StippleArgs, matches: Option<&clap::ArgMatches>) -> Result<()> {
     Ok(())
 }
 
+/// The plotter profile of --plotter, with --plot-speed, --travel-speed
+/// and --pen-delay over it.
+fn plotter(a: &StippleArgs) -> Result<Plotter> {
+    for (flag, v, zero) in [
+        ("--plot-speed", a.plot_speed, false),
+        ("--travel-speed", a.travel_speed, false),
+        ("--pen-delay", a.pen_delay, true),
+    ] {
+        if let Some(v) = v.filter(|v| !(v.is_finite() && (*v > 0.0 || zero && *v == 0.0))) {
+            let unit = if zero {
+                "seconds, at least 0"
+            } else {
+                "mm/s above 0"
+            };
+            bail!("{flag} {v}: expected {unit}");
+        }
+    }
+    let mut p = match &a.plotter {
+        Some(path) => Plotter::from_file(path)?,
+        None => Plotter::default(),
+    };
+    if let Some(v) = a.plot_speed {
+        p.pen_down.max_velocity = v;
+    }
+    if let Some(v) = a.travel_speed {
+        p.pen_up.max_velocity = v;
+    }
+    if let Some(v) = a.pen_delay {
+        (p.pen_drop_s, p.pen_lift_s) = (v / 2.0, v / 2.0);
+    }
+    p.check()?;
+    Ok(p)
+}
+
 /// Draws `image` with job `o` to `output` in `format`.
 fn draw(a: &StippleArgs, o: &Job, image: &Path, output: &Path) -> Result<()> {
-    let speeds = PlotSpeeds {
-        draw_mm_s: a.plot_speed,
-        travel_mm_s: a.travel_speed,
-        lift_s: a.pen_delay,
-    };
-    if a.plot_stats {
+    let plotter = if a.plot_stats {
         if o.pen_mm.is_none() {
             bail!(
                 "--plot-stats needs --pen-mm (and --width-mm or --paper): a plotter draws pen paths"
             );
         }
-        speeds.check()?;
-    }
+        plotter(a)?
+    } else {
+        Plotter::default()
+    };
     a.run.apply_gpu_path();
     let t0 = Instant::now();
     let bar = sampling_bar(a.run.quiet);
@@ -285,7 +324,7 @@ fn draw(a: &StippleArgs, o: &Job, image: &Path, output: &Path) -> Result<()> {
         o.write(&drawing, path)?;
     }
     if a.plot_stats {
-        let plots = o.plot_stats(&drawing, speeds)?;
+        let plots = o.plot_stats(&drawing, &plotter)?;
         println!("pen\tdots\tlifts\tpen-down mm\tpen-up mm\tminutes");
         for p in &plots {
             println!(

@@ -1,15 +1,16 @@
 //! A drawing's plot statistics as the job writes its pen SVG
-//! ([`crate::stipple::plot`]: the plotter's model of paths, lifts and time).
+//! ([`crate::stipple::plot`]: the plotter's motion model of paths, lifts
+//! and time).
 
 use super::{Job, Stipple};
-use crate::stipple::plot::{PenPlot, PlotSpeeds, plot_paths};
+use crate::stipple::plot::{PenPlot, Plotter, plot_paths_of};
 use crate::stipple::{Error, svg};
 
 impl Job {
     /// The plot of `drawing` as this job writes its pen SVG, pen by pen
-    /// (needs `width_mm` and `pen_mm`).
-    pub fn plot_stats(&self, drawing: &Stipple, speeds: PlotSpeeds) -> crate::Result<Vec<PenPlot>> {
-        speeds.check()?;
+    /// (needs `width_mm` and `pen_mm`), timed by `plotter`'s motion model.
+    pub fn plot_stats(&self, drawing: &Stipple, plotter: &Plotter) -> crate::Result<Vec<PenPlot>> {
+        plotter.check()?;
         let (Some(scale), Some(pen_mm)) = (self.mm_per_px(drawing.domain)?, self.pen_width())
         else {
             return Err(Error::InvalidParameter(
@@ -28,20 +29,18 @@ impl Job {
             .iter()
             .map(|layer| {
                 let pen = layer.pen_mm.unwrap_or(pen_mm);
-                let paths: Vec<Vec<(f64, f64)>> = layer
-                    .dots
-                    .iter()
-                    .map(|d| {
-                        svg::pen_path(
-                            origin.0 + f64::from(d.x) * scale,
-                            origin.1 + f64::from(d.y) * scale,
-                            f64::from(d.radius) * scale,
-                            pen,
-                            self.dot_path,
-                        )
-                    })
-                    .collect();
-                plot_paths(&layer.name, layer.dots.len(), &paths, speeds)
+                let path = |i: usize, buf: &mut Vec<(f64, f64)>| {
+                    let d = &layer.dots[i];
+                    buf.extend(svg::pen_path(
+                        origin.0 + f64::from(d.x) * scale,
+                        origin.1 + f64::from(d.y) * scale,
+                        f64::from(d.radius) * scale,
+                        pen,
+                        self.dot_path,
+                    ));
+                };
+                let n = layer.dots.len();
+                plot_paths_of(&layer.name, n, n, &path, plotter)
             })
             .collect())
     }

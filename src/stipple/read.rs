@@ -36,6 +36,9 @@ pub struct Drawing {
     pub layers: Vec<(String, [u8; 3])>,
     /// The layer of each dot (an index into `layers`; 0 outside layers).
     pub layer_of: Vec<usize>,
+    /// Each dot's pen path in viewBox units, as the plotter follows it
+    /// (empty for a `<circle>`, or a path of curves).
+    pub paths: Vec<Vec<(f64, f64)>>,
 }
 
 /// Parses an SVG written by pixelpie. Err with a one-line message if it is
@@ -138,6 +141,8 @@ struct Document {
     layers: Vec<(String, [u8; 3])>,
     /// Each dot's layer.
     layer_of: Vec<usize>,
+    /// Each dot's pen path.
+    paths: Vec<Vec<(f64, f64)>>,
 }
 
 impl Document {
@@ -204,6 +209,22 @@ impl Document {
                 Ok(Some(d)) => {
                     self.dots.push(d);
                     self.layer_of.push(layer.unwrap_or(0));
+                    let (ox, oy) = match &self.view_box {
+                        Some(Ok(v)) => (v.x, v.y),
+                        _ => (0.0, 0.0),
+                    };
+                    let path = match (name, attrs.get("d")) {
+                        ("path", Some(d)) => polyline(d).unwrap_or_default(),
+                        _ => Vec::new(),
+                    };
+                    self.paths.push(
+                        path.into_iter()
+                            .map(|(x, y)| {
+                                let (x, y) = transform.apply(x, y);
+                                (x - ox, y - oy)
+                            })
+                            .collect(),
+                    );
                 }
                 Ok(None) => {}
                 Err(e) => self.fail(e),
@@ -265,6 +286,7 @@ impl Document {
             dots: self.dots,
             layers: self.layers,
             layer_of: self.layer_of,
+            paths: self.paths,
         })
     }
 }
@@ -350,6 +372,64 @@ fn parse_view_box(value: &str) -> Result<ViewBox, String> {
             height,
         }),
         _ => Err(bad()),
+    }
+}
+
+/// The points of a path's `d` made of straight segments (`M`, `L`, `H`,
+/// `V`, `Z`, absolute or relative, a moveto's further pairs linetos),
+/// through one subpath; `None` for anything else (curves, a second
+/// moveto, a number missing).
+#[must_use]
+pub fn polyline(d: &str) -> Option<Vec<(f64, f64)>> {
+    let b = d.as_bytes();
+    let (mut i, mut out) = (0, Vec::new());
+    let (mut at, mut start, mut command) = ((0.0, 0.0), (0.0, 0.0), 0u8);
+    let number = |i: &mut usize| -> Option<f64> {
+        *i = skip_separators(b, *i);
+        let end = number_end(b, *i);
+        let v = d
+            .get(*i..end)?
+            .parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite())?;
+        *i = end;
+        Some(v)
+    };
+    loop {
+        i = skip_separators(b, i);
+        if i == b.len() {
+            return (!out.is_empty()).then_some(out);
+        }
+        if b[i].is_ascii_alphabetic() {
+            command = b[i];
+            i += 1;
+            if command.eq_ignore_ascii_case(&b'z') {
+                at = start;
+                out.push(at);
+                continue;
+            }
+        }
+        let relative = command.is_ascii_lowercase();
+        let base = if relative { at } else { (0.0, 0.0) };
+        at = match command.to_ascii_uppercase() {
+            b'M' | b'L' => {
+                let x = number(&mut i)?;
+                let y = number(&mut i)?;
+                (base.0 + x, base.1 + y)
+            }
+            b'H' => (base.0 + number(&mut i)?, at.1),
+            b'V' => (at.0, base.1 + number(&mut i)?),
+            _ => return None,
+        };
+        if command.eq_ignore_ascii_case(&b'm') {
+            if !out.is_empty() {
+                return None;
+            }
+            start = at;
+            // Further pairs are linetos.
+            command = if relative { b'l' } else { b'L' };
+        }
+        out.push(at);
     }
 }
 
@@ -497,6 +577,30 @@ fn rotation(deg: f64) -> Affine {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn polylines_read_absolute_and_relative_commands() {
+        let want = vec![(1.0, 2.0), (4.0, 2.0), (4.0, -1.5), (3.5, -1.0), (1.0, 2.0)];
+        for d in [
+            "M 1 2 L 4 2 L 4 -1.5 L 3.5 -1 Z",
+            "M1,2 4,2 4-1.5 3.5-1z",
+            "m1 2h3v-3.5l-.5.5Z",
+            "m1 2 3 0 0-3.5-.5.5z",
+            "M 1 2 H 4 V -1.5 l -0.5 0.5 L 1 2",
+        ] {
+            assert_eq!(polyline(d), Some(want.clone()), "{d}");
+        }
+        for bad in [
+            "",
+            "M 1",
+            "M 1 2 A 1 1 0 1 1 3 2",
+            "M 1 2 L 3 x",
+            "M 1 2 M 3 4",
+            "L",
+        ] {
+            assert_eq!(polyline(bad), None, "{bad:?}");
+        }
+    }
 
     /// A document as `svg::write` makes it.
     const CIRCLES: &str = r#"<?xml version="1.0" encoding="UTF-8"?>
