@@ -524,7 +524,7 @@ fn plot_stats_count_each_pens_dots_lifts_and_time() {
         let (down, up, minutes): (f64, f64, f64) = (
             row[3].parse().unwrap(),
             row[4].parse().unwrap(),
-            row[5].parse().unwrap(),
+            row.last().unwrap().parse().unwrap(),
         );
         // The time is the motion model's over the layer's own paths, with
         // the flags over an AxiDraw's profile: no faster than the top

@@ -438,7 +438,8 @@ def stipple(
     per domain pixel), ``width_mm`` and ``pen_mm`` (SVG in millimetres,
     drawn with a pen), ``paper`` (``"a4"``, ``"letter"``, ``"WxHmm"``, ...:
     the SVG is the sheet, instead of ``width_mm``), ``margin`` (mm) and
-    ``landscape``, ``dot_path`` (``"spiral"``, ``"circle"`` or ``"touch"``:
+    ``landscape``, ``size_px`` (the SVG's size in px, for saxi's command
+    line), ``dot_path`` (``"spiral"``, ``"circle"`` or ``"touch"``:
     how the pen draws a dot), ``ink`` (``"#rrggbb"``), ``policy`` (default
     ``"smaller"``), ``seed``, ``subpixel_bits``, ``periodic``, ``exact``,
     ``tones`` (``"display"``: reproduce the grey a viewer sees;

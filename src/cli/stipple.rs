@@ -325,20 +325,22 @@ fn draw(a: &StippleArgs, o: &Job, image: &Path, output: &Path) -> Result<()> {
     }
     if a.plot_stats {
         let plots = o.plot_stats(&drawing, &plotter)?;
-        println!("pen\tdots\tlifts\tpen-down mm\tpen-up mm\tminutes");
+        println!("pen\tdots\tlifts\tpen-down mm\tpen-up mm\tdrawing min\ttravel min\tminutes");
         for p in &plots {
             println!(
-                "{}\t{}\t{}\t{:.1}\t{:.1}\t{:.1}",
+                "{}\t{}\t{}\t{:.1}\t{:.1}\t{:.1}\t{:.1}\t{:.1}",
                 p.pen,
                 p.dots,
                 p.lifts,
                 p.pen_down_mm,
                 p.pen_up_mm,
+                p.pen_down_s / 60.0,
+                p.pen_up_s / 60.0,
                 p.seconds / 60.0
             );
         }
         let total: f64 = plots.iter().map(|p| p.seconds).sum();
-        println!("total\t\t\t\t\t{:.1}", total / 60.0);
+        println!("total\t\t\t\t\t\t\t{:.1}", total / 60.0);
     }
     if a.run.verbose {
         let (lo, hi) = drawing

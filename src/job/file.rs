@@ -43,6 +43,7 @@ pub const KEYS: &[&str] = &[
     "paper",
     "margin",
     "landscape",
+    "size_px",
     "pen_mm",
     "dot_path",
     "refill_mm",

@@ -187,6 +187,11 @@ pub struct Job {
     #[cfg_attr(feature = "cli", arg(long, requires = "paper"))]
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub landscape: bool,
+    /// Write the SVG's width and height in CSS px (96 per inch) instead of
+    /// mm: the same page, for tools that drop units (saxi's command line).
+    #[cfg_attr(feature = "cli", arg(long))]
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub size_px: bool,
     /// Pen width in mm (needs --width-mm): each dot is drawn as a pen draws
     /// it, in mm, on one Inkscape layer: a dot no wider than the pen is one
     /// pen touch (a two-point path), a bigger one a spiral filled at pen
@@ -253,6 +258,7 @@ impl Default for Job {
             paper: None,
             margin: None,
             landscape: false,
+            size_px: false,
             pen_mm: None,
             dot_path: DotPath::Spiral,
             refill_mm: None,
@@ -284,6 +290,7 @@ impl Job {
         key.dot_factor = None;
         key.scale = 1.0;
         key.ink = Ink::BLACK;
+        key.size_px = false;
         // The pen sets the radii only when nothing else does.
         let pen_sized = self.pen_mm.is_some()
             && self.points.is_none()

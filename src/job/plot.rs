@@ -31,13 +31,14 @@ impl Job {
                 let pen = layer.pen_mm.unwrap_or(pen_mm);
                 let path = |i: usize, buf: &mut Vec<(f64, f64)>| {
                     let d = &layer.dots[i];
-                    buf.extend(svg::pen_path(
+                    svg::pen_path_into(
+                        buf,
                         origin.0 + f64::from(d.x) * scale,
                         origin.1 + f64::from(d.y) * scale,
                         f64::from(d.radius) * scale,
                         pen,
                         self.dot_path,
-                    ));
+                    );
                 };
                 let n = layer.dots.len();
                 plot_paths_of(&layer.name, n, n, &path, plotter)

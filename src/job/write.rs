@@ -42,7 +42,10 @@ impl Job {
         if let Some(pen) = self.pen_width() {
             opts = opts.with_pen_mm(pen)?;
         }
-        Ok(opts.with_dot_path(self.dot_path).with_ink(self.ink_rgb()))
+        Ok(opts
+            .with_dot_path(self.dot_path)
+            .with_ink(self.ink_rgb())
+            .with_size_px(self.size_px))
     }
 
     /// Whether the job draws in colour: two pens or more. One pen draws the

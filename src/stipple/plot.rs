@@ -51,18 +51,19 @@ impl Motion {
     }
 
     /// The seconds to follow the polyline `points` (mm) from rest to rest.
-    /// Repeated points are skipped. `speeds` is scratch memory.
-    pub fn path_s(&self, points: &[(f64, f64)], speeds: &mut Vec<f64>) -> f64 {
+    /// Repeated points are skipped.
+    pub fn path_s(&self, points: &[(f64, f64)], scratch: &mut Scratch) -> f64 {
         let (a, top) = (self.acceleration, self.max_velocity);
         // Segments of non-zero length: (length, unit direction).
-        let mut segs: Vec<(f64, (f64, f64))> = Vec::with_capacity(points.len());
+        let Scratch { segs, speeds } = scratch;
+        segs.clear();
         let mut at = match points.first() {
             Some(&p) => p,
             None => return 0.0,
         };
         for &p in &points[1..] {
             let (dx, dy) = (p.0 - at.0, p.1 - at.1);
-            let len = dx.hypot(dy);
+            let len = (dx * dx + dy * dy).sqrt();
             if len > EPSILON_MM {
                 segs.push((len, (dx / len, dy / len)));
                 at = p;
@@ -136,6 +137,15 @@ impl Motion {
         }
         Ok(())
     }
+}
+
+/// Working memory of [`Motion::path_s`].
+#[derive(Debug, Default)]
+pub struct Scratch {
+    /// Segments: length and unit direction.
+    segs: Vec<(f64, (f64, f64))>,
+    /// Speeds at their ends.
+    speeds: Vec<f64>,
 }
 
 /// Points closer than this (mm) are one point.
@@ -314,7 +324,10 @@ pub struct PenPlot {
     pub seconds: f64,
 }
 
-/// Paths formatted and timed at once by one thread.
+/// Fills a buffer with path `i`'s points (mm).
+pub type PathOf<'a> = dyn Fn(usize, &mut Vec<(f64, f64)>) + Sync + 'a;
+
+/// Paths made and timed at once by one thread.
 const CHUNK: usize = 4096;
 
 /// The plot of `count` paths, `path(i, buffer)` filling path `i` (a
@@ -326,11 +339,11 @@ pub fn plot_paths_of(
     pen: &str,
     dots: usize,
     count: usize,
-    path: &(dyn Fn(usize, &mut Vec<(f64, f64)>) + Sync),
+    path: &PathOf<'_>,
     plotter: &Plotter,
 ) -> PenPlot {
     use rayon::prelude::*;
-    let dist = |a: (f64, f64), b: (f64, f64)| (a.0 - b.0).hypot(a.1 - b.1);
+    let dist = |a: (f64, f64), b: (f64, f64)| ((a.0 - b.0).powi(2) + (a.1 - b.1).powi(2)).sqrt();
     // Per chunk: its first and last points, drawn mm and s, travel inside
     // it, lifts.
     #[derive(Clone, Copy, Default)]
@@ -346,7 +359,7 @@ pub fn plot_paths_of(
     let parts: Vec<Part> = (0..count.div_ceil(CHUNK))
         .into_par_iter()
         .map(|c| {
-            let (mut buf, mut speeds) = (Vec::new(), Vec::new());
+            let (mut buf, mut scratch) = (Vec::new(), Scratch::default());
             let mut part = Part::default();
             for i in c * CHUNK..count.min((c + 1) * CHUNK) {
                 buf.clear();
@@ -362,7 +375,7 @@ pub fn plot_paths_of(
                     part.up_s += plotter.pen_up.straight_s(d);
                 }
                 part.down_mm += buf.windows(2).map(|w| dist(w[0], w[1])).sum::<f64>();
-                part.down_s += plotter.pen_down.path_s(&buf, &mut speeds);
+                part.down_s += plotter.pen_down.path_s(&buf, &mut scratch);
                 part.last = last;
                 part.lifts += 1;
             }
@@ -476,7 +489,7 @@ mod tests {
     #[test]
     fn corners_slow_the_pen_as_the_cornering_factor_says() {
         let mut m = slow();
-        let mut speeds = Vec::new();
+        let mut speeds = Scratch::default();
         // Straight on through a vertex: no corner at all.
         let straight = m.path_s(&[(0.0, 0.0), (1.0, 0.0), (4.0, 0.0)], &mut speeds);
         assert!((straight - m.straight_s(4.0)).abs() < 1e-12);
