@@ -617,3 +617,111 @@ fn the_run_reports_every_stage_and_the_sizing_parts() {
     );
     assert!(stopped.is_err());
 }
+
+/// Mean blurred ΔE00 between two RGB pictures of one size (σ in pixels).
+fn blurred_delta_e(a: &image::RgbImage, b: &image::RgbImage, sigma: f64) -> f64 {
+    let (w, h) = a.dimensions();
+    assert_eq!((w, h), b.dimensions());
+    let planes = |img: &image::RgbImage| -> Vec<Grey> {
+        (0..3)
+            .map(|k| {
+                let values = img.pixels().map(|p| f32::from(p.0[k]) / 255.0).collect();
+                blur(&Grey::new(w, h, values).unwrap(), sigma)
+            })
+            .collect()
+    };
+    let (pa, pb) = (planes(a), planes(b));
+    let lab = |p: &[Grey], i: usize| Lab::from_srgb([0, 1, 2].map(|k| f64::from(p[k].values[i])));
+    let n = (w * h) as usize;
+    (0..n)
+        .map(|i| delta_e00(lab(&pa, i), lab(&pb, i)))
+        .sum::<f64>()
+        / n as f64
+}
+
+/// An SVG rendered by rsvg-convert `width` px wide, on white.
+fn rsvg(svg: &Path, width: u32) -> Option<image::RgbImage> {
+    let png = svg.with_extension("rsvg.png");
+    let ran = Command::new("rsvg-convert")
+        .args(["-w", &width.to_string(), "-b", "white", "-o"])
+        .arg(&png)
+        .arg(svg)
+        .status();
+    match ran {
+        Ok(s) if s.success() => Some(image::open(&png).unwrap().to_rgb8()),
+        _ if std::env::var("PIXELPIE_EXPECT_RSVG").is_ok_and(|v| v == "1") => {
+            panic!("rsvg-convert did not run (apt-get install librsvg2-bin)")
+        }
+        _ => {
+            eprintln!("notice: rsvg-convert missing; the SVG-as-PNG check is skipped");
+            None
+        }
+    }
+}
+
+#[test]
+fn the_colour_svg_looks_like_its_png_in_a_viewer() {
+    let dir = tempfile::tempdir().unwrap();
+    let rocket = asset("rocket.jpg");
+    // Circles against the PNG, and pen paths on paper against their
+    // as-plotted preview.
+    for (name, pen) in [("dots", false), ("pen", true)] {
+        let svg = dir.path().join(format!("{name}.svg"));
+        let png = dir.path().join(format!("{name}.png"));
+        let (svg_s, png_s) = (svg.to_str().unwrap(), png.to_str().unwrap());
+        let common = [
+            "--pens",
+            "cmyk",
+            "--points",
+            "6000",
+            "-q",
+            "--backend",
+            "cpu",
+        ];
+        let runs: Vec<Vec<&str>> = if pen {
+            vec![
+                [
+                    &[
+                        "stipple", &rocket, "-o", svg_s, "--paper", "a5", "--pen-mm", "0.3",
+                    ][..],
+                    &["--preview", png_s],
+                    &common,
+                ]
+                .concat(),
+            ]
+        } else {
+            vec![
+                [&["stipple", &rocket, "-o", svg_s][..], &common].concat(),
+                [&["stipple", &rocket, "-o", png_s][..], &common].concat(),
+            ]
+        };
+        for args in runs {
+            let o = pixelpie(&args);
+            assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        }
+        let ours = image::open(&png).unwrap().to_rgb8();
+        let Some(viewed) = rsvg(&svg, ours.width()) else {
+            return;
+        };
+        let (w, h) = ours.dimensions();
+        assert_eq!(viewed.dimensions(), (w, h), "{name}");
+        let sigma = (f64::from(w * h) / 6000.0).sqrt();
+        let de = blurred_delta_e(&ours, &viewed, sigma);
+        // Without the layers' multiply a viewer lays each ink over the last.
+        let text = std::fs::read_to_string(&svg).unwrap();
+        assert_eq!(text.matches("mix-blend-mode:multiply").count(), 4, "{name}");
+        let plain = dir.path().join(format!("{name}-plain.svg"));
+        std::fs::write(
+            &plain,
+            text.replace(r#" style="mix-blend-mode:multiply""#, ""),
+        )
+        .unwrap();
+        let de_plain = blurred_delta_e(&ours, &rsvg(&plain, w).unwrap(), sigma);
+        eprintln!("{name}: ΔE00 {de:.2} with multiply, {de_plain:.2} without");
+        assert!(
+            de <= 1.5,
+            "{name}: the SVG in a viewer is ΔE00 {de} from the PNG"
+        );
+        assert!(de_plain > 2.0 * de, "{name}: {de_plain} without multiply");
+    }
+}

@@ -7,7 +7,7 @@ use std::path::Path;
 use std::process::Command;
 
 use pixelpie::stipple::plot::{Motion, Plotter, plot_paths};
-use pixelpie::stipple::read::read_svg;
+use pixelpie::stipple::read::{polyline, read_svg};
 
 fn pixelpie(args: &[&str]) -> std::process::Output {
     Command::new(env!("CARGO_BIN_EXE_pixelpie"))
@@ -158,14 +158,7 @@ fn impossible_paper_options_end_in_one_error_line() {
 fn paths(text: &str) -> Vec<Vec<(f64, f64)>> {
     text.lines()
         .filter(|l| l.starts_with("<path "))
-        .map(|l| {
-            let nums: Vec<f64> = attr(l, "d")
-                .split_whitespace()
-                .filter(|t| *t != "M" && *t != "L")
-                .map(|t| t.parse().unwrap())
-                .collect();
-            nums.chunks(2).map(|c| (c[0], c[1])).collect()
-        })
+        .map(|l| polyline(attr(l, "d")).expect("a polyline"))
         .collect()
 }
 

@@ -96,6 +96,10 @@ CHOICES: Dict[str, List[str]] = {
 _LABEL = re.compile(r'inkscape:label="([^"]*)"')
 _PATH = re.compile(r"<path\b[^>]*/>\s*")
 _GROUP = re.compile(r"<g\b[^>]*>")
+# A pen path's d as `pixelpie stipple --pen-mm` writes it: a moveto, then
+# one run of relative linetos; and SVG's numbers.
+_PEN_D = re.compile(r"M([-+.0-9 ]+)l([-+.0-9 ]+)")
+_NUMBER = re.compile(r"[-+]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)")
 
 
 def _parse_value(text: str) -> Any:
@@ -200,8 +204,8 @@ def _pen_paths(svg_text: str) -> Optional[Tuple[List[List[Any]], Tuple[float, fl
     """The polylines of a pixelpie pen drawing, group by group, in the SVG's
     user units, and the viewBox's size; None unless the file is exactly what
     ``pixelpie stipple --pen-mm`` writes: top-level groups of ``<path
-    d="M x y L x y ...">`` with no transforms, a viewBox from 0 0. Points
-    are kept as vpype keeps them."""
+    d="Mx yldx dy...">`` (a point, then relative steps) with no transforms, a
+    viewBox from 0 0. Points are kept as vpype keeps them."""
     import xml.etree.ElementTree as ET
 
     import numpy as np
@@ -217,22 +221,19 @@ def _pen_paths(svg_text: str) -> Optional[Tuple[List[List[Any]], Tuple[float, fl
             return None
         lines = []
         for path in g:
-            t = path.get("d", "").split()
-            if (
-                path.tag != svg_ns + "path"
-                or "transform" in path.attrib
-                or len(t) < 6
-                or t[0] != "M"
-                or t[3] != "L"
-                or len(t) % 2
-            ):
+            d = path.get("d", "")
+            m = _PEN_D.fullmatch(d)
+            if path.tag != svg_ns + "path" or "transform" in path.attrib or m is None:
                 return None
-            try:
-                xy = np.array(t[1:3] + t[4:], dtype=np.float64).reshape(-1, 2)
-            except ValueError:
+            first, steps = _NUMBER.findall(m.group(1)), _NUMBER.findall(m.group(2))
+            if len(first) != 2 or not steps or len(steps) % 2:
                 return None
+            numbers = first + steps
+            # The first point, then relative steps: added up in order, as
+            # vpype's reader does.
+            xy = np.cumsum(np.array(numbers, dtype=np.float64).reshape(-1, 2), axis=0)
             # vpype leaves out a segment of zero length (a point that
-            # repeats the one before, as the SVG's 0.001 mm rounding can
+            # repeats the one before, as the SVG's 0.01 mm grid can
             # make on a spiral's first turn); a path of one point is dropped.
             lines.append(xy[np.r_[True, np.any(xy[1:] != xy[:-1], axis=1)]])
         groups.append(lines)

@@ -372,6 +372,40 @@ def test_a_colour_drawing_names_its_pens_and_their_layers():
     assert {l.name: len(l.paths) for l in layers} == per_pen
 
 
+def test_the_plot_time_is_the_clis_and_a_profile_overrides_it(tmp_path):
+    cli = Path(os.environ.get("PIXELPIE_BIN", ROOT / "target" / "release" / "pixelpie"))
+    args = dict(points=1500, paper="a5", pen_mm=0.3, order="tsp")
+    d = pixelpie.stipple(ASSETS / "rocket.jpg", **args)
+    (ink,) = d.plot_stats()
+    assert ink["dots"] == ink["lifts"] == d.reached
+    # The motion model: drawing, travel, and 0.24 s of pen drop and lift a dot.
+    parts = ink["pen_down_s"] + ink["pen_up_s"] + 0.24 * ink["lifts"]
+    assert abs(ink["seconds"] - parts) < 1e-6 * parts
+    # The CLI's table for the same job: the same minutes.
+    run = subprocess.run(
+        [str(cli), "stipple", str(ASSETS / "rocket.jpg"), "-o", str(tmp_path / "p.svg"),
+         "--points", "1500", "--paper", "a5", "--pen-mm", "0.3", "--order", "tsp",
+         "--plot-stats", "-q"],
+        capture_output=True, text=True, check=True,
+    )
+    total = float(run.stdout.splitlines()[-1].split("\t")[-1])
+    assert abs(ink["seconds"] / 60 - total) <= 0.05
+    # A slower pen from a dict or a profile file: slower plots, the same dots.
+    (slow,) = d.plot_stats({"pen_down_max_velocity": 10, "pen_lift_duration": 0.5})
+    assert slow["pen_down_s"] > ink["pen_down_s"] and slow["seconds"] > ink["seconds"]
+    assert slow["pen_up_s"] == ink["pen_up_s"] and slow["pen_down_mm"] == ink["pen_down_mm"]
+    profile = tmp_path / "axidraw.toml"
+    profile.write_text("pen_down_max_velocity = 10\npen_lift_duration = 0.5\n")
+    assert d.plot_stats(profile) == [slow]
+    # Bad profiles are refused naming the key.
+    with pytest.raises(ValueError, match="pen_up_acceleration = -1"):
+        d.plot_stats({"pen_up_acceleration": -1})
+    with pytest.raises(ValueError, match="pen_speed"):
+        d.plot_stats({"pen_speed": 3})
+    with pytest.raises(TypeError, match="path or a dict"):
+        d.plot_stats(3)  # type: ignore[arg-type]
+
+
 def test_a_drawing_says_in_words_that_it_does_not_pickle():
     import pickle
 
@@ -423,6 +457,9 @@ _TYPED = textwrap.dedent(
         width: float = layer.pen_mm
         for path in layer.paths:
             xy: npt.NDArray[np.float64] = path
+    for pen in d.plot_stats({"pen_down_max_velocity": 30}):
+        minutes: float = pen["seconds"] / 60
+        lifts: int = pen["lifts"]
     text: str = pixelpie.stipple("photo.jpg", svg=True)
     plan = pixelpie.plan("photo.jpg", points=5000)
     seconds: float = plan["seconds"]

@@ -384,7 +384,10 @@ pub struct Layer<'a> {
 /// Writes a colour drawing: one Inkscape layer per pen
 /// (`<g inkscape:groupmode="layer" inkscape:label="cyan" fill="#00ffff">`,
 /// or `stroke` with a pen), in the layers' order. The options' ink is not
-/// used; each layer has its own.
+/// used; each layer has its own. Each layer multiplies what lies below it
+/// (`style="mix-blend-mode:multiply"`), as transparent inks do on paper
+/// and in the PNG, so that browsers and Inkscape show what the plot will;
+/// plotters and vpype ignore the style.
 pub fn write_layers(w: &mut dyn Write, layers: &[Layer<'_>], opts: &SvgOptions) -> Result<()> {
     let pen = opts.pen()?;
     let all: Vec<Dot> = layers.iter().flat_map(|l| l.dots.iter().copied()).collect();
@@ -409,7 +412,7 @@ pub fn write_layers(w: &mut dyn Write, layers: &[Layer<'_>], opts: &SvgOptions) 
             None => {
                 writeln!(
                     w,
-                    r#"<g inkscape:groupmode="layer" id="layer{id}" inkscape:label="{label}" fill="{ink}" stroke="none">"#
+                    r#"<g inkscape:groupmode="layer" id="layer{id}" inkscape:label="{label}" fill="{ink}" stroke="none" style="mix-blend-mode:multiply">"#
                 )?;
                 write_circles(w, l.dots, scale, offset)?;
             }
@@ -417,7 +420,7 @@ pub fn write_layers(w: &mut dyn Write, layers: &[Layer<'_>], opts: &SvgOptions) 
                 let pen = l.pen_mm.unwrap_or(pen);
                 writeln!(
                     w,
-                    r#"<g inkscape:groupmode="layer" id="layer{id}" inkscape:label="{label}" fill="none" stroke="{ink}" stroke-width="{}" stroke-linecap="round" stroke-linejoin="round">"#,
+                    r#"<g inkscape:groupmode="layer" id="layer{id}" inkscape:label="{label}" fill="none" stroke="{ink}" stroke-width="{}" stroke-linecap="round" stroke-linejoin="round" style="mix-blend-mode:multiply">"#,
                     num(pen)
                 )?;
                 write_pen_dots(w, l.dots, (scale, offset), pen, opts.dot_path)?;
@@ -484,16 +487,7 @@ fn write_pen_dots(
             f64::from(d.radius) * scale,
         );
         buf.extend_from_slice(br#"<path d=""#);
-        for (k, (x, y)) in pen_path(cx, cy, r, pen, path).into_iter().enumerate() {
-            buf.extend_from_slice(match k {
-                0 => b"M ".as_slice(),
-                1 => b" L ",
-                _ => b" ",
-            });
-            push_num(buf, x);
-            buf.push(b' ');
-            push_num(buf, y);
-        }
+        push_path(buf, &pen_path(cx, cy, r, pen, path));
         buf.extend_from_slice(br#"" data-dot=""#);
         push_num(buf, cx);
         buf.push(b' ');
@@ -502,6 +496,72 @@ fn write_pen_dots(
         push_num(buf, r);
         buf.extend_from_slice(b"\"/>\n");
     })
+}
+
+/// Units of a pen path's coordinates per mm: the 0.01 mm a plotter
+/// resolves.
+pub const PATH_UNITS_PER_MM: f64 = 100.0;
+
+/// Appends a pen path's `d`: the first point absolute (`M12.05 87.93`),
+/// then each step relative (`l.1.02-.05.1…`), all on the 0.01 mm grid.
+/// Each point is rounded on the grid and the steps are the differences of
+/// the rounded points, so no error adds up along the path: every point is
+/// within 0.005 mm of its place. Steps that round to nothing are left out,
+/// and a separator is written only where SVG's number syntax needs one.
+fn push_path(buf: &mut Vec<u8>, pts: &[(f64, f64)]) {
+    let unit = |v: f64| (v * PATH_UNITS_PER_MM).round() as i64;
+    let Some(&(x0, y0)) = pts.first() else {
+        return;
+    };
+    let mut at = (unit(x0), unit(y0));
+    buf.push(b'M');
+    let dot = push_units(buf, at.0, false);
+    let mut dot = push_units(buf, at.1, dot);
+    let mut first = true;
+    for &(x, y) in &pts[1..] {
+        let p = (unit(x), unit(y));
+        let step = (p.0 - at.0, p.1 - at.1);
+        if step == (0, 0) {
+            continue;
+        }
+        if first {
+            buf.push(b'l');
+            (first, dot) = (false, false);
+        }
+        dot = push_units(buf, step.0, dot);
+        dot = push_units(buf, step.1, dot);
+        at = p;
+    }
+}
+
+/// Appends `n` hundredths (`-1.5` for -150, `.05` for 5, `2` for 200),
+/// preceded by a space where it would otherwise run into the number before
+/// (`after_dot`: that number has a decimal point, so a number starting with
+/// `.` ends it). Returns whether this number has a decimal point.
+fn push_units(buf: &mut Vec<u8>, n: i64, after_dot: bool) -> bool {
+    let (int, frac) = (n.unsigned_abs() / 100, n.unsigned_abs() % 100);
+    let starts_with_dot = int == 0 && frac != 0;
+    let needs_space = match buf.last() {
+        None | Some(b'M' | b'l' | b' ') => false,
+        Some(_) => n >= 0 && !(starts_with_dot && after_dot),
+    };
+    if needs_space {
+        buf.push(b' ');
+    }
+    if n < 0 {
+        buf.push(b'-');
+    }
+    if !starts_with_dot {
+        buf.extend_from_slice(int.to_string().as_bytes());
+    }
+    if frac != 0 {
+        buf.push(b'.');
+        buf.push(b'0' + (frac / 10) as u8);
+        if frac % 10 != 0 {
+            buf.push(b'0' + (frac % 10) as u8);
+        }
+    }
+    frac != 0
 }
 
 /// The polyline a pen `pen` wide follows to ink the disk of centre
@@ -565,7 +625,7 @@ pub(crate) fn pen_path_into(
             let q = rho.hypot(a);
             let step = (8.0 * CHORD_MM * q / (rho * rho + 2.0 * a * a))
                 .sqrt()
-                .min(PI / 8.0);
+                .min(PI / 2.0);
             theta = (theta + step).min(end);
             pts.push((cx + a * theta * theta.cos(), cy + a * theta * theta.sin()));
         }
@@ -682,14 +742,10 @@ mod tests {
                     let len = l[start..].find('"').expect("closing quote");
                     &l[start..start + len]
                 };
-                let nums: Vec<f64> = attr("d")
-                    .split_whitespace()
-                    .filter(|t| *t != "M" && *t != "L")
-                    .map(|t| t.parse().expect("number"))
-                    .collect();
-                assert!(attr("d").starts_with("M "));
-                assert_eq!(attr("d").matches('L').count(), 1);
-                let pts = nums.chunks(2).map(|c| (c[0], c[1])).collect();
+                // One moveto, then one run of relative steps.
+                let d = attr("d");
+                assert!(d.starts_with('M') && d.matches(char::is_alphabetic).count() <= 2);
+                let pts = crate::stipple::read::polyline(d).expect("a polyline");
                 let dot: Vec<f64> = attr("data-dot")
                     .split(' ')
                     .map(|t| t.parse().expect("number"))
@@ -857,6 +913,42 @@ mod tests {
     }
 
     #[test]
+    fn written_paths_are_the_pen_paths_on_the_plotters_grid() {
+        // Every written point within half a grid diagonal of its place on
+        // the exact path, none left out but those that round onto the one
+        // before; the numbers read back whatever separators they need.
+        let grid = 0.5f64.hypot(0.5) / PATH_UNITS_PER_MM + 1e-9;
+        let mut seed = 7u64;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for k in 0..400 {
+            let (cx, cy) = (next() * 300.0 - 20.0, next() * 200.0);
+            let r = 0.05 + next() * 2.0;
+            let path = [DotPath::Spiral, DotPath::Circle, DotPath::Touch][k % 3];
+            let exact = pen_path(cx, cy, r, 0.3, path);
+            let mut buf = Vec::new();
+            push_path(&mut buf, &exact);
+            let d = String::from_utf8(buf).unwrap();
+            let written = crate::stipple::read::polyline(&d).expect(&d);
+            let mut kept = vec![exact[0]];
+            let unit = |p: (f64, f64)| ((p.0 * 100.0).round(), (p.1 * 100.0).round());
+            for &p in &exact[1..] {
+                if unit(p) != unit(*kept.last().unwrap()) {
+                    kept.push(p);
+                }
+            }
+            assert_eq!(written.len(), kept.len(), "{d}");
+            for (w, e) in written.iter().zip(&kept) {
+                assert!((w.0 - e.0).hypot(w.1 - e.1) <= grid, "{d}: {w:?} vs {e:?}");
+            }
+        }
+    }
+
+    #[test]
     fn a_dot_no_wider_than_the_pen_is_one_touch() {
         // 2 mm per px: r = 0.15 mm, as wide as the pen.
         let text = render(
@@ -868,7 +960,7 @@ mod tests {
             &pen_opts((10, 10), 20.0, 0.3),
         );
         assert!(
-            text.contains(r#"<path d="M 6 8 L 6.01 8" data-dot="6 8 0.15"/>"#),
+            text.contains(r#"<path d="M6 8l.01 0" data-dot="6 8 0.15"/>"#),
             "{text}"
         );
     }
@@ -900,8 +992,10 @@ mod tests {
             let p = paths(&text);
             let pts = &p[0].0;
             assert!(pts.len() > 2, "r {r} pen {pen}");
-            // The ink stays inside the disk (up to the clamp and rounding).
-            let inner = (r - pen / 2.0).max(TOUCH_MM) + CHORD_MM / 2.0 + 0.001;
+            // The ink stays inside the disk (up to the clamp, and rounding
+            // on the 0.01 mm grid: half its diagonal).
+            let grid = 0.5f64.hypot(0.5) / PATH_UNITS_PER_MM;
+            let inner = (r - pen / 2.0).max(TOUCH_MM) + CHORD_MM / 2.0 + grid;
             for q in pts {
                 let d = (q.0 - cx).hypot(q.1 - cy);
                 assert!(d <= inner, "r {r} pen {pen}: vertex at {d} > {inner}");
@@ -921,7 +1015,7 @@ mod tests {
                     checked += 1;
                     let d = poly_dist(q, pts);
                     assert!(
-                        d <= pen / 2.0 + CHORD_MM / 2.0,
+                        d <= pen / 2.0 + CHORD_MM / 2.0 + grid,
                         "r {r} pen {pen}: {q:?} is {d} from the path"
                     );
                 }
