@@ -39,6 +39,8 @@ impl Job {
                         pen,
                         self.dot_path,
                     );
+                    // As the file holds it, on the plotter's grid.
+                    svg::on_grid(buf);
                 };
                 let n = layer.dots.len();
                 plot_paths_of(&layer.name, n, n, &path, plotter)

@@ -502,6 +502,22 @@ fn write_pen_dots(
 /// resolves.
 pub const PATH_UNITS_PER_MM: f64 = 100.0;
 
+/// `pts` as the file holds them: each point on the 0.01 mm grid, none
+/// repeating the one before ([`push_path`]'s points, in mm).
+pub(crate) fn on_grid(pts: &mut Vec<(f64, f64)>) {
+    let unit = |v: f64| (v * PATH_UNITS_PER_MM).round();
+    let mut last: Option<(f64, f64)> = None;
+    pts.retain_mut(|p| {
+        let q = (unit(p.0), unit(p.1));
+        if last == Some(q) {
+            return false;
+        }
+        last = Some(q);
+        *p = (q.0 / PATH_UNITS_PER_MM, q.1 / PATH_UNITS_PER_MM);
+        true
+    });
+}
+
 /// Appends a pen path's `d`: the first point absolute (`M12.05 87.93`),
 /// then each step relative (`l.1.02-.05.1…`), all on the 0.01 mm grid.
 /// Each point is rounded on the grid and the steps are the differences of
