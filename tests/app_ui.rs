@@ -1974,3 +1974,66 @@ fn a_picture_over_the_memory_budget_is_refused_in_the_panel() {
     // The picture before it stays.
     assert!(h.state().error.is_none());
 }
+
+/// File dialogs whose pen-file dialog answers with a set path.
+struct PenBoxDialog(PathBuf);
+
+impl app::dialogs::FileDialogs for PenBoxDialog {
+    fn pick_image(&mut self, _: Option<&Path>) -> app::dialogs::Answer {
+        Ok(None)
+    }
+    fn save_drawing(&mut self, _: Option<&Path>, _: &str) -> app::dialogs::Answer {
+        Ok(None)
+    }
+    fn pick_pens(&mut self, _: Option<&Path>) -> app::dialogs::Answer {
+        Ok(Some(self.0.clone()))
+    }
+}
+
+#[test]
+fn a_pen_box_lists_its_pens_and_chooses_the_clis_for_the_photo() {
+    let (_dir, png, mut h) = ready(200, 150);
+    let pen_box = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/pens-24.toml");
+    h.state_mut().dialogs = Box::new(PenBoxDialog(pen_box.clone()));
+    h.get_by_label("Pen box…").click();
+    h.run_steps(2);
+    let listed = h.state().pen_box.clone().expect("a pen box").1;
+    assert_eq!(listed.len(), 24);
+    // The box's pens, listed under its header.
+    h.get_by_label("Pen box: 24 pens (pens-24.toml)").click();
+    h.run_steps(2);
+    for p in listed.pens() {
+        assert!(h.query_by_label(&p.name).is_some(), "{} not listed", p.name);
+    }
+    h.state_mut().choose_count = 3;
+    h.run_steps(1);
+    h.get_by_label("Choose 3 for this photo").click();
+    h.run_steps(2);
+    settle(&mut h);
+    let note = match &h.state().choice_note {
+        Some(Ok(note)) => note.clone(),
+        other => panic!("{other:?}"),
+    };
+    assert!(note.contains("predicted ΔE00"), "{note}");
+    let chosen = h.state().settings.job.pens.clone().expect("pens chosen");
+    assert_eq!(chosen.len(), 3);
+    // The CLI chooses the same pens for the same picture.
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_pixelpie"))
+        .args(["stipple", &png.display().to_string(), "-o"])
+        .arg(png.with_extension("svg"))
+        .args(["--points", "500", "--pens"])
+        .arg(&pen_box)
+        .args(["--choose", "3"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    let said = err.lines().find(|l| l.starts_with("chose 3")).expect(&err);
+    for p in chosen.pens() {
+        assert!(
+            listed.pens().contains(p) && said.contains(&p.name),
+            "{}: {said}",
+            p.name
+        );
+        assert!(note.contains(&p.name), "{}: {note}", p.name);
+    }
+}

@@ -725,3 +725,100 @@ fn the_colour_svg_looks_like_its_png_in_a_viewer() {
         assert!(de_plain > 2.0 * de, "{name}: {de_plain} without multiply");
     }
 }
+
+#[test]
+fn an_inventory_gives_the_pens_chosen_for_the_photo_and_the_job_keeps_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let inventory = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/pens-24.toml");
+    let inventory = inventory.to_str().unwrap();
+    let names: Vec<String> = PenSet::from_file(Path::new(inventory))
+        .unwrap()
+        .pens()
+        .iter()
+        .map(|p| p.name.clone())
+        .collect();
+    assert_eq!(names.len(), 24);
+    let (svg, job) = (dir.path().join("c.svg"), dir.path().join("c.toml"));
+    let rocket = asset("rocket.jpg");
+    let o = pixelpie(&[
+        "stipple",
+        &rocket,
+        "-o",
+        svg.to_str().unwrap(),
+        "--pens",
+        inventory,
+        "--choose",
+        "4",
+        "--points",
+        "3000",
+        "--save-job",
+        job.to_str().unwrap(),
+        "--backend",
+        "cpu",
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    // Said: the pens and the predicted error.
+    let said = err
+        .lines()
+        .find(|l| l.starts_with("chose 4 of 24 pens"))
+        .expect(&err);
+    assert!(said.contains("predicted ΔE00"), "{said}");
+    // The drawing has the four pens chosen, each a pen of the inventory.
+    let d = pixelpie::stipple::read::read_svg(&std::fs::read_to_string(&svg).unwrap()).unwrap();
+    assert_eq!(d.layers.len(), 4);
+    for (name, _) in &d.layers {
+        assert!(
+            names.contains(name) && said.contains(name.as_str()),
+            "{name}: {said}"
+        );
+    }
+    // The saved job holds them, not the inventory, and draws the same file.
+    let text = std::fs::read_to_string(&job).unwrap();
+    assert!(
+        !text.contains("choose") && text.matches("name = ").count() == 4,
+        "{text}"
+    );
+    let again = dir.path().join("again.svg");
+    let o = pixelpie(&[
+        "stipple",
+        &rocket,
+        "--job",
+        job.to_str().unwrap(),
+        "-o",
+        again.to_str().unwrap(),
+        "-q",
+        "--backend",
+        "cpu",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(std::fs::read(&again).unwrap(), std::fs::read(&svg).unwrap());
+    // The inventory alone, or an impossible count: one line, no file.
+    for (extra, needle) in [
+        (&[][..], "--choose K"),
+        (
+            &["--choose", "9"][..],
+            "--choose 9: choose 1 to 8 of the 24 pens",
+        ),
+        (&["--choose", "0"][..], "--choose 0"),
+    ] {
+        let out = dir.path().join("no.svg");
+        let mut args = vec![
+            "stipple",
+            &rocket,
+            "-o",
+            out.to_str().unwrap(),
+            "--pens",
+            inventory,
+        ];
+        args.extend_from_slice(extra);
+        let o = pixelpie(&args);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{extra:?}: {err}");
+        assert!(
+            err.contains(needle) && err.trim().lines().count() == 1,
+            "{extra:?}: {err}"
+        );
+        assert!(!out.exists());
+    }
+}

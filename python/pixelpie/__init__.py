@@ -447,7 +447,10 @@ def stipple(
     ``max_radius``, ``gamma``, ``black_level``, ``white_level``,
     ``invert``, ``white_cutoff`` and ``hdr_white``; ``pens`` draws in colour
     with several pens sampled together: ``"cmyk"``, a list of ``"#rrggbb"``
-    colours, or the path of a ``.toml`` pen file; ``crop`` (``"x,y,w,h"``)
+    colours, or the path of a ``.toml`` pen file; ``choose`` (with an
+    inventory of up to 64 pens in ``pens``) draws with the K of them the
+    render model predicts closest to the picture's colours (``Drawing.pens``
+    says which); ``crop`` (``"x,y,w,h"``)
     and ``rotate`` (90, 180 or 270) frame the picture; ``refill_mm`` and
     ``layer_order`` shape the pen layers. An unknown name or a bad value
     raises ``ValueError`` (``TypeError`` for a wrong type).

@@ -459,6 +459,7 @@ fn plan_py(
     cancellable(py, None, |_| {
         budget::within(max_memory, || {
             let picture = decoded(&job, image.as_deref(), encoded.as_deref())?;
+            let (job, _) = job.chosen(picture.picture())?;
             job.plan(picture.picture())?.plan.to_json()
         })
     })
@@ -593,10 +594,12 @@ fn stipple_py(
             Ok(backend::sample(params, choice, ctl, &mut |_| {})?)
         };
         // The call's budget holds for the picture and the drawing's domain.
-        let (picture, drawing) = budget::within(max_memory, || -> pixelpie::Result<_> {
+        let (picture, job, drawing) = budget::within(max_memory, || -> pixelpie::Result<_> {
             let picture = decoded(&job, image.as_deref(), encoded.as_deref())?;
+            // The pens of `choose`, chosen for the picture: the job drawn.
+            let (job, _) = job.chosen(picture.picture())?;
             let drawing = job.draw(picture.picture(), sample, |_| ctl.check().is_ok())?;
-            Ok((picture, drawing))
+            Ok((picture, job, drawing))
         })?;
         drop(picture);
         ctl.check()?;

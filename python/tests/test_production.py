@@ -406,6 +406,22 @@ def test_the_plot_time_is_the_clis_and_a_profile_overrides_it(tmp_path):
         d.plot_stats(3)  # type: ignore[arg-type]
 
 
+def test_pens_chosen_from_an_inventory_are_the_clis(tmp_path):
+    inventory = ASSETS / "pens-24.toml"
+    d = pixelpie.stipple(ASSETS / "rocket.jpg", points=2000, pens=inventory, choose=3)
+    assert d.pens is not None and len(d.pens) == 3
+    run = subprocess.run(
+        [str(Path(os.environ.get("PIXELPIE_BIN", ROOT / "target" / "release" / "pixelpie"))),
+         "stipple", str(ASSETS / "rocket.jpg"), "-o", str(tmp_path / "c.csv"),
+         "--points", "2000", "--pens", str(inventory), "--choose", "3"],
+        capture_output=True, text=True, check=True,
+    )
+    said = next(l for l in run.stderr.splitlines() if l.startswith("chose 3 of 24 pens"))
+    assert all(p.name in said for p in d.pens), said
+    with pytest.raises(ValueError, match="--choose K"):
+        pixelpie.stipple(ASSETS / "rocket.jpg", points=2000, pens=inventory)
+
+
 def test_a_drawing_says_in_words_that_it_does_not_pickle():
     import pickle
 

@@ -19,6 +19,11 @@ pub trait FileDialogs {
     fn pick_image(&mut self, folder: Option<&Path>) -> Answer;
     /// Where to export, starting in `folder` with `name`.
     fn save_drawing(&mut self, folder: Option<&Path>, name: &str) -> Answer;
+    /// A pen file (`.toml`: a pen box to choose from), starting in `folder`.
+    fn pick_pens(&mut self, folder: Option<&Path>) -> Answer {
+        let _ = folder;
+        Err("no dialog for pen files here".into())
+    }
 }
 
 /// The desktop's dialogs.
@@ -49,6 +54,19 @@ impl FileDialogs for NativeDialogs {
         let mut d = rfd::FileDialog::new()
             .set_title("Open an image")
             .add_filter("Images and EXR", IMAGE_EXTENSIONS);
+        if let Some(f) = folder {
+            d = d.set_directory(f);
+        }
+        Ok(d.pick_file())
+    }
+
+    fn pick_pens(&mut self, folder: Option<&Path>) -> Answer {
+        if let Some(why) = unavailable() {
+            return Err(why);
+        }
+        let mut d = rfd::FileDialog::new()
+            .set_title("Open a pen box (a pen file)")
+            .add_filter("Pen files", &["toml"]);
         if let Some(f) = folder {
             d = d.set_directory(f);
         }

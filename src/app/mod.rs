@@ -109,6 +109,13 @@ pub struct PixelPieApp {
     dot_instances: Arc<Vec<dots::DotInstance>>,
     /// Why the last pen edit was refused (duplicate colours).
     pens_error: Option<String>,
+    /// The pen box loaded (its file's name and pens), to choose pens from.
+    pub pen_box: Option<(String, crate::colour::PenSet)>,
+    /// How many pens "Choose" picks from the pen box.
+    pub choose_count: usize,
+    /// What the last choice said (the pens, the predicted error), or why
+    /// there is none.
+    pub choice_note: Option<Result<String, String>>,
     /// A colour drawing's dots, pen by pen, with the pen's colour.
     pen_layers: Vec<([u8; 3], Arc<Vec<dots::DotInstance>>)>,
     view: view::ViewState,
@@ -216,6 +223,9 @@ impl PixelPieApp {
             dot_instances: Arc::new(Vec::new()),
             pen_layers: Vec::new(),
             pens_error: None,
+            pen_box: None,
+            choose_count: 5,
+            choice_note: None,
             view: view::ViewState::default(),
             gpu_dots,
             open_path: String::new(),

@@ -5,7 +5,7 @@
 use egui::{Color32, Sense};
 
 use super::PixelPieApp;
-use crate::colour::pens::{Pen, PenSet, name_of};
+use crate::colour::pens::{MAX_PENS, Pen, PenSet, name_of};
 
 /// Colours offered, in order, for a pen added to the set.
 const NEW_PENS: &[[u8; 3]] = &[
@@ -45,6 +45,8 @@ impl PixelPieApp {
                 job.pens = Some(PenSet::cmyk());
             }
         });
+        self.pen_box_ui(ui);
+        let job = &mut self.settings.job;
         let Some(set) = job.pens.clone() else {
             return;
         };
@@ -162,6 +164,102 @@ impl PixelPieApp {
         }
         let colour = ui.visuals().error_fg_color;
         super::panel::message_row(ui, self.pens_error.as_deref(), Some(colour));
+    }
+}
+
+impl PixelPieApp {
+    /// The pen box: load a pen file of up to 64 pens, see its pens, and
+    /// choose N of them for the photo (`--pens BOX.toml --choose N`).
+    fn pen_box_ui(&mut self, ui: &mut egui::Ui) {
+        ui.horizontal(|ui| {
+            if ui
+                .button("Pen box…")
+                .on_hover_text(
+                    "Open a pen file (.toml, up to 64 pens: the pens you own) to choose \
+                     the drawing's pens from",
+                )
+                .clicked()
+            {
+                let folder = self.settings.last_dir.clone();
+                match self.dialogs.pick_pens(folder.as_deref()) {
+                    Ok(Some(path)) => match PenSet::from_file(&path) {
+                        Ok(set) => {
+                            let name = path.file_name().map_or_else(
+                                || path.display().to_string(),
+                                |n| n.to_string_lossy().into_owned(),
+                            );
+                            self.choose_count = self.choose_count.clamp(1, set.len().min(MAX_PENS));
+                            self.pen_box = Some((name, set));
+                            self.choice_note = None;
+                        }
+                        Err(e) => self.choice_note = Some(Err(e.to_string())),
+                    },
+                    Ok(None) => {}
+                    Err(why) => self.choice_note = Some(Err(why)),
+                }
+            }
+        });
+        if let Some((name, set)) = self.pen_box.clone() {
+            egui::CollapsingHeader::new(format!("Pen box: {} pens ({name})", set.len()))
+                .id_salt("pen box")
+                .show(ui, |ui| {
+                    ui.horizontal_wrapped(|ui| {
+                        for p in set.pens() {
+                            swatch(ui, p.colour, &p.name);
+                            ui.label(&p.name);
+                        }
+                    });
+                });
+            ui.horizontal(|ui| {
+                let most = set.len().min(MAX_PENS);
+                ui.add(egui::DragValue::new(&mut self.choose_count).range(1..=most))
+                    .on_hover_text("How many pens to choose");
+                if ui
+                    .button(format!("Choose {} for this photo", self.choose_count))
+                    .on_hover_text(
+                        "The pens whose drawing the render model predicts closest to the \
+                         photo's colours (--choose)",
+                    )
+                    .clicked()
+                {
+                    self.choose_from_box(&set);
+                }
+            });
+        }
+        let colour = match &self.choice_note {
+            Some(Err(_)) => Some(ui.visuals().error_fg_color),
+            _ => None,
+        };
+        let note = self.choice_note.as_ref().map(|n| match n {
+            Ok(s) | Err(s) => s.as_str(),
+        });
+        super::panel::message_row(ui, note, colour);
+    }
+
+    /// Sets the job's pens to those chosen from `set` for the photo.
+    fn choose_from_box(&mut self, set: &PenSet) {
+        let Some(src) = &self.source else {
+            self.choice_note = Some(Err("open a photo first".into()));
+            return;
+        };
+        let mut job = self.settings.job.clone();
+        job.pens = Some(set.clone());
+        job.choose = Some(self.choose_count);
+        job.ink = crate::job::Ink::BLACK;
+        match job.chosen(crate::job::Picture::Colour(&src.colour)) {
+            Ok((chosen, Some(c))) => {
+                let names: Vec<&str> = c.pens.pens().iter().map(|p| p.name.as_str()).collect();
+                self.choice_note = Some(Ok(format!(
+                    "chose {}: predicted ΔE00 {:.2}",
+                    names.join(", "),
+                    c.predicted
+                )));
+                self.settings.hidden_pens = vec![false; c.pens.len()];
+                self.settings.job.pens = chosen.pens;
+            }
+            Ok((_, None)) => {}
+            Err(e) => self.choice_note = Some(Err(crate::text::one_line(&e))),
+        }
     }
 }
 

@@ -108,7 +108,7 @@ fn is_folder(path: &Path) -> bool {
 
 pub fn run(a: &StippleArgs, matches: Option<&clap::ArgMatches>) -> Result<()> {
     pixelpie::importance::budget::set_max_memory(a.run.max_memory);
-    let o = job(a, matches)?;
+    let mut o = job(a, matches)?;
     let batch = a.images.len() > 1 || is_folder(&a.output);
     let format = match (batch, a.format) {
         (true, f) => f.unwrap_or(Format::Svg),
@@ -143,9 +143,15 @@ pub fn run(a: &StippleArgs, matches: Option<&clap::ArgMatches>) -> Result<()> {
     if a.plan {
         for image in &a.images {
             let picture = Decoded::open(&o, image)?;
+            let (o, _) = o.chosen(picture.picture())?;
             println!("{}", o.plan(picture.picture())?.plan.to_json()?);
         }
         return Ok(());
+    }
+    // One picture: its pens are chosen before the job is saved; a batch
+    // chooses for each picture.
+    if o.choose.is_some() && !batch {
+        o = chosen(a, &o, &a.images[0])?;
     }
     if let Some(path) = &a.save_job {
         let source = (a.images.len() == 1).then(|| a.images[0].as_path());
@@ -229,8 +235,37 @@ fn plotter(a: &StippleArgs) -> Result<Plotter> {
     Ok(p)
 }
 
+/// Job `o` with the pens of `--choose` chosen for `image`, the choice said
+/// on stderr (unless `--quiet`).
+fn chosen(a: &StippleArgs, o: &Job, image: &Path) -> Result<Job> {
+    let picture = Decoded::open(o, image)?;
+    let t0 = Instant::now();
+    let (job, choice) = o.chosen(picture.picture())?;
+    if let (Some(c), false) = (choice, a.run.quiet) {
+        let names: Vec<&str> = c.pens.pens().iter().map(|p| p.name.as_str()).collect();
+        eprintln!(
+            "chose {} of {} pens for {}: {} (predicted ΔE00 {:.2}; {:.2} s, {} sets)",
+            names.len(),
+            o.pens.as_ref().map_or(0, pixelpie::colour::PenSet::len),
+            image.display(),
+            names.join(", "),
+            c.predicted,
+            t0.elapsed().as_secs_f64(),
+            c.sets_scored
+        );
+    }
+    Ok(job)
+}
+
 /// Draws `image` with job `o` to `output` in `format`.
 fn draw(a: &StippleArgs, o: &Job, image: &Path, output: &Path) -> Result<()> {
+    let resolved;
+    let o = if o.choose.is_some() {
+        resolved = chosen(a, o, image)?;
+        &resolved
+    } else {
+        o
+    };
     let plotter = if a.plot_stats {
         if o.pen_mm.is_none() {
             bail!(

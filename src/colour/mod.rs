@@ -3,6 +3,7 @@
 //! ([`pens`]), and the render model with the separation of a photo into pen
 //! inks ([`separation`]). A leaf: it imports nothing else of the crate.
 
+pub mod choose;
 pub mod pens;
 pub mod separation;
 

@@ -10,6 +10,9 @@ use serde::{Deserialize, Serialize};
 
 /// The most pens a drawing may use (the render model mixes 2^pens inks).
 pub const MAX_PENS: usize = 8;
+/// The most pens a set may hold: an inventory that `--choose K` picks a
+/// drawing's pens from.
+pub const MAX_INVENTORY: usize = 64;
 /// The smallest dot gain a pen may have.
 pub const MIN_GAIN: f64 = 0.25;
 /// The largest dot gain a pen may have.
@@ -44,15 +47,16 @@ pub struct Pen {
 pub struct PenSet(Vec<Pen>);
 
 impl PenSet {
-    /// The pens, checked: 1 to [`MAX_PENS`] of them, colours distinct,
-    /// widths positive.
+    /// The pens, checked: 1 to [`MAX_INVENTORY`] of them (a drawing takes
+    /// at most [`MAX_PENS`]; more are an inventory to choose from), colours
+    /// distinct, widths positive.
     pub fn new(pens: Vec<Pen>) -> Result<Self, PenError> {
         if pens.is_empty() {
             return Err(PenError("no pens given".into()));
         }
-        if pens.len() > MAX_PENS {
+        if pens.len() > MAX_INVENTORY {
             return Err(PenError(format!(
-                "{} pens given; at most {MAX_PENS}",
+                "{} pens given; at most {MAX_INVENTORY}",
                 pens.len()
             )));
         }

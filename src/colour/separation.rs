@@ -171,6 +171,12 @@ impl Separation {
     /// The inks for the colour of CIELAB `target`.
     #[must_use]
     pub fn inks(&self, target: Lab) -> Vec<f64> {
+        self.inks_to(target, 1.0 / 512.0)
+    }
+
+    /// [`Self::inks`], the search's steps halving down to `finest`.
+    #[must_use]
+    pub fn inks_to(&self, target: Lab, finest: f64) -> Vec<f64> {
         let n = self.model.pens;
         // CIE76 (Lab distance, cheap) while the steps are coarse, CIEDE2000
         // for the fine ones.
@@ -197,7 +203,7 @@ impl Separation {
             let mut step = 0.25;
             let mut fine = false;
             let mut e = cost(&a, fine);
-            while step > 1.0 / 512.0 {
+            while step > finest {
                 if !fine && step < FINE_STEP {
                     fine = true;
                     e = cost(&a, fine);

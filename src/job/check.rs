@@ -2,6 +2,7 @@
 //! their ranges, refused in words before anything is drawn.
 
 use super::{Format, Job};
+use crate::colour::pens::MAX_PENS;
 use crate::stipple::Error;
 use crate::stipple::svg::DotPath;
 
@@ -28,6 +29,21 @@ impl Job {
     /// output's format.
     pub fn check(&self) -> Result<(), Error> {
         let bad = |m: String| Err(Error::InvalidParameter(m));
+        if let Some(set) = &self.pens {
+            let (n, most) = (set.len(), set.len().min(MAX_PENS));
+            match self.choose {
+                None if n > MAX_PENS => {
+                    return bad(format!(
+                        "--pens holds {n} pens and a drawing takes at most {MAX_PENS}: add \
+                         --choose K to pick K of them for the picture"
+                    ));
+                }
+                Some(k) if k == 0 || k > most => {
+                    return bad(format!("--choose {k}: choose 1 to {most} of the {n} pens"));
+                }
+                _ => {}
+            }
+        }
         for (name, size) in [("--width", self.width), ("--height", self.height)] {
             if size == Some(0) {
                 return bad(format!(

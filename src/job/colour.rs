@@ -9,6 +9,8 @@ use super::{Format, Job, Stage, Stipple};
 use crate::stipple::{Dot, svg};
 use rayon::prelude::*;
 
+use super::Picture;
+use crate::colour::choose::{Choice, Palette, choose};
 use crate::colour::{RenderModel, Separation};
 use crate::importance::ink::K_MAX;
 use crate::importance::{Adjust, ColourMap, Mapping, MappingKind, Prepared, RadiusRange, Tones};
@@ -27,7 +29,45 @@ pub(crate) struct Separated {
     pub separation: Separation,
 }
 
+/// The longer side, in pixels, of the copy of the picture whose colours
+/// `--choose` weighs.
+const PALETTE_SIDE: u32 = 256;
+
 impl Job {
+    /// This job with `--choose K` resolved for `picture`: `--pens` is an
+    /// inventory, and the job returned draws with the K of its pens whose
+    /// drawing the render model predicts closest to the picture's colours,
+    /// its tones adjusted as the drawing adjusts them
+    /// ([`crate::colour::choose`]); with the choice. Without `--choose`,
+    /// the job itself and `None`. Every front end draws and writes the job
+    /// returned, and `--save-job` saves it.
+    pub fn chosen(&self, picture: Picture<'_>) -> crate::Result<(Job, Option<Choice>)> {
+        let (Some(k), Some(inventory)) = (self.choose, &self.pens) else {
+            return Ok((self.clone(), None));
+        };
+        self.check()?;
+        let colours = picture.colour();
+        let (w, h) = (colours.width(), colours.height());
+        let f = (f64::from(PALETTE_SIDE) / f64::from(w.max(h))).min(1.0);
+        let side = |v: u32| ((f64::from(v) * f).round() as u32).max(1);
+        let small = colours.resized(side(w), side(h))?;
+        let imp = &self.importance;
+        let adjust = imp.adjust();
+        let small = if adjust == Adjust::default() {
+            small
+        } else {
+            small.adjusted(imp.tones, &adjust)?.0
+        };
+        let palette = Palette::of_linear(small.rgb());
+        let linear = imp.tones == Tones::Linear;
+        let choice = choose(inventory.pens(), k, &palette, linear, K_MAX)
+            .map_err(|e| crate::stipple::Error::InvalidParameter(e.to_string()))?;
+        let mut job = self.clone();
+        job.pens = Some(choice.pens.clone());
+        job.choose = None;
+        Ok((job, Some(choice)))
+    }
+
     /// The render model of this job's pens, under its tone convention.
     #[must_use]
     pub fn render_model(&self) -> Option<RenderModel> {

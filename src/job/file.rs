@@ -52,6 +52,7 @@ pub const KEYS: &[&str] = &[
     "correction",
     "ink",
     "pens",
+    "choose",
     "policy",
     "seed",
     "subpixel_bits",

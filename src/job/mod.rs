@@ -226,6 +226,13 @@ pub struct Job {
     #[cfg_attr(feature = "cli", arg(long, conflicts_with = "ink"))]
     #[serde(skip_serializing_if = "Option::is_none")]
     pub pens: Option<PenSet>,
+    /// Choose this many of --pens (an inventory, up to 64 pens) for the
+    /// picture: the K whose drawing the render model predicts closest to
+    /// its colours (docs/colour.md). The drawing, and --save-job, use the
+    /// pens chosen.
+    #[cfg_attr(feature = "cli", arg(long, value_name = "K", requires = "pens"))]
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub choose: Option<usize>,
     /// Disk policy for varying radii (paper §3.4); the paper stipples with
     /// the smaller disk, which keeps large light-area disks out of dark areas.
     #[cfg_attr(feature = "cli", arg(long, value_enum, default_value_t = DEFAULT_POLICY))]
@@ -266,6 +273,7 @@ impl Default for Job {
             spacing: Spacing::Local,
             ink: Ink::BLACK,
             pens: None,
+            choose: None,
             policy: DEFAULT_POLICY,
             sampler: SamplerOptions::default(),
         }

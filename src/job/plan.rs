@@ -224,6 +224,13 @@ impl Job {
     /// Prepares the picture's maps (the prepare stage); nothing is sampled.
     pub fn plan(&self, picture: Picture<'_>) -> crate::Result<Planned> {
         self.check()?;
+        if let Some(k) = self.choose {
+            return Err(crate::stipple::Error::InvalidParameter(format!(
+                "--choose {k}: the pens are chosen for the picture before it is drawn \
+                 (Job::chosen), and the job drawn and written is the one with the pens chosen"
+            ))
+            .into());
+        }
         let (points, count_target) = self.count();
         // The crop and the turn, first: the rest sees the framed picture.
         let framed = match (self.crop, self.rotate) {

@@ -302,7 +302,7 @@ impl SvgOptions {
 /// svg::write(&mut out, &[Dot { x: 10.0, y: 20.0, radius: 0.2 }], &opts)?;
 /// let text = String::from_utf8(out).unwrap();
 /// assert!(text.contains(r#"viewBox="0 0 100 50""#));
-/// assert!(text.contains(r#"<path d="M 10 20 L 10.01 20" data-dot="10 20 0.2"/>"#));
+/// assert!(text.contains(r#"<path d="M10 20l.01 0" data-dot="10 20 0.2"/>"#));
 /// # Ok::<(), pixelpie::stipple::Error>(())
 /// ```
 pub fn write(w: &mut dyn Write, dots: &[Dot], opts: &SvgOptions) -> Result<()> {
