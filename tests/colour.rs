@@ -822,3 +822,193 @@ fn an_inventory_gives_the_pens_chosen_for_the_photo_and_the_job_keeps_them() {
         assert!(!out.exists());
     }
 }
+
+/// A picture of `w`×`h` whose grey at column x is `grey(x / w)` (sRGB).
+fn grey_picture(path: &Path, w: u32, h: u32, grey: impl Fn(f64) -> f64) {
+    let img = ImageBuffer::from_fn(w, h, |x, _| {
+        let v = (255.0 * grey((f64::from(x) + 0.5) / f64::from(w))).round() as u8;
+        Rgb([v, v, v])
+    });
+    img.save(path).unwrap();
+}
+
+/// `pixelpie fidelity`'s report of `drawing` against `photo`.
+fn fidelity(photo: &Path, drawing: &Path) -> serde_json::Value {
+    let o = pixelpie(&[
+        "fidelity",
+        photo.to_str().unwrap(),
+        drawing.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    serde_json::from_slice(&o.stdout).unwrap()
+}
+
+#[test]
+fn a_white_pen_on_black_paper_draws_a_night_sky_as_well_as_black_on_white() {
+    let dir = tempfile::tempdir().unwrap();
+    // A dark sky: stars (small bright blobs) and a faint glow.
+    let (w, h) = (240u32, 180u32);
+    let stars = [
+        (40.0, 30.0, 5.0),
+        (120.0, 90.0, 9.0),
+        (200.0, 140.0, 6.0),
+        (70.0, 150.0, 4.0),
+    ];
+    let sky = |x: f64, y: f64| -> f64 {
+        let glow = 0.12 * (-((x - 120.0).powi(2) + (y - 90.0).powi(2)) / 5000.0).exp();
+        let star: f64 = stars
+            .iter()
+            .map(|&(sx, sy, r)| (-((x - sx).powi(2) + (y - sy).powi(2)) / (r * r)).exp())
+            .sum();
+        (0.02 + glow + star).min(1.0)
+    };
+    let night = dir.path().join("night.png");
+    let inverted = dir.path().join("inverted.png");
+    for (path, invert) in [(&night, false), (&inverted, true)] {
+        ImageBuffer::from_fn(w, h, |x, y| {
+            let v = sky(f64::from(x), f64::from(y));
+            let v = if invert { 1.0 - v } else { v };
+            let v = (255.0 * v).round() as u8;
+            Rgb([v, v, v])
+        })
+        .save(path)
+        .unwrap();
+    }
+    let (white, black) = (dir.path().join("white.png"), dir.path().join("black.png"));
+    let common = ["--points", "3000", "-q", "--backend", "cpu"];
+    let o = pixelpie(
+        &[
+            &[
+                "stipple",
+                night.to_str().unwrap(),
+                "-o",
+                white.to_str().unwrap(),
+            ][..],
+            &["--pens", "#ffffff", "--paper-colour", "black"],
+            &common,
+        ]
+        .concat(),
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = pixelpie(
+        &[
+            &[
+                "stipple",
+                inverted.to_str().unwrap(),
+                "-o",
+                black.to_str().unwrap(),
+            ][..],
+            &common,
+        ]
+        .concat(),
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // The PNG is the black sheet with white dots, the stars' dots.
+    let img = image::open(&white).unwrap().to_rgb8();
+    assert_eq!(img.get_pixel(2, 2).0, [0, 0, 0], "the paper");
+    let (sx, sy) = (120 * img.width() / w, 90 * img.height() / h);
+    let bright = (sx - 3..sx + 3)
+        .flat_map(|x| (sy - 3..sy + 3).map(move |y| (x, y)))
+        .filter(|&(x, y)| img.get_pixel(x, y).0[0] > 128)
+        .count();
+    assert!(
+        bright > 18,
+        "the brightest star has {bright} of 36 white pixels"
+    );
+    let on_black = fidelity(&night, &white)["psnr"].as_f64().unwrap();
+    let on_white = fidelity(&inverted, &black)["psnr"].as_f64().unwrap();
+    eprintln!("white on black {on_black:.2} dB, black on white {on_white:.2} dB");
+    assert!(on_black >= on_white - 0.05, "{on_black} vs {on_white}");
+    // The SVG: the paper on a layer plotters skip, the pen over it.
+    let svg = dir.path().join("white.svg");
+    let o = pixelpie(
+        &[
+            &[
+                "stipple",
+                night.to_str().unwrap(),
+                "-o",
+                svg.to_str().unwrap(),
+            ][..],
+            &["--pens", "#ffffff", "--paper-colour", "black"],
+            &common,
+        ]
+        .concat(),
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(
+        text.contains(r#"inkscape:label="% paper (not plotted)""#),
+        "{}",
+        &text[..600]
+    );
+    let d = pixelpie::stipple::read::read_svg(&text).unwrap();
+    assert_eq!(d.paper, Some([0, 0, 0]));
+    assert!(
+        d.layers.iter().all(|(name, _)| !name.starts_with('%')),
+        "{:?}",
+        d.layers
+    );
+    assert!(d.dots.len() > 2000, "{} dots read back", d.dots.len());
+    if let Some(viewed) = rsvg(&svg, img.width()) {
+        let sigma = (f64::from(img.width() * img.height()) / 3000.0).sqrt();
+        let de = blurred_delta_e(&img, &viewed, sigma);
+        eprintln!("white on black: the SVG in a viewer is ΔE00 {de:.2} from the PNG");
+        assert!(de <= 1.5, "{de}");
+    }
+}
+
+#[test]
+fn black_and_white_pens_on_grey_paper_keep_the_ramp() {
+    let dir = tempfile::tempdir().unwrap();
+    let ramp = dir.path().join("ramp.png");
+    let (w, h) = (400u32, 100u32);
+    grey_picture(&ramp, w, h, |t| t);
+    let pens = dir.path().join("pens.toml");
+    std::fs::write(
+        &pens,
+        "[[pen]]\nname = \"black\"\ncolour = \"#000000\"\n\n\
+         [[pen]]\nname = \"white gel\"\ncolour = \"#ffffff\"\nopacity = 1\n",
+    )
+    .unwrap();
+    let png = dir.path().join("ramp-out.png");
+    let o = pixelpie(&[
+        "stipple",
+        ramp.to_str().unwrap(),
+        "-o",
+        png.to_str().unwrap(),
+        "--pens",
+        pens.to_str().unwrap(),
+        "--paper-colour",
+        "grey",
+        "--points",
+        "12000",
+        "-q",
+        "--backend",
+        "cpu",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let img = image::open(&png).unwrap().to_rgb8();
+    let (iw, ih) = img.dimensions();
+    let sigma = (f64::from(iw * ih) / 12000.0).sqrt();
+    let values = img.pixels().map(|p| f32::from(p.0[1]) / 255.0).collect();
+    let blurred = blur(&Grey::new(iw, ih, values).unwrap(), sigma);
+    // Ten bands, each away from the edges by the blur, against its grey.
+    let bands = 10;
+    let mut worst: f64 = 0.0;
+    for b in 0..bands {
+        let (x0, x1) = (b * iw / bands, (b + 1) * iw / bands);
+        let margin = (2.0 * sigma) as u32;
+        let (mut sum, mut n) = (0.0f64, 0.0f64);
+        for y in margin..ih - margin {
+            for x in (x0 + margin).min(x1)..x1.saturating_sub(margin).max(x0 + margin) {
+                sum += f64::from(blurred.values[(y * iw + x) as usize]);
+                n += 1.0;
+            }
+        }
+        let want = (f64::from(x0 + x1) / 2.0 + 0.5) / f64::from(iw);
+        let got = sum / n.max(1.0);
+        eprintln!("band {b}: {got:.3} for {want:.3}");
+        worst = worst.max((got - want).abs());
+    }
+    assert!(worst <= 0.03, "the ramp on grey paper is off by {worst}");
+}

@@ -496,6 +496,9 @@ fn job_options() -> serde_json::Result<serde_json::Value> {
     if let serde_json::Value::Object(m) = &mut v {
         for (name, default) in [
             ("pens", serde_json::Value::Null),
+            ("choose", serde_json::Value::Null),
+            ("paper_colour", serde_json::Value::Null),
+            ("size_px", serde_json::to_value(job.size_px)?),
             ("paper", serde_json::Value::Null),
             ("margin", serde_json::Value::Null),
             ("landscape", serde_json::to_value(job.landscape)?),

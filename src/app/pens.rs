@@ -150,6 +150,7 @@ impl PixelPieApp {
                 colour: c,
                 width_mm: None,
                 dot_gain: None,
+                opacity: None,
             });
             changed = true;
         }

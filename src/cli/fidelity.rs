@@ -165,7 +165,7 @@ fn load_colour_drawing(path: &Path) -> Result<Option<(image::RgbImage, usize)>> 
             let Ok(d) = read::read_svg(&text) else {
                 return Ok(None);
             };
-            if d.layers.len() < 2 {
+            if d.layers.len() < 2 && d.paper.is_none() {
                 return Ok(None);
             }
             let pens = PenSet::from_colours(
@@ -194,7 +194,11 @@ fn load_colour_drawing(path: &Path) -> Result<Option<(image::RgbImage, usize)>> 
                     raster::render_view(&dots, (d.view_width, d.view_height), size)
                 })
                 .collect::<Result<Vec<_>, _>>()?;
-            let img = raster::composite(&layers, &RenderModel::new(&pens, false))?;
+            // On its paper, the layers in the file's (plotting) order.
+            let order: Vec<usize> = (0..pens.len()).collect();
+            let paper = d.paper.unwrap_or([255; 3]);
+            let img =
+                raster::composite(&layers, &RenderModel::on_paper(&pens, false, paper, &order))?;
             Ok(Some((img, d.dots.len())))
         }
         Some("png") => {

@@ -216,6 +216,7 @@ mod tests {
             colour: super::super::pens::parse_hex(hex).unwrap(),
             width_mm: None,
             dot_gain: None,
+            opacity: None,
         }
     }
 

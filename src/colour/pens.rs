@@ -39,6 +39,29 @@ pub struct Pen {
     /// paper), when calibrated: the dots are drawn this much smaller.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub dot_gain: Option<f64>,
+    /// How much the ink covers what lies below it: 0 for a transparent
+    /// felt-tip ink that multiplies, 1 for an opaque gel, paint or metallic
+    /// pen. Unset: 0, unless the ink is lighter than the paper (which only
+    /// an opaque ink can show on): then 1 ([`Pen::opacity_on`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub opacity: Option<f64>,
+}
+
+impl Pen {
+    /// The pen's opacity on paper of colour `paper` (sRGB): its own, else
+    /// 1 for an ink lighter than the paper and 0 for one that is not.
+    #[must_use]
+    pub fn opacity_on(&self, paper: [u8; 3]) -> f64 {
+        let lum = |c: [u8; 3]| {
+            let l = c.map(|v| super::decode(f64::from(v) / 255.0));
+            0.2126 * l[0] + 0.7152 * l[1] + 0.0722 * l[2]
+        };
+        self.opacity.unwrap_or(if lum(self.colour) > lum(paper) {
+            1.0
+        } else {
+            0.0
+        })
+    }
 }
 
 /// The pens of a drawing, in layer order (at least one, colours distinct).
@@ -74,6 +97,14 @@ impl PenSet {
             {
                 return Err(PenError(format!(
                     "pen '{}' has width {w} mm; it must be positive",
+                    p.name
+                )));
+            }
+            if let Some(o) = p.opacity
+                && !(o.is_finite() && (0.0..=1.0).contains(&o))
+            {
+                return Err(PenError(format!(
+                    "pen '{}' has opacity {o}; it must be in [0, 1]",
                     p.name
                 )));
             }
@@ -257,6 +288,7 @@ fn pen(name: &str, colour: [u8; 3]) -> Pen {
         colour,
         width_mm: None,
         dot_gain: None,
+        opacity: None,
     }
 }
 

@@ -51,23 +51,45 @@ pub struct RenderModel {
 }
 
 impl RenderModel {
-    /// The model of `pens`, averaging linear light when `linear`, else
-    /// sRGB-encoded values.
+    /// The model of `pens` on white paper, averaging linear light when
+    /// `linear`, else sRGB-encoded values.
     #[must_use]
     pub fn new(pens: &PenSet, linear: bool) -> Self {
-        let t: Vec<[f64; 3]> = pens
+        let order: Vec<usize> = (0..pens.len()).collect();
+        Self::on_paper(pens, linear, [255; 3], &order)
+    }
+
+    /// The model of `pens` laid on paper of colour `paper` (sRGB) in the
+    /// plotting order `order` (pen indices; any other list means the pens'
+    /// own order): where the pens of a set S overlap, each pen k of S in
+    /// turn turns the colour c below it into (1 − o_k)·c·t_k + o_k·t_k, o_k
+    /// its opacity ([`super::Pen::opacity_on`]): a transparent ink
+    /// multiplies, an opaque one covers.
+    #[must_use]
+    pub fn on_paper(pens: &PenSet, linear: bool, paper: [u8; 3], order: &[usize]) -> Self {
+        let lin = |c: [u8; 3]| c.map(|v| decode(f64::from(v) / 255.0));
+        let t: Vec<([f64; 3], f64)> = pens
             .pens()
             .iter()
-            .map(|p| p.colour.map(|c| decode(f64::from(c) / 255.0)))
+            .map(|p| (lin(p.colour), p.opacity_on(paper)))
             .collect();
         let n = t.len();
+        let mut sorted = order.to_vec();
+        sorted.sort_unstable();
+        let order: Vec<usize> = if sorted == (0..n).collect::<Vec<_>>() {
+            order.to_vec()
+        } else {
+            (0..n).collect()
+        };
+        let base = lin(paper);
         let primaries = (0..1usize << n)
             .map(|s| {
-                let mut c = [1.0f64; 3];
-                for (k, tk) in t.iter().enumerate() {
+                let mut c = base;
+                for &k in &order {
                     if s >> k & 1 == 1 {
+                        let (tk, o) = t[k];
                         for i in 0..3 {
-                            c[i] *= tk[i];
+                            c[i] = (1.0 - o) * c[i] * tk[i] + o * tk[i];
                         }
                     }
                 }

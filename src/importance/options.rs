@@ -167,13 +167,35 @@ impl ImportanceOptions {
         default_mapping: Mapping,
         count_target: bool,
     ) -> Result<Prepared> {
+        self.prepare_map_on(map, size, default_mapping, count_target, None)
+    }
+
+    /// [`Self::prepare_map`] for an ink on a paper that is not white:
+    /// `paper` = (P, Q), the paper's grey and the ink's grey on it; after
+    /// the adjustments each grey v becomes 1 − (P − v)/(P − Q), clamped,
+    /// so that the ink's coverage follows the picture (a light ink on dark
+    /// paper draws its light parts).
+    pub fn prepare_map_on(
+        &self,
+        map: &ImportanceMap,
+        size: impl FnOnce(u32, u32) -> (u32, u32),
+        default_mapping: Mapping,
+        count_target: bool,
+        paper: Option<(f32, f32)>,
+    ) -> Result<Prepared> {
         self.check()?;
         let adjust = self.adjust();
         let (w, h) = size(map.width(), map.height());
         // Resized, toned and adjusted in one pass: the values of
         // `resized(w, h)?.toned(tones).adjusted(&adjust)?`.
         let tones = self.tones;
-        let map = map.resized_with(w, h, |v| adjust.apply(tones.tone(v)))?;
+        let map = match paper {
+            None => map.resized_with(w, h, |v| adjust.apply(tones.tone(v)))?,
+            Some((p, q)) => map.resized_with(w, h, |v| {
+                let a = (p - adjust.apply(tones.tone(v))) / (p - q);
+                (1.0 - a).clamp(0.0, 1.0)
+            })?,
+        };
         let range = self.radius_range(count_target)?;
         let mapping = match (self.mapping, default_mapping) {
             (Some(MappingKind::Linear), _) => Mapping::Linear,

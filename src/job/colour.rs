@@ -71,8 +71,7 @@ impl Job {
     /// The render model of this job's pens, under its tone convention.
     #[must_use]
     pub fn render_model(&self) -> Option<RenderModel> {
-        let linear = self.importance.tones == Tones::Linear;
-        self.pens.as_ref().map(|p| RenderModel::new(p, linear))
+        self.pens.as_ref().map(|p| self.model_of(p))
     }
 
     /// The prepare stage of a colour drawing: the picture at the domain's
@@ -236,6 +235,7 @@ impl Job {
                 name: &l.name,
                 ink: l.ink,
                 pen_mm: l.pen_mm,
+                opaque: l.opacity >= 0.5,
                 dots: &l.dots,
             })
             .collect();
@@ -265,9 +265,7 @@ impl Job {
                     .iter()
                     .map(|d| crate::stipple::raster::render(d, drawing.domain, self.scale))
                     .collect::<Result<Vec<_>, _>>()?;
-                let linear = self.importance.tones == Tones::Linear;
-                let img =
-                    crate::stipple::raster::composite(&papers, &RenderModel::new(pens, linear))?;
+                let img = crate::stipple::raster::composite(&papers, &self.model_of(pens))?;
                 crate::stipple::raster::write_png_rgb(&mut out, &img, dots)?;
             }
             Format::Csv | Format::Json => {

@@ -53,6 +53,7 @@ pub const KEYS: &[&str] = &[
     "ink",
     "pens",
     "choose",
+    "paper_colour",
     "policy",
     "seed",
     "subpixel_bits",

@@ -16,6 +16,9 @@ pub struct PenLayer {
     pub ink: [u8; 3],
     /// The pen's own width in mm, when it has one.
     pub pen_mm: Option<f64>,
+    /// How much the ink covers what lies below it, on the job's paper
+    /// ([`crate::colour::Pen::opacity_on`]; 0 for one ink).
+    pub opacity: f64,
     /// The dots, in drawing order.
     pub dots: Vec<Dot>,
     /// The pen-down length in mm of these dots' paths (with a pen).
@@ -29,6 +32,32 @@ fn luminance(c: [u8; 3]) -> f64 {
 }
 
 impl Job {
+    /// The pens of inks `inks` in plotting order ([`LayerOrder`]): the
+    /// lightest first, or as given.
+    #[must_use]
+    pub fn plot_order(&self, inks: &[[u8; 3]]) -> Vec<usize> {
+        let mut order: Vec<usize> = (0..inks.len()).collect();
+        if self.layer_order == LayerOrder::LightFirst {
+            // Stable: pens of equal lightness keep their order.
+            order.sort_by(|&a, &b| luminance(inks[b]).total_cmp(&luminance(inks[a])));
+        }
+        order
+    }
+
+    /// The render model of `pens` for this job: its tone convention, its
+    /// paper and its plotting order.
+    #[must_use]
+    pub fn model_of(&self, pens: &crate::colour::PenSet) -> crate::colour::RenderModel {
+        let linear = self.importance.tones == crate::importance::Tones::Linear;
+        let inks: Vec<[u8; 3]> = pens.pens().iter().map(|p| p.colour).collect();
+        crate::colour::RenderModel::on_paper(
+            pens,
+            linear,
+            self.paper_rgb(),
+            &self.plot_order(&inks),
+        )
+    }
+
     /// The drawing's pen layers as the SVG writes them: one per pen (one
     /// for a grey drawing), in [`LayerOrder`], each split into parts of at
     /// most `refill_mm` of pen-down length.
@@ -43,11 +72,12 @@ impl Job {
         refill_mm: Option<f64>,
     ) -> crate::Result<Vec<PenLayer>> {
         let dots = self.pen_dots(drawing);
-        let pens: Vec<(String, [u8; 3], Option<f64>)> = match &drawing.pens {
+        let paper = self.paper_rgb();
+        let pens: Vec<(String, [u8; 3], Option<f64>, f64)> = match &drawing.pens {
             Some(set) => set
                 .pens()
                 .iter()
-                .map(|p| (p.name.clone(), p.colour, p.width_mm))
+                .map(|p| (p.name.clone(), p.colour, p.width_mm, p.opacity_on(paper)))
                 .collect(),
             None => vec![(
                 self.one_pen().map_or_else(
@@ -56,17 +86,15 @@ impl Job {
                 ),
                 self.ink_rgb(),
                 None,
+                0.0,
             )],
         };
-        let mut order: Vec<usize> = (0..pens.len()).collect();
-        if self.layer_order == LayerOrder::LightFirst {
-            // Stable: pens of equal lightness keep their order.
-            order.sort_by(|&a, &b| luminance(pens[b].1).total_cmp(&luminance(pens[a].1)));
-        }
+        let inks: Vec<[u8; 3]> = pens.iter().map(|p| p.1).collect();
+        let order = self.plot_order(&inks);
         let scale = self.mm_per_px(drawing.domain)?;
         let mut layers = Vec::new();
         for k in order {
-            let (name, ink, own) = &pens[k];
+            let (name, ink, own, opacity) = &pens[k];
             let pen = own.or(self.pen_width());
             let length = |d: &Dot| match (scale, pen) {
                 (Some(mm), Some(pen)) => path_length(&svg::pen_path(
@@ -89,6 +117,7 @@ impl Job {
                     },
                     ink: *ink,
                     pen_mm: *own,
+                    opacity: *opacity,
                     dots: part,
                     pen_down_mm,
                 });

@@ -36,7 +36,7 @@ mod sample;
 mod write;
 
 pub use layers::{LayerPaths, PageTransform, PenLayer};
-pub use options::{Correction, DotMode, Format, Ink, LayerOrder, Order, Spacing};
+pub use options::{Correction, DotMode, Format, Ink, LayerOrder, Order, PaperColour, Spacing};
 pub use plan::{Plan, Planned};
 pub use preview::{PenCheck, PlotPen, plotted_dot, short_of};
 pub use radii::default_domain;
@@ -233,6 +233,16 @@ pub struct Job {
     #[cfg_attr(feature = "cli", arg(long, value_name = "K", requires = "pens"))]
     #[serde(skip_serializing_if = "Option::is_none")]
     pub choose: Option<usize>,
+    /// The paper's colour: white (the default), black, kraft, grey or
+    /// #rrggbb, under the pens' inks. A pen file's `opacity` says how each
+    /// ink lies on it (0 multiplies like felt-tip ink; 1 covers like a gel
+    /// or paint pen; unset, an ink lighter than the paper covers). The
+    /// separation, the correction, the PNG, the preview and the SVG (on a
+    /// layer of its own that plotters skip) follow. One pen on a coloured
+    /// paper draws as pens do: --pens "#ffffff" --paper-colour black.
+    #[cfg_attr(feature = "cli", arg(long, value_name = "COLOUR", requires = "pens"))]
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub paper_colour: Option<PaperColour>,
     /// Disk policy for varying radii (paper §3.4); the paper stipples with
     /// the smaller disk, which keeps large light-area disks out of dark areas.
     #[cfg_attr(feature = "cli", arg(long, value_enum, default_value_t = DEFAULT_POLICY))]
@@ -274,6 +284,7 @@ impl Default for Job {
             ink: Ink::BLACK,
             pens: None,
             choose: None,
+            paper_colour: None,
             policy: DEFAULT_POLICY,
             sampler: SamplerOptions::default(),
         }

@@ -228,6 +228,68 @@ impl FromStr for Ink {
     }
 }
 
+/// The paper's colour, sRGB: `white`, `black`, `kraft`, `grey` or
+/// `#rrggbb`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct PaperColour(pub [u8; 3]);
+
+impl PaperColour {
+    /// White paper, the default.
+    pub const WHITE: Self = Self([255, 255, 255]);
+    /// The named papers.
+    pub const NAMES: [(&'static str, [u8; 3]); 4] = [
+        ("white", [255, 255, 255]),
+        ("black", [0, 0, 0]),
+        ("kraft", [0xc4, 0xa2, 0x7a]),
+        ("grey", [0x80, 0x80, 0x80]),
+    ];
+}
+
+impl FromStr for PaperColour {
+    type Err = Error;
+
+    /// ```
+    /// use pixelpie::job::PaperColour;
+    /// assert_eq!("kraft".parse::<PaperColour>().unwrap().0, [0xc4, 0xa2, 0x7a]);
+    /// assert_eq!("#102030".parse::<PaperColour>().unwrap().0, [0x10, 0x20, 0x30]);
+    /// assert!("beige".parse::<PaperColour>().is_err());
+    /// ```
+    fn from_str(s: &str) -> Result<Self, Error> {
+        let t = s.trim();
+        if let Some((_, c)) = Self::NAMES.iter().find(|(n, _)| t.eq_ignore_ascii_case(n)) {
+            return Ok(Self(*c));
+        }
+        match t.strip_prefix('#').map(|_| t.parse::<Ink>()) {
+            Some(Ok(ink)) => Ok(Self(ink.0)),
+            _ => Err(Error::InvalidParameter(format!(
+                "paper colour '{s}' is not a colour: use white, black, kraft, grey or #rrggbb"
+            ))),
+        }
+    }
+}
+
+impl std::fmt::Display for PaperColour {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match Self::NAMES.iter().find(|(_, c)| *c == self.0) {
+            Some((name, _)) => f.write_str(name),
+            None => Ink(self.0).fmt(f),
+        }
+    }
+}
+
+impl Serialize for PaperColour {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(self)
+    }
+}
+
+impl<'de> Deserialize<'de> for PaperColour {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let s = String::deserialize(d)?;
+        s.parse().map_err(serde::de::Error::custom)
+    }
+}
+
 impl std::fmt::Display for Ink {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let [r, g, b] = self.0;

@@ -251,11 +251,12 @@ impl Job {
             let map = picture.grey();
             let size = (map.width(), map.height());
             crate::importance::budget::check_domain(self.domain_for(size, points))?;
-            let mut prepared = self.importance.prepare_map(
+            let mut prepared = self.importance.prepare_map_on(
                 &map,
                 |w, h| self.domain_for((w, h), points),
                 self.dot_mode().mapping(self.dot_ratio),
                 count_target,
+                self.paper_levels(),
             )?;
             prepared.range = self.dot_range(prepared.range, prepared.domain())?;
             (Maps::Grey(prepared), size)

@@ -185,11 +185,20 @@ impl Job {
     /// The render model of the drawing's inks: its pens', or the one ink's.
     fn ink_model(&self, drawing: &Stipple) -> crate::Result<RenderModel> {
         let linear = self.importance.tones == Tones::Linear;
-        let pens = match &drawing.pens {
-            Some(p) => p.clone(),
-            None => PenSet::from_colours([crate::colour::pens::hex_of(self.ink_rgb()).as_str()])?,
-        };
-        Ok(RenderModel::new(&pens, linear))
+        Ok(match &drawing.pens {
+            Some(p) => self.model_of(p),
+            None => {
+                let one = match self.one_pen() {
+                    Some(p) => PenSet::new(vec![p.clone()])?,
+                    None => {
+                        PenSet::from_colours(
+                            [crate::colour::pens::hex_of(self.ink_rgb()).as_str()],
+                        )?
+                    }
+                };
+                RenderModel::on_paper(&one, linear, self.paper_rgb(), &[0])
+            }
+        })
     }
 
     /// The as-plotted preview of `drawing` ([`Self::plotted_layers`]): the

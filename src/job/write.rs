@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use super::{Format, Ink, Job, Stipple};
+use super::{Format, Ink, Job, PaperColour, Stipple};
 use crate::stipple::{Dot, DotSize, svg};
 
 impl Job {
@@ -45,14 +45,62 @@ impl Job {
         Ok(opts
             .with_dot_path(self.dot_path)
             .with_ink(self.ink_rgb())
-            .with_size_px(self.size_px))
+            .with_size_px(self.size_px)
+            .with_paper_if(self.paper_rgb())
+            .with_multiply(
+                self.one_pen()
+                    .is_some_and(|p| p.opacity_on(self.paper_rgb()) < 0.5),
+            ))
     }
 
     /// Whether the job draws in colour: two pens or more. One pen draws the
-    /// grey drawing in its ink ([`Self::one_pen`]).
+    /// grey drawing in its ink ([`Self::one_pen`]), on its paper
+    /// ([`Self::paper_levels`]).
     #[must_use]
     pub fn colour(&self) -> bool {
         self.pens.as_ref().is_some_and(|p| p.len() > 1)
+    }
+
+    /// The one ink's colour where it lies on the paper, sRGB: the ink
+    /// itself where it covers the paper (opacity 1), the paper times the
+    /// ink (in linear light) where it multiplies, between the two as its
+    /// opacity says.
+    #[must_use]
+    pub fn ink_on_paper(&self) -> [u8; 3] {
+        let (ink, paper) = (self.ink_rgb(), self.paper_rgb());
+        let o = self.one_pen().map_or(0.0, |p| p.opacity_on(paper));
+        let lin = |c: u8| crate::colour::decode(f64::from(c) / 255.0);
+        std::array::from_fn(|i| {
+            let (t, p) = (lin(ink[i]), lin(paper[i]));
+            let c = (1.0 - o) * p * t + o * t;
+            (crate::colour::encode(c) * 255.0).round().clamp(0.0, 255.0) as u8
+        })
+    }
+
+    /// The grey drawing's tones on a paper that is not white: the paper's
+    /// grey P and the ink's grey Q on it (its luminance, in the drawing's
+    /// tones), so that a pixel of grey v takes the ink's coverage
+    /// (P − v)/(P − Q); `None` on white paper, or where the ink does not
+    /// differ from the paper.
+    #[must_use]
+    pub fn paper_levels(&self) -> Option<(f32, f32)> {
+        let paper = self.paper_rgb();
+        if paper == PaperColour::WHITE.0 || self.colour() {
+            return None;
+        }
+        let grey = |c: [u8; 3]| {
+            let l = c.map(|v| crate::colour::decode(f64::from(v) / 255.0));
+            let y = (0.2126 * l[0] + 0.7152 * l[1] + 0.0722 * l[2]) as f32;
+            self.importance.tones.tone(y)
+        };
+        let (p, q) = (grey(paper), grey(self.ink_on_paper()));
+        ((p - q).abs() > 1e-3).then_some((p, q))
+    }
+
+    /// The paper's colour, sRGB (white by default).
+    #[must_use]
+    pub fn paper_rgb(&self) -> [u8; 3] {
+        self.paper_colour.unwrap_or(PaperColour::WHITE).0
     }
 
     /// The single pen of a one-pen job (`--pens` with one colour or a pen
@@ -109,11 +157,11 @@ impl Job {
             Format::Png => {
                 let dots = self.dots(drawing);
                 let img = crate::stipple::raster::render(&dots, drawing.domain, self.scale)?;
-                let ink = self.ink_rgb();
-                if ink == Ink::BLACK.0 {
+                let (ink, paper) = (self.ink_on_paper(), self.paper_rgb());
+                if ink == Ink::BLACK.0 && paper == PaperColour::WHITE.0 {
                     crate::stipple::raster::write_png(&mut out, &img, dots.len())?;
                 } else {
-                    crate::stipple::raster::write_png_ink(&mut out, &img, ink, dots.len())?;
+                    crate::stipple::raster::write_png_on(&mut out, &img, ink, paper, dots.len())?;
                 }
             }
             Format::Csv | Format::Json => {

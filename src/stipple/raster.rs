@@ -215,12 +215,27 @@ fn encode(
 /// the ink's coverage, as [`write_png`] does in grey (black ink gives the
 /// same greys).
 pub fn write_png_ink(w: &mut dyn Write, img: &GrayImage, ink: [u8; 3], dots: usize) -> Result<()> {
+    write_png_on(w, img, ink, [255; 3], dots)
+}
+
+/// [`write_png_ink`] on paper of colour `paper`: each pixel the paper's
+/// colour and the ink's (as it shows on that paper) mixed by its coverage,
+/// in sRGB values as the grey drawing averages them.
+pub fn write_png_on(
+    w: &mut dyn Write,
+    img: &GrayImage,
+    ink: [u8; 3],
+    paper: [u8; 3],
+    dots: usize,
+) -> Result<()> {
     let rgb: Vec<u8> = img
         .as_raw()
         .iter()
         .flat_map(|&g| {
-            let paper = u32::from(g);
-            ink.map(|c| ((u32::from(c) * (255 - paper) + 255 * paper + 127) / 255) as u8)
+            let g = u32::from(g);
+            std::array::from_fn::<u8, 3, _>(|i| {
+                ((u32::from(ink[i]) * (255 - g) + u32::from(paper[i]) * g + 127) / 255) as u8
+            })
         })
         .collect();
     encode(w, img.dimensions(), png::ColorType::Rgb, &rgb, dots)

@@ -39,6 +39,9 @@ pub struct Drawing {
     /// Each dot's pen path in viewBox units, as the plotter follows it
     /// (empty for a `<circle>`, or a path of curves).
     pub paths: Vec<Vec<(f64, f64)>>,
+    /// The paper's colour, from the rectangle of a layer plotters skip
+    /// (its label starts with `%`), when there is one.
+    pub paper: Option<[u8; 3]>,
 }
 
 /// Parses an SVG written by pixelpie. Err with a one-line message if it is
@@ -120,6 +123,8 @@ struct Frame {
     hidden: bool,
     /// The Inkscape layer it is in.
     layer: Option<usize>,
+    /// Whether it is in a layer plotters skip (label `%…`).
+    skipped: bool,
 }
 
 /// What the parse has found so far.
@@ -143,6 +148,8 @@ struct Document {
     layer_of: Vec<usize>,
     /// Each dot's pen path.
     paths: Vec<Vec<(f64, f64)>>,
+    /// The paper's colour.
+    paper: Option<[u8; 3]>,
 }
 
 impl Document {
@@ -180,6 +187,7 @@ impl Document {
             transform: Affine::IDENTITY,
             hidden: false,
             layer: None,
+            skipped: false,
         })
     }
 
@@ -192,9 +200,20 @@ impl Document {
                 parent.transform
             }
         };
-        let hidden = parent.hidden || NOT_DRAWN.contains(&name);
+        let mut hidden = parent.hidden || NOT_DRAWN.contains(&name);
         let mut layer = parent.layer;
-        if name == "g" && attrs.get("inkscape:groupmode") == Some("layer") {
+        let mut skipped = parent.skipped;
+        if skipped && name == "rect" && self.paper.is_none() {
+            self.paper = attrs
+                .get("fill")
+                .and_then(|c| crate::colour::pens::parse_hex(c).ok());
+        }
+        let label = attrs.get("inkscape:label").unwrap_or_default();
+        if name == "g" && attrs.get("inkscape:groupmode") == Some("layer") && label.starts_with('%')
+        {
+            // A layer plotters skip (the paper): no pen, no dots.
+            (hidden, skipped) = (true, true);
+        } else if name == "g" && attrs.get("inkscape:groupmode") == Some("layer") {
             let colour = [attrs.get("fill"), attrs.get("stroke")]
                 .into_iter()
                 .flatten()
@@ -234,6 +253,7 @@ impl Document {
             transform,
             hidden,
             layer,
+            skipped,
         }
     }
 
@@ -287,6 +307,7 @@ impl Document {
             layers: self.layers,
             layer_of: self.layer_of,
             paths: self.paths,
+            paper: self.paper,
         })
     }
 }

@@ -83,6 +83,12 @@ pub struct SvgOptions {
     /// mm: the same page, for readers that drop units (saxi's command
     /// line reads `210mm` as 210 px).
     pub size_px: bool,
+    /// The paper's colour, when it is not white: a rectangle under the
+    /// drawing, on a layer of its own that plotters skip.
+    pub paper: Option<[u8; 3]>,
+    /// Whether the one ink of [`write`] multiplies the paper below it (a
+    /// transparent ink on coloured paper), else it covers it.
+    pub multiply: bool,
 }
 
 impl SvgOptions {
@@ -104,6 +110,8 @@ impl SvgOptions {
             origin_mm: (0.0, 0.0),
             dot_path: DotPath::Spiral,
             size_px: false,
+            paper: None,
+            multiply: false,
         }
     }
 
@@ -123,6 +131,32 @@ impl SvgOptions {
             sheet_mm: Some(placement.sheet_mm),
             origin_mm: placement.origin_mm,
             ..Self::new(domain)
+        }
+    }
+
+    /// These options on paper of colour `paper` (sRGB).
+    #[must_use]
+    pub fn with_paper(self, paper: [u8; 3]) -> Self {
+        Self {
+            paper: Some(paper),
+            ..self
+        }
+    }
+
+    /// These options with the one ink multiplying the paper (`true`) or
+    /// covering it.
+    #[must_use]
+    pub fn with_multiply(self, multiply: bool) -> Self {
+        Self { multiply, ..self }
+    }
+
+    /// These options on paper of colour `paper`, when it is not white.
+    #[must_use]
+    pub fn with_paper_if(self, paper: [u8; 3]) -> Self {
+        if paper == [255; 3] {
+            self
+        } else {
+            self.with_paper(paper)
         }
     }
 
@@ -310,13 +344,25 @@ pub fn write(w: &mut dyn Write, dots: &[Dot], opts: &SvgOptions) -> Result<()> {
         return write_pen(w, dots, opts, pen);
     }
     let (width, height, view, scale, offset) = opts.frame(false);
+    // Inkscape's namespace for the paper's layer.
+    let ns = if opts.paper.is_some() {
+        r#" xmlns:inkscape="http://www.inkscape.org/namespaces/inkscape""#
+    } else {
+        ""
+    };
     writeln!(w, r#"<?xml version="1.0" encoding="UTF-8"?>"#)?;
     writeln!(
         w,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" version="1.1" width="{width}" height="{height}" viewBox="0 0 {view}">"#
+        r#"<svg xmlns="http://www.w3.org/2000/svg"{ns} version="1.1" width="{width}" height="{height}" viewBox="0 0 {view}">"#
     )?;
     writeln!(w, "<!-- {} dots, made by pixelpie -->", dots.len())?;
-    writeln!(w, r#"<g fill="{}" stroke="none">"#, opts.ink_name())?;
+    write_paper(w, opts, &view)?;
+    writeln!(
+        w,
+        r#"<g fill="{}" stroke="none"{}>"#,
+        opts.ink_name(),
+        ink_style(opts)
+    )?;
     write_circles(w, dots, scale, offset)?;
     writeln!(w, "</g>")?;
     writeln!(w, "</svg>")?;
@@ -377,6 +423,9 @@ pub struct Layer<'a> {
     pub ink: [u8; 3],
     /// The pen's width in mm, when it differs from the options' pen.
     pub pen_mm: Option<f64>,
+    /// Whether the ink covers what lies below it (drawn over it), else it
+    /// multiplies.
+    pub opaque: bool,
     /// The pen's dots, in drawing order.
     pub dots: &'a [Dot],
 }
@@ -404,15 +453,21 @@ pub fn write_layers(w: &mut dyn Write, layers: &[Layer<'_>], opts: &SvgOptions) 
         all.len(),
         layers.len()
     )?;
+    write_paper(w, opts, &view)?;
     for (i, l) in layers.iter().enumerate() {
         let ink = super::super::colour::pens::hex_of(l.ink);
         let id = i + 1;
         let label = l.name.replace(['"', '<', '>', '&'], "_");
+        let blend = if l.opaque {
+            ""
+        } else {
+            r#" style="mix-blend-mode:multiply""#
+        };
         match pen {
             None => {
                 writeln!(
                     w,
-                    r#"<g inkscape:groupmode="layer" id="layer{id}" inkscape:label="{label}" fill="{ink}" stroke="none" style="mix-blend-mode:multiply">"#
+                    r#"<g inkscape:groupmode="layer" id="layer{id}" inkscape:label="{label}" fill="{ink}" stroke="none"{blend}>"#
                 )?;
                 write_circles(w, l.dots, scale, offset)?;
             }
@@ -420,7 +475,7 @@ pub fn write_layers(w: &mut dyn Write, layers: &[Layer<'_>], opts: &SvgOptions) 
                 let pen = l.pen_mm.unwrap_or(pen);
                 writeln!(
                     w,
-                    r#"<g inkscape:groupmode="layer" id="layer{id}" inkscape:label="{label}" fill="none" stroke="{ink}" stroke-width="{}" stroke-linecap="round" stroke-linejoin="round" style="mix-blend-mode:multiply">"#,
+                    r#"<g inkscape:groupmode="layer" id="layer{id}" inkscape:label="{label}" fill="none" stroke="{ink}" stroke-width="{}" stroke-linecap="round" stroke-linejoin="round"{blend}>"#,
                     num(pen)
                 )?;
                 write_pen_dots(w, l.dots, (scale, offset), pen, opts.dot_path)?;
@@ -430,6 +485,31 @@ pub fn write_layers(w: &mut dyn Write, layers: &[Layer<'_>], opts: &SvgOptions) 
     }
     writeln!(w, "</svg>")?;
     Ok(())
+}
+
+/// The paper, for viewers, when it is not white: a rectangle over the
+/// viewBox (`view`: its width and height) on a layer whose name starts
+/// with `%`, which the AxiDraw's software skips; it holds no path.
+fn write_paper(w: &mut dyn Write, opts: &SvgOptions, view: &str) -> Result<()> {
+    if let Some(paper) = opts.paper {
+        let size = view.replace(' ', "\" height=\"");
+        writeln!(
+            w,
+            r#"<g inkscape:groupmode="layer" id="paper" inkscape:label="% paper (not plotted)"><rect x="0" y="0" width="{size}" fill="{}"/></g>"#,
+            super::super::colour::pens::hex_of(paper)
+        )?;
+    }
+    Ok(())
+}
+
+/// The style of the one ink's group: multiplied over coloured paper when
+/// it is transparent.
+fn ink_style(opts: &SvgOptions) -> &'static str {
+    if opts.paper.is_some() && opts.multiply {
+        r#" style="mix-blend-mode:multiply""#
+    } else {
+        ""
+    }
 }
 
 /// Err for the first dot that is not finite.
@@ -459,11 +539,13 @@ fn write_pen(w: &mut dyn Write, dots: &[Dot], opts: &SvgOptions, pen: f64) -> Re
         r#"<svg xmlns="http://www.w3.org/2000/svg" xmlns:inkscape="http://www.inkscape.org/namespaces/inkscape" version="1.1" width="{width}" height="{height}" viewBox="0 0 {view}">"#
     )?;
     writeln!(w, "<!-- {} dots, made by pixelpie -->", dots.len())?;
+    write_paper(w, opts, &view)?;
     writeln!(
         w,
-        r#"<g inkscape:groupmode="layer" id="layer1" inkscape:label="1 stipple" fill="none" stroke="{}" stroke-width="{}" stroke-linecap="round" stroke-linejoin="round">"#,
+        r#"<g inkscape:groupmode="layer" id="layer1" inkscape:label="1 stipple" fill="none" stroke="{}" stroke-width="{}" stroke-linecap="round" stroke-linejoin="round"{}>"#,
         ink,
-        num(pen)
+        num(pen),
+        ink_style(opts)
     )?;
     write_pen_dots(w, dots, (scale, offset), pen, opts.dot_path)?;
     writeln!(w, "</g>")?;

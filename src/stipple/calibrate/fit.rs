@@ -72,6 +72,7 @@ impl Fit {
                 colour: p.colour,
                 width_mm: Some(p.width_mm),
                 dot_gain: Some((p.dot_gain * 1000.0).round() / 1000.0),
+                opacity: None,
             })
             .collect();
         PenSet::new(pens).map_err(|e| Error::InvalidParameter(e.to_string()))
