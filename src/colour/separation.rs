@@ -361,6 +361,42 @@ mod tests {
     }
 
     #[test]
+    fn inks_lie_on_the_paper_in_plotting_order() {
+        let pens = PenSet::from_toml(
+            "[[pen]]\nname = \"black\"\ncolour = \"#000000\"\n\
+             [[pen]]\nname = \"white\"\ncolour = \"#ffffff\"\nopacity = 1\n",
+        )
+        .unwrap();
+        let grey = [0x80; 3];
+        let g = decode(128.0 / 255.0);
+        // Black, then white over it: where both are, white covers black.
+        let m = RenderModel::on_paper(&pens, true, grey, &[0, 1]);
+        assert!((m.mix(&[0.0, 0.0])[1] - g).abs() < 1e-12, "the paper");
+        assert!(m.mix(&[1.0, 0.0])[1].abs() < 1e-12, "black multiplies");
+        assert!((m.mix(&[0.0, 1.0])[1] - 1.0).abs() < 1e-12, "white covers");
+        assert!((m.mix(&[1.0, 1.0])[1] - 1.0).abs() < 1e-12, "white last");
+        // White first, then black over it: black.
+        let m = RenderModel::on_paper(&pens, true, grey, &[1, 0]);
+        assert!(m.mix(&[1.0, 1.0])[1].abs() < 1e-12, "black last");
+        // A transparent white ink on grey paper shows nothing; unset, an
+        // ink lighter than the paper covers.
+        let felt = PenSet::parse("#ffffff").unwrap();
+        assert_eq!(felt.pens()[0].opacity_on(grey), 1.0);
+        assert_eq!(felt.pens()[0].opacity_on([255; 3]), 0.0);
+        // On white paper the model is the multiplying one.
+        let cmyk = PenSet::cmyk();
+        let (a, b) = (
+            RenderModel::new(&cmyk, false),
+            RenderModel::on_paper(&cmyk, false, [255; 3], &[3, 2, 1, 0]),
+        );
+        for s in 0..16 {
+            for i in 0..3 {
+                assert!((a.primary(s)[i] - b.primary(s)[i]).abs() < 1e-12);
+            }
+        }
+    }
+
+    #[test]
     fn colours_inside_the_gamut_separate_exactly() {
         for linear in [false, true] {
             let sep = Separation::new(RenderModel::new(&PenSet::cmyk(), linear), 0.96);

@@ -146,6 +146,16 @@ impl Tones {
             Self::Linear => v,
         }
     }
+
+    /// The linear luminance of tone `t` in [0, 1]: [`Self::tone`]'s
+    /// inverse.
+    #[must_use]
+    pub fn untone(self, t: f32) -> f32 {
+        match self {
+            Self::Display => crate::colour::srgb_to_linear(t),
+            Self::Linear => t,
+        }
+    }
 }
 
 /// Tone adjustments, applied in this order: levels, gamma, invert.

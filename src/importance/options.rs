@@ -191,10 +191,15 @@ impl ImportanceOptions {
         let tones = self.tones;
         let map = match paper {
             None => map.resized_with(w, h, |v| adjust.apply(tones.tone(v)))?,
-            Some((p, q)) => map.resized_with(w, h, |v| {
-                let a = (p - adjust.apply(tones.tone(v))) / (p - q);
-                (1.0 - a).clamp(0.0, 1.0)
-            })?,
+            Some((p, q)) => {
+                // The picture the ink draws, in light (as if it were black
+                // on white), then resized as any picture is.
+                let inked = map.resized_with(map.width(), map.height(), |v| {
+                    let a = (p - adjust.apply(tones.tone(v))) / (p - q);
+                    tones.untone((1.0 - a).clamp(0.0, 1.0))
+                })?;
+                inked.resized_with(w, h, |v| tones.tone(v))?
+            }
         };
         let range = self.radius_range(count_target)?;
         let mapping = match (self.mapping, default_mapping) {
