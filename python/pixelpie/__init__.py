@@ -450,7 +450,8 @@ def stipple(
     colours, or the path of a ``.toml`` pen file; ``choose`` (with an
     inventory of up to 64 pens in ``pens``) draws with the K of them the
     render model predicts closest to the picture's colours (``Drawing.pens``
-    says which); ``crop`` (``"x,y,w,h"``)
+    says which); ``paper_colour`` (``"black"``, ``"kraft"``, ``"grey"``
+    or ``"#rrggbb"``: the inks on that paper); ``crop`` (``"x,y,w,h"``)
     and ``rotate`` (90, 180 or 270) frame the picture; ``refill_mm`` and
     ``layer_order`` shape the pen layers. An unknown name or a bad value
     raises ``ValueError`` (``TypeError`` for a wrong type).
