@@ -157,6 +157,9 @@ EVERY_OPTION = [
     ("paper", "a5", "a.svg"),
     ("margin", 25.0, "a.svg"),
     ("landscape", True, "a.svg"),
+    ("size_px", True, "a.svg"),
+    ("choose", 3, "a.svg"),
+    ("paper_colour", "kraft", "a.png"),
     ("dot_path", "circle", "a.svg"),
     ("crop", "40,20,300,200", "a.svg"),
     ("dot_mm", 1.2, "a.svg"),
@@ -240,9 +243,15 @@ def test_every_stipple_option_gives_the_clis_file(tmp_path, name, value, out):
     if name in ("dot_path", "refill_mm"):
         kwargs["pen_mm"] = 0.3
         args += ["--pen-mm", "0.3"]
-    if name in ("margin", "landscape"):
+    if name in ("margin", "landscape", "size_px"):
         kwargs["paper"] = "a4"
         args += ["--paper", "a4"]
+    if name == "choose":
+        kwargs["pens"] = str(ASSETS / "pens-24.toml")
+        args += ["--pens", str(ASSETS / "pens-24.toml")]
+    if name == "paper_colour":
+        kwargs["pens"] = "#202020"
+        args += ["--pens", "#202020"]
     if name not in ("points", "dot_radius", "min_radius", "pen_mm", "dot_mm"):
         kwargs["points"] = 800
         args += ["--points", "800"]
