@@ -919,6 +919,37 @@ fn a_white_pen_on_black_paper_draws_a_night_sky_as_well_as_black_on_white() {
     let on_white = fidelity(&inverted, &black)["psnr"].as_f64().unwrap();
     eprintln!("white on black {on_black:.2} dB, black on white {on_white:.2} dB");
     assert!(on_black >= on_white - 0.05, "{on_black} vs {on_white}");
+    // The as-plotted preview, on a sheet of that paper.
+    let (sheet_svg, preview) = (dir.path().join("sheet.svg"), dir.path().join("preview.png"));
+    let o = pixelpie(
+        &[
+            &[
+                "stipple",
+                night.to_str().unwrap(),
+                "-o",
+                sheet_svg.to_str().unwrap(),
+            ][..],
+            &[
+                "--pens",
+                "#ffffff",
+                "--paper-colour",
+                "black",
+                "--paper",
+                "a6",
+            ],
+            &["--pen-mm", "0.2", "--preview", preview.to_str().unwrap()],
+            &common,
+        ]
+        .concat(),
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let shown = image::open(&preview).unwrap().to_rgb8();
+    assert_eq!(shown.get_pixel(1, 1).0, [0, 0, 0], "the sheet's margin");
+    let lit = shown.pixels().filter(|p| p.0[0] > 128).count();
+    assert!(
+        lit > 0 && lit < shown.pixels().len() / 4,
+        "{lit} white pixels"
+    );
     // The SVG: the paper on a layer plotters skip, the pen over it.
     let svg = dir.path().join("white.svg");
     let o = pixelpie(

@@ -202,8 +202,8 @@ impl Job {
     }
 
     /// The as-plotted preview of `drawing` ([`Self::plotted_layers`]): the
-    /// drawing at one pixel per domain pixel, the inks multiplied, on its
-    /// sheet (white margins) with `--paper`.
+    /// drawing at one pixel per domain pixel, the inks mixed on the paper
+    /// (`--paper-colour`), on its sheet of that paper with `--paper`.
     pub fn preview(&self, drawing: &Stipple) -> crate::Result<image::RgbImage> {
         let layers = self.plotted_layers(drawing)?;
         let papers = layers
@@ -225,7 +225,7 @@ impl Job {
             ))
             .into());
         }
-        let mut sheet = image::RgbImage::from_pixel(w, h, image::Rgb([255, 255, 255]));
+        let mut sheet = image::RgbImage::from_pixel(w, h, image::Rgb(self.paper_rgb()));
         let (x0, y0) = (
             (p.origin_mm.0 / mm).round() as i64,
             (p.origin_mm.1 / mm).round() as i64,
