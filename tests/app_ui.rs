@@ -2037,3 +2037,45 @@ fn a_pen_box_lists_its_pens_and_chooses_the_clis_for_the_photo() {
         assert!(note.contains(&p.name), "{}: {note}", p.name);
     }
 }
+
+#[test]
+fn the_paper_colour_reaches_the_clis_file() {
+    let (dir, png, mut h) = ready(200, 150);
+    h.get_by_label("Points").set_value_accesskit(3000.0);
+    settle(&mut h);
+    h.state_mut().settings.job.ink = pixelpie::job::Ink([255, 255, 255]);
+    h.run_steps(2);
+    h.get_by_label("Paper colour").click();
+    h.run_steps(2);
+    h.get_by_label("black").click();
+    h.run_steps(2);
+    settle(&mut h);
+    assert_eq!(
+        h.state().settings.job.paper_colour.map(|c| c.0),
+        Some([0, 0, 0])
+    );
+    let (app_svg, cli_svg) = (dir.path().join("app.svg"), dir.path().join("cli.svg"));
+    export(&mut h, &app_svg);
+    let (png, cli_path) = (png.display().to_string(), cli_svg.display().to_string());
+    cli(&[
+        "stipple",
+        &png,
+        "-o",
+        &cli_path,
+        "--quiet",
+        "--points",
+        "3000",
+        "--ink",
+        "#ffffff",
+        "--paper-colour",
+        "black",
+    ]);
+    let svg = std::fs::read_to_string(&app_svg).unwrap();
+    assert!(
+        svg.contains(r#"inkscape:label="% paper (not plotted)""#),
+        "{}",
+        &svg[..400]
+    );
+    assert!(svg.contains(r##"fill="#ffffff""##), "{}", &svg[..600]);
+    assert_eq!(svg, std::fs::read_to_string(&cli_svg).unwrap());
+}

@@ -6,7 +6,7 @@
 use egui::{Rect, Vec2};
 
 use super::PixelPieApp;
-use crate::job::Job;
+use crate::job::{Job, PaperColour};
 use crate::stipple::{Paper, Placement};
 
 /// The sheets offered, as shown and as the job names them.
@@ -169,6 +169,27 @@ impl PixelPieApp {
             if custom && (w, h) != (w0, h0) {
                 set_custom(job, (w, h));
             }
+        });
+        ui.horizontal(|ui| {
+            let l = ui.label("Paper colour");
+            let now = job.paper_colour.unwrap_or(PaperColour::WHITE);
+            let name = |c: PaperColour| c.to_string();
+            egui::ComboBox::from_id_salt("paper colour")
+                .selected_text(name(now))
+                .show_ui(ui, |ui| {
+                    for (n, c) in PaperColour::NAMES {
+                        let c = PaperColour(c);
+                        if ui.selectable_label(now == c, n).clicked() {
+                            job.paper_colour = (c != PaperColour::WHITE).then_some(c);
+                        }
+                    }
+                })
+                .response
+                .labelled_by(l.id)
+                .on_hover_text(
+                    "The paper's colour (--paper-colour): the inks lie on it; an ink \
+                     lighter than the paper covers it (a white gel pen on black)",
+                );
         });
         // A smaller sheet can leave no room for the margin: keep it inside.
         if let Some(p) = &job.paper

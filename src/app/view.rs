@@ -258,20 +258,22 @@ impl PixelPieApp {
         size: Vec2,
     ) {
         let mut fills = vec![(rect, BACKDROP)];
+        let [pr, pg, pb] = self.settings.job.paper_rgb();
+        let paper = Color32::from_rgb(pr, pg, pb);
         if let Some((sheet, _)) = sheet {
             let on_screen = self.on_screen(rect, sheet);
             fills.push((
                 on_screen.translate(Vec2::splat(3.0)),
                 Color32::from_black_alpha(60),
             ));
-            fills.push((on_screen, Color32::WHITE));
+            fills.push((on_screen, paper));
         }
         for off in offsets {
             let image_rect = Rect::from_min_size(
                 rect.min + self.view.pan + *off * self.view.zoom,
                 size * self.view.zoom,
             );
-            fills.push((image_rect, Color32::WHITE));
+            fills.push((image_rect, paper));
         }
         // Within the canvas (its clip rectangle clips egui's shapes, the
         // scissor the callback's).
@@ -321,7 +323,7 @@ impl PixelPieApp {
     /// ink (or each pen's, multiplied in), sized as the job draws them.
     fn dot_layers(&self) -> Vec<DotLayer> {
         let s = &self.settings;
-        let [r, g, b] = s.job.ink.0.map(|c| f32::from(c) / 255.0);
+        let [r, g, b] = s.job.ink_rgb().map(|c| f32::from(c) / 255.0);
         let (radius_scale, drawn_scale) = match self.dot_size() {
             DotSize::Proportional(f) => (f, 0.0),
             DotSize::Calibrated(f) => (0.0, f),
@@ -362,8 +364,19 @@ impl PixelPieApp {
         if self.pen_layers.is_empty() {
             layers.push(as_plotted(0, ink.clone()));
         }
-        // A colour drawing: each pen's layer in its ink, multiplied in.
-        for (k, (colour, dots)) in self.pen_layers.iter().enumerate() {
+        // A colour drawing: each pen's layer in its ink, multiplied in (or
+        // over what is below, for an opaque ink).
+        let paper = s.job.paper_rgb();
+        let opaque = |k: usize| {
+            s.job
+                .pens
+                .as_ref()
+                .and_then(|p| p.pens().get(k))
+                .is_some_and(|p| p.opacity_on(paper) >= 0.5)
+        };
+        let inks: Vec<[u8; 3]> = self.pen_layers.iter().map(|(c, _)| *c).collect();
+        for k in s.job.plot_order(&inks) {
+            let (colour, dots) = &self.pen_layers[k];
             if s.hidden_pens.get(k).copied().unwrap_or(false) {
                 continue;
             }
@@ -374,7 +387,11 @@ impl PixelPieApp {
                     dots: dots.clone(),
                     color: [r, g, b, 1.0],
                     slot: 1 + k,
-                    blend: Blend::Multiply,
+                    blend: if opaque(k) {
+                        Blend::Ink
+                    } else {
+                        Blend::Multiply
+                    },
                     ..ink.clone()
                 },
             ));

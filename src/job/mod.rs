@@ -238,9 +238,10 @@ pub struct Job {
     /// ink lies on it (0 multiplies like felt-tip ink; 1 covers like a gel
     /// or paint pen; unset, an ink lighter than the paper covers). The
     /// separation, the correction, the PNG, the preview and the SVG (on a
-    /// layer of its own that plotters skip) follow. One pen on a coloured
-    /// paper draws as pens do: --pens "#ffffff" --paper-colour black.
-    #[cfg_attr(feature = "cli", arg(long, value_name = "COLOUR", requires = "pens"))]
+    /// layer of its own that plotters skip) follow. One ink on a coloured
+    /// paper draws the picture it makes: --ink "#ffffff" --paper-colour
+    /// black draws stars as white dots.
+    #[cfg_attr(feature = "cli", arg(long, value_name = "COLOUR"))]
     #[serde(skip_serializing_if = "Option::is_none")]
     pub paper_colour: Option<PaperColour>,
     /// Disk policy for varying radii (paper §3.4); the paper stipples with

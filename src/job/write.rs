@@ -47,10 +47,7 @@ impl Job {
             .with_ink(self.ink_rgb())
             .with_size_px(self.size_px)
             .with_paper_if(self.paper_rgb())
-            .with_multiply(
-                self.one_pen()
-                    .is_some_and(|p| p.opacity_on(self.paper_rgb()) < 0.5),
-            ))
+            .with_multiply(self.ink_opacity() < 0.5))
     }
 
     /// Whether the job draws in colour: two pens or more. One pen draws the
@@ -68,13 +65,31 @@ impl Job {
     #[must_use]
     pub fn ink_on_paper(&self) -> [u8; 3] {
         let (ink, paper) = (self.ink_rgb(), self.paper_rgb());
-        let o = self.one_pen().map_or(0.0, |p| p.opacity_on(paper));
+        let o = self.ink_opacity();
         let lin = |c: u8| crate::colour::decode(f64::from(c) / 255.0);
         std::array::from_fn(|i| {
             let (t, p) = (lin(ink[i]), lin(paper[i]));
             let c = (1.0 - o) * p * t + o * t;
             (crate::colour::encode(c) * 255.0).round().clamp(0.0, 255.0) as u8
         })
+    }
+
+    /// The one ink's opacity on the job's paper: its pen's
+    /// ([`crate::colour::Pen::opacity_on`]), the same rule for `--ink`.
+    #[must_use]
+    pub fn ink_opacity(&self) -> f64 {
+        let paper = self.paper_rgb();
+        match self.one_pen() {
+            Some(p) => p.opacity_on(paper),
+            None => crate::colour::Pen {
+                name: String::new(),
+                colour: self.ink.0,
+                width_mm: None,
+                dot_gain: None,
+                opacity: None,
+            }
+            .opacity_on(paper),
+        }
     }
 
     /// The grey drawing's tones on a paper that is not white: the paper's
