@@ -875,34 +875,21 @@ fn a_white_pen_on_black_paper_draws_a_night_sky_as_well_as_black_on_white() {
         .unwrap();
     }
     let (white, black) = (dir.path().join("white.png"), dir.path().join("black.png"));
-    let common = ["--points", "3000", "-q", "--backend", "cpu"];
-    let o = pixelpie(
-        &[
-            &[
-                "stipple",
-                night.to_str().unwrap(),
-                "-o",
-                white.to_str().unwrap(),
-            ][..],
-            &["--pens", "#ffffff", "--paper-colour", "black"],
-            &common,
-        ]
-        .concat(),
+    // Draws `picture` to `out` with 3000 dots and `extra`.
+    let draw = |picture: &Path, out: &Path, extra: &[&str]| {
+        let (picture, out) = (picture.to_str().unwrap(), out.to_str().unwrap());
+        let mut args = vec!["stipple", picture, "-o", out, "--points", "3000", "-q"];
+        args.extend(["--backend", "cpu"]);
+        args.extend_from_slice(extra);
+        let o = pixelpie(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    };
+    draw(
+        &night,
+        &white,
+        &["--pens", "#ffffff", "--paper-colour", "black"],
     );
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let o = pixelpie(
-        &[
-            &[
-                "stipple",
-                inverted.to_str().unwrap(),
-                "-o",
-                black.to_str().unwrap(),
-            ][..],
-            &common,
-        ]
-        .concat(),
-    );
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    draw(&inverted, &black, &[]);
     // The PNG is the black sheet with white dots, the stars' dots.
     let img = image::open(&white).unwrap().to_rgb8();
     assert_eq!(img.get_pixel(2, 2).0, [0, 0, 0], "the paper");
@@ -921,28 +908,22 @@ fn a_white_pen_on_black_paper_draws_a_night_sky_as_well_as_black_on_white() {
     assert!(on_black >= on_white - 0.05, "{on_black} vs {on_white}");
     // The as-plotted preview, on a sheet of that paper.
     let (sheet_svg, preview) = (dir.path().join("sheet.svg"), dir.path().join("preview.png"));
-    let o = pixelpie(
+    draw(
+        &night,
+        &sheet_svg,
         &[
-            &[
-                "stipple",
-                night.to_str().unwrap(),
-                "-o",
-                sheet_svg.to_str().unwrap(),
-            ][..],
-            &[
-                "--pens",
-                "#ffffff",
-                "--paper-colour",
-                "black",
-                "--paper",
-                "a6",
-            ],
-            &["--pen-mm", "0.2", "--preview", preview.to_str().unwrap()],
-            &common,
-        ]
-        .concat(),
+            "--pens",
+            "#ffffff",
+            "--paper-colour",
+            "black",
+            "--paper",
+            "a6",
+            "--pen-mm",
+            "0.2",
+            "--preview",
+            preview.to_str().unwrap(),
+        ],
     );
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let shown = image::open(&preview).unwrap().to_rgb8();
     assert_eq!(shown.get_pixel(1, 1).0, [0, 0, 0], "the sheet's margin");
     let lit = shown.pixels().filter(|p| p.0[0] > 128).count();
@@ -952,20 +933,11 @@ fn a_white_pen_on_black_paper_draws_a_night_sky_as_well_as_black_on_white() {
     );
     // The SVG: the paper on a layer plotters skip, the pen over it.
     let svg = dir.path().join("white.svg");
-    let o = pixelpie(
-        &[
-            &[
-                "stipple",
-                night.to_str().unwrap(),
-                "-o",
-                svg.to_str().unwrap(),
-            ][..],
-            &["--pens", "#ffffff", "--paper-colour", "black"],
-            &common,
-        ]
-        .concat(),
+    draw(
+        &night,
+        &svg,
+        &["--pens", "#ffffff", "--paper-colour", "black"],
     );
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let text = std::fs::read_to_string(&svg).unwrap();
     assert!(
         text.contains(r#"inkscape:label="% paper (not plotted)""#),

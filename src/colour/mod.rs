@@ -10,6 +10,13 @@ pub mod separation;
 pub use pens::{Pen, PenSet};
 pub use separation::{RenderModel, Separation};
 
+/// The relative luminance of an 8-bit sRGB colour (0 black, 1 white).
+#[must_use]
+pub fn luminance(c: [u8; 3]) -> f64 {
+    let [r, g, b] = c.map(|v| decode(f64::from(v) / 255.0));
+    0.2126 * r + 0.7152 * g + 0.0722 * b
+}
+
 /// The sRGB transfer function's inverse: encoded value in [0, 1] to linear.
 #[must_use]
 pub fn srgb_to_linear(c: f32) -> f32 {

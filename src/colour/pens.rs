@@ -52,15 +52,19 @@ impl Pen {
     /// 1 for an ink lighter than the paper and 0 for one that is not.
     #[must_use]
     pub fn opacity_on(&self, paper: [u8; 3]) -> f64 {
-        let lum = |c: [u8; 3]| {
-            let l = c.map(|v| super::decode(f64::from(v) / 255.0));
-            0.2126 * l[0] + 0.7152 * l[1] + 0.0722 * l[2]
-        };
-        self.opacity.unwrap_or(if lum(self.colour) > lum(paper) {
-            1.0
-        } else {
-            0.0
-        })
+        self.opacity.unwrap_or(default_opacity(self.colour, paper))
+    }
+}
+
+/// The opacity of an ink of colour `ink` on paper of colour `paper` whose
+/// pen does not give one: 1 (it covers) where the ink is lighter than the
+/// paper, 0 (it multiplies) otherwise.
+#[must_use]
+pub fn default_opacity(ink: [u8; 3], paper: [u8; 3]) -> f64 {
+    if super::luminance(ink) > super::luminance(paper) {
+        1.0
+    } else {
+        0.0
     }
 }
 

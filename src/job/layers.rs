@@ -3,6 +3,7 @@
 //! split into sub-layers for refills (`--refill-mm`).
 
 use super::{Job, LayerOrder, Stipple};
+use crate::colour::luminance;
 use crate::stipple::{Dot, svg};
 
 /// One layer of the SVG: a pen's dots, or a part of them.
@@ -23,12 +24,6 @@ pub struct PenLayer {
     pub dots: Vec<Dot>,
     /// The pen-down length in mm of these dots' paths (with a pen).
     pub pen_down_mm: f64,
-}
-
-/// The relative luminance of an sRGB colour (0 black, 1 white).
-fn luminance(c: [u8; 3]) -> f64 {
-    let [r, g, b] = c.map(|v| crate::colour::decode(f64::from(v) / 255.0));
-    0.2126 * r + 0.7152 * g + 0.0722 * b
 }
 
 impl Job {

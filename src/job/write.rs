@@ -79,17 +79,10 @@ impl Job {
     #[must_use]
     pub fn ink_opacity(&self) -> f64 {
         let paper = self.paper_rgb();
-        match self.one_pen() {
-            Some(p) => p.opacity_on(paper),
-            None => crate::colour::Pen {
-                name: String::new(),
-                colour: self.ink.0,
-                width_mm: None,
-                dot_gain: None,
-                opacity: None,
-            }
-            .opacity_on(paper),
-        }
+        self.one_pen().map_or_else(
+            || crate::colour::pens::default_opacity(self.ink.0, paper),
+            |p| p.opacity_on(paper),
+        )
     }
 
     /// The grey drawing's tones on a paper that is not white: the paper's
@@ -104,9 +97,9 @@ impl Job {
             return None;
         }
         let grey = |c: [u8; 3]| {
-            let l = c.map(|v| crate::colour::decode(f64::from(v) / 255.0));
-            let y = (0.2126 * l[0] + 0.7152 * l[1] + 0.0722 * l[2]) as f32;
-            self.importance.tones.tone(y)
+            self.importance
+                .tones
+                .tone(crate::colour::luminance(c) as f32)
         };
         let (p, q) = (grey(paper), grey(self.ink_on_paper()));
         ((p - q).abs() > 1e-3).then_some((p, q))
