@@ -217,6 +217,7 @@ fn voronoi_row(density: &relax::Density<'_>, n: usize) -> Row {
     let options = relax::RelaxOptions {
         iterations: 30,
         periodic: false,
+        cells: relax::Cells::Pixels,
     };
     let points = relax::relax(&start, density, options, |_| true);
     Row {

@@ -139,9 +139,17 @@ impl Planned {
         if plan.relax > 0 {
             stage(&mut progress, Stage::Relax)?;
             let steps = plan.relax;
+            // Cells as polygons, integrated at the mean spacing: as good
+            // as pixel cells (docs/drawing.md) at a cost that follows
+            // the dots; a periodic domain takes pixel cells.
+            let spacing =
+                f64::from(domain.0) * f64::from(domain.1) / set.points.len().max(1) as f64;
             let options = relax::RelaxOptions {
                 iterations: steps,
                 periodic: job.sampler.periodic,
+                cells: relax::Cells::Polygons {
+                    edge: spacing.sqrt() as f32,
+                },
             };
             let moved =
                 crate::stipple::relax_points(all, range, &set.points, options, &mut |done| {

@@ -144,41 +144,53 @@ pub fn relax_points(
         return Err(Error::InvalidParameter("nothing to relax".into()));
     };
     let own = (first.map.width(), first.map.height());
-    let weights: Vec<f32> = if let ([prepared], true) = (maps, first.domain() == own) {
-        use rayon::prelude::*;
-        // One parallel pass: each pixel's radius (as the map's `radii`
-        // gives it) and its weight.
+    let (w, h) = first.domain();
+    let xy: Vec<[f32; 2]> = points.iter().map(|p| [p.x, p.y]).collect();
+    let polygons = match options.cells {
+        relax::Cells::Polygons { edge } if !options.periodic => Some(edge),
+        _ => None,
+    };
+    let moved = if let ([prepared], true) = (maps, first.domain() == own) {
+        // Each pixel's radius (as the map's `radii` gives it) and its
+        // weight, made where the relaxation asks.
         let radius = crate::importance::ImportanceMap::radius_fn(prepared.mapping, range);
-        prepared
-            .map
-            .values()
-            .par_iter()
-            .map(|&v| {
-                if prepared.cutoff.is_some_and(|c| v > c) {
-                    0.0
-                } else {
-                    (1.0 / f64::from(radius(v)).powi(4)) as f32
-                }
-            })
-            .collect()
+        let values = prepared.map.values();
+        let weight = |i: usize| {
+            let v = values[i];
+            if prepared.cutoff.is_some_and(|c| v > c) {
+                0.0
+            } else {
+                1.0 / f64::from(radius(v)).powi(4)
+            }
+        };
+        match polygons {
+            Some(edge) => {
+                let weights = relax::Weights {
+                    width: w,
+                    height: h,
+                    weight: &weight,
+                };
+                relax::relax_polygons_until(&xy, &weights, options.iterations, edge, progress)
+            }
+            None => {
+                use rayon::prelude::*;
+                let weights: Vec<f32> = (0..values.len())
+                    .into_par_iter()
+                    .map(|i| weight(i) as f32)
+                    .collect();
+                relax_on(&xy, w, h, &weights, options, progress)?
+            }
+        }
     } else {
         // The union's density (Σ 1/r_c² over the pens that have samples,
         // the rule the sampler ran under), squared as a radius's 1/r⁴.
-        crate::importance::Classes { maps }
+        let weights: Vec<f32> = crate::importance::Classes { maps }
             .union_density(range)
             .into_iter()
             .map(|inv| inv * inv)
-            .collect()
+            .collect();
+        relax_on(&xy, w, h, &weights, options, progress)?
     };
-    let (w, h) = first.domain();
-    let density = relax::Density {
-        width: w,
-        height: h,
-        weights: &weights,
-    };
-    relax::check(&density)?;
-    let xy: Vec<[f32; 2]> = points.iter().map(|p| [p.x, p.y]).collect();
-    let moved = relax::relax_until(&xy, &density, options, progress);
     // Each point's new radius: its pen's at its new pixel (what the map's
     // `radii` hold there), found for the points alone.
     let radius: Vec<_> = maps
@@ -200,4 +212,22 @@ pub fn relax_points(
             }
         })
         .collect())
+}
+
+/// [`relax::relax_until`] on a weight array, checked first.
+fn relax_on(
+    xy: &[[f32; 2]],
+    width: u32,
+    height: u32,
+    weights: &[f32],
+    options: relax::RelaxOptions,
+    progress: &mut dyn FnMut(Option<u32>) -> bool,
+) -> Result<Vec<[f32; 2]>> {
+    let density = relax::Density {
+        width,
+        height,
+        weights,
+    };
+    relax::check(&density)?;
+    Ok(relax::relax_until(xy, &density, options, progress))
 }

@@ -40,7 +40,19 @@
 //!
 //! With 100 000 points on 3200×2400 pixels, an iteration takes about 0.1 s on
 //! two cores.
+//!
+//! # Cells as polygons
+//!
+//! [`Cells::Polygons`] takes each cell as the polygon it is (module
+//! `cells`: a Delaunay triangulation, the cell clipped to the domain) and
+//! integrates the weight over it at a given resolution, asking the weight
+//! only there ([`Weights`]). Its cost follows the points, not the pixels:
+//! at 100K points on 3163² pixels, an iteration takes about 0.09 s on two
+//! cores against 0.13 s for pixel cells, and drawings relaxed so measure
+//! as well or better (docs/drawing.md). Drawings use it; periodic
+//! domains always take pixel cells.
 
+mod cells;
 mod kdtree;
 mod lloyd;
 mod pyramid;
@@ -71,6 +83,26 @@ pub struct RelaxOptions {
     pub iterations: u32,
     /// Distances wrap around the domain (torus); centroids wrap too.
     pub periodic: bool,
+    /// How the cells are taken.
+    pub cells: Cells,
+}
+
+/// How a Lloyd iteration takes the Voronoi cells and their centroids.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum Cells {
+    /// Cells of pixel centres, exact: every pixel goes to its nearest point
+    /// and the centroid is its pixels' weighted mean. Periodic domains are
+    /// always relaxed so.
+    #[default]
+    Pixels,
+    /// The cells as polygons, clipped to the domain and integrated over
+    /// triangles of sides at most `edge` pixels, the weight taken from the
+    /// pixel under each quadrature point: the cost follows the points and
+    /// the area at `edge`'s resolution, not the pixels (module `cells`).
+    Polygons {
+        /// The longest side integrated whole, in pixels (> 0).
+        edge: f32,
+    },
 }
 
 /// Checks a density: `width` and `height` > 0, `width * height` weights, all
@@ -143,6 +175,19 @@ pub fn relax_until(
     progress: &mut dyn FnMut(Option<u32>) -> bool,
 ) -> Vec<[f32; 2]> {
     let mut current = points.to_vec();
+    if let (Cells::Polygons { edge }, false) = (options.cells, options.periodic) {
+        if density.weights.len() as u64 != u64::from(density.width) * u64::from(density.height)
+            || density.weights.is_empty()
+        {
+            return current;
+        }
+        let weights = Weights {
+            width: density.width,
+            height: density.height,
+            weight: &|i| f64::from(density.weights[i]),
+        };
+        return relax_polygons_until(points, &weights, options.iterations, edge, progress);
+    }
     let Some(field) = Field::new(density) else {
         return current;
     };
@@ -151,6 +196,45 @@ pub fn relax_until(
             Some(moved) => current = moved,
             None => break,
         }
+        if !progress(Some(done)) {
+            break;
+        }
+    }
+    current
+}
+
+/// A weight per pixel, asked for where it is needed ([`Cells::Polygons`]
+/// asks only at its quadrature points, not at every pixel).
+pub struct Weights<'a> {
+    /// Width in pixels (> 0).
+    pub width: u32,
+    /// Height in pixels (> 0).
+    pub height: u32,
+    /// The weight of pixel `y * width + x`; negative or not finite counts
+    /// as zero.
+    pub weight: &'a (dyn Fn(usize) -> f64 + Sync),
+}
+
+/// `iterations` Lloyd steps over the cells as polygons ([`Cells::Polygons`]
+/// with sides of at most `edge` pixels) on a bounded domain, with
+/// `progress` as [`relax_until`] has it. Points outside the domain, not
+/// finite, or duplicated stay where they are.
+pub fn relax_polygons_until(
+    points: &[[f32; 2]],
+    weights: &Weights<'_>,
+    iterations: u32,
+    edge: f32,
+    progress: &mut dyn FnMut(Option<u32>) -> bool,
+) -> Vec<[f32; 2]> {
+    let mut current = points.to_vec();
+    if weights.width == 0 || weights.height == 0 || edge.is_nan() || edge <= 0.0 {
+        return current;
+    }
+    for done in 1..=iterations {
+        if !progress(None) {
+            break;
+        }
+        current = cells::polygon_step(&current, weights, f64::from(edge));
         if !progress(Some(done)) {
             break;
         }
@@ -172,7 +256,9 @@ fn wrap(x: f64, len: f64) -> f64 {
 
 #[cfg(test)]
 mod tests {
-    use super::test_util::{assert_close, opts, random_weights, relax_all, uniform_points};
+    use super::test_util::{
+        BOTH, assert_close, opts, opts_with, random_weights, relax_all, uniform_points,
+    };
     use super::*;
 
     /// Pixels per point.
@@ -218,8 +304,15 @@ mod tests {
             .flat_map(|j| (0..16).map(move |i| [5.0 + 10.0 * i as f32, 5.0 + 10.0 * j as f32]))
             .collect();
         for periodic in [false, true] {
-            let out = relax_all(&points, &density, opts(5, periodic));
-            assert_close(&out, &points, 1e-3, &format!("periodic {periodic}"));
+            for cells in BOTH {
+                let out = relax_all(&points, &density, opts_with(5, periodic, cells));
+                assert_close(
+                    &out,
+                    &points,
+                    1e-3,
+                    &format!("periodic {periodic}, {cells:?}"),
+                );
+            }
         }
     }
 
@@ -233,14 +326,19 @@ mod tests {
             weights: &weights,
         };
         let start = random_start(150, &density, 3);
-        let out = relax_all(&start, &density, opts(30, false));
-        let (d0, d1) = (min_nn_distance(&start), min_nn_distance(&out));
-        let (s0, s1) = (
-            std_dev(&cell_areas(&start, w, h)),
-            std_dev(&cell_areas(&out, w, h)),
-        );
-        assert!(d1 > 2.0 * d0 && d1 > 4.0, "min distance {d0} -> {d1}");
-        assert!(s1 < 0.5 * s0, "std of cell areas {s0} -> {s1}");
+        for cells in BOTH {
+            let out = relax_all(&start, &density, opts_with(30, false, cells));
+            let (d0, d1) = (min_nn_distance(&start), min_nn_distance(&out));
+            let (s0, s1) = (
+                std_dev(&cell_areas(&start, w, h)),
+                std_dev(&cell_areas(&out, w, h)),
+            );
+            assert!(
+                d1 > 2.0 * d0 && d1 > 4.0,
+                "{cells:?}: min distance {d0} -> {d1}"
+            );
+            assert!(s1 < 0.5 * s0, "{cells:?}: std of cell areas {s0} -> {s1}");
+        }
     }
 
     #[test]
@@ -255,15 +353,19 @@ mod tests {
             weights: &weights,
         };
         let start = uniform_points(40, w as f64, h as f64, 5);
-        let out = relax_all(&start, &density, opts(10, false));
-        let mut moved = 0;
-        for (a, b) in start.iter().zip(&out) {
-            if a != b {
-                moved += 1;
-                assert!(b[0] >= (w / 2) as f32 + 0.5, "{a:?} -> {b:?}");
+        for cells in BOTH {
+            let out = relax_all(&start, &density, opts_with(10, false, cells));
+            let mut moved = 0;
+            // Pixel cells weigh pixel centres; polygons the pixels' area.
+            let edge = if cells == Cells::Pixels { 0.5 } else { 0.0 };
+            for (a, b) in start.iter().zip(&out) {
+                if a != b {
+                    moved += 1;
+                    assert!(b[0] > (w / 2) as f32 + edge, "{cells:?}: {a:?} -> {b:?}");
+                }
             }
+            assert!(moved >= 20, "{cells:?}: only {moved} points moved");
         }
-        assert!(moved >= 20, "only {moved} points moved");
     }
 
     #[test]
@@ -286,13 +388,15 @@ mod tests {
         };
         let start = uniform_points(100, w as f64, h as f64, 11);
         let count = |v: &[[f32; 2]]| v.iter().filter(|p| inside(p[0], p[1])).count();
-        let out = relax_all(&start, &density, opts(10, false));
-        assert!(
-            count(&out) >= 2 * count(&start),
-            "{} -> {} points in the disc",
-            count(&start),
-            count(&out)
-        );
+        for cells in BOTH {
+            let out = relax_all(&start, &density, opts_with(10, false, cells));
+            assert!(
+                count(&out) >= 2 * count(&start),
+                "{cells:?}: {} -> {} points in the disc",
+                count(&start),
+                count(&out)
+            );
+        }
     }
 
     #[test]

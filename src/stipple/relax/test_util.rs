@@ -25,6 +25,19 @@ pub(super) fn opts(iterations: u32, periodic: bool) -> RelaxOptions {
     RelaxOptions {
         iterations,
         periodic,
+        cells: super::Cells::Pixels,
+    }
+}
+
+/// Both ways of taking the cells: pixels, and polygons integrated at 2 px.
+pub(super) const BOTH: [super::Cells; 2] =
+    [super::Cells::Pixels, super::Cells::Polygons { edge: 2.0 }];
+
+/// [`opts`] with the cells taken as `cells`.
+pub(super) fn opts_with(iterations: u32, periodic: bool, cells: super::Cells) -> RelaxOptions {
+    RelaxOptions {
+        cells,
+        ..opts(iterations, periodic)
     }
 }
 
