@@ -61,7 +61,14 @@ pub fn path_length(points: &[[f64; 2]], order: &[usize]) -> f64 {
 }
 
 fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
-    (a[0] - b[0]).hypot(a[1] - b[1])
+    dist2(a, b).sqrt()
+}
+
+/// The squared distance (no `hypot`: the coordinates are far from
+/// overflow, and `hypot` costs several times as much).
+fn dist2(a: [f64; 2], b: [f64; 2]) -> f64 {
+    let (dx, dy) = (a[0] - b[0], a[1] - b[1]);
+    dx * dx + dy * dy
 }
 
 /// Orders `points` for a pen plotter.
@@ -110,11 +117,7 @@ pub fn plan_until(points: &[[f64; 2]], opts: TspOptions, stop: &mut dyn FnMut() 
     let neighbours = nearest_lists(&sorted, opts.neighbours, stop);
     let along: Vec<usize> = (0..n).collect();
     let mut opt = TwoOpt::new(&sorted, &along, opts.max_reversal.max(1));
-    let moves = if neighbours.len() == n {
-        opt.run(&neighbours, stop)
-    } else {
-        0
-    };
+    let moves = neighbours.map_or(0, |lists| opt.run(&lists, stop));
     let mut order: Vec<usize> = opt.open_path().into_iter().map(|s| start[s]).collect();
     let home = [0.0, 0.0];
     if let (Some(&first), Some(&last)) = (order.first(), order.last())
@@ -138,22 +141,43 @@ const LISTS_AT_ONCE: usize = 1 << 16;
 /// Each point's `k` nearest other points, nearest first, in parallel, from
 /// a grid of cells ([`Cells`]). `points`
 /// come along a Hilbert curve. No lists when `stop` says so.
-fn nearest_lists(points: &[[f64; 2]], k: usize, stop: &mut dyn FnMut() -> bool) -> Vec<Vec<u32>> {
+fn nearest_lists(points: &[[f64; 2]], k: usize, stop: &mut dyn FnMut() -> bool) -> Option<Lists> {
     use rayon::prelude::*;
     let cells = Cells::new(points);
-    let mut lists = Vec::with_capacity(points.len());
-    for first in (0..points.len()).step_by(LISTS_AT_ONCE) {
+    let mut items = vec![NONE; points.len() * k];
+    for (chunk, out) in items.chunks_mut(LISTS_AT_ONCE * k).enumerate() {
         if stop() {
-            return Vec::new();
+            return None;
         }
-        let end = points.len().min(first + LISTS_AT_ONCE);
-        lists.par_extend(
-            (first..end)
-                .into_par_iter()
-                .map_init(Vec::new, |best, i| cells.nearest(points, i, k, best)),
-        );
+        let first = chunk * LISTS_AT_ONCE;
+        out.par_chunks_mut(k)
+            .enumerate()
+            .for_each_init(Vec::new, |best, (i, list)| {
+                cells.nearest(points, first + i, k, best);
+                for (slot, b) in list.iter_mut().zip(best.iter()) {
+                    *slot = b.1;
+                }
+            });
     }
-    lists
+    Some(Lists { k, items })
+}
+
+/// No neighbour: the end of a list shorter than `k`.
+const NONE: u32 = u32::MAX;
+
+/// Each point's nearest other points, nearest first, `k` slots a point in
+/// one array (the unused ones [`NONE`]).
+struct Lists {
+    k: usize,
+    items: Vec<u32>,
+}
+
+impl Lists {
+    /// Point `i`'s list.
+    fn of(&self, i: usize) -> &[u32] {
+        let list = &self.items[i * self.k..(i + 1) * self.k];
+        &list[..list.iter().position(|&c| c == NONE).unwrap_or(self.k)]
+    }
 }
 
 /// A grid of square cells over the points, each cell's points contiguous.
@@ -234,15 +258,9 @@ impl Cells {
         }
     }
 
-    /// The `k` nearest other points of point `i`, nearest first (`best`:
-    /// scratch).
-    fn nearest(
-        &self,
-        points: &[[f64; 2]],
-        i: usize,
-        k: usize,
-        best: &mut Vec<(f64, u32)>,
-    ) -> Vec<u32> {
+    /// The `k` nearest other points of point `i`, nearest first, into
+    /// `best` (with their squared distances).
+    fn nearest(&self, points: &[[f64; 2]], i: usize, k: usize, best: &mut Vec<(f64, u32)>) {
         best.clear();
         let p = points[i];
         let cx = (((p[0] - self.origin[0]) / self.cell) as isize).clamp(0, self.nx as isize - 1);
@@ -252,7 +270,7 @@ impl Cells {
                 if j as usize == i {
                     continue;
                 }
-                let d = dist(p, points[j as usize]);
+                let d = dist2(p, points[j as usize]);
                 if best.len() < k || d < best[best.len() - 1].0 {
                     let at = best.partition_point(|b| b.0 <= d);
                     best.insert(at, (d, j));
@@ -275,13 +293,11 @@ impl Cells {
                 }
             }
             // Every cell beyond ring r lies at least r cells away.
-            if best.len() == k.min(points.len() - 1)
-                && best[best.len() - 1].0 <= r as f64 * self.cell
-            {
+            let reach = r as f64 * self.cell;
+            if best.len() == k.min(points.len() - 1) && best[best.len() - 1].0 <= reach * reach {
                 break;
             }
         }
-        best.iter().map(|b| b.1).collect()
     }
 }
 
@@ -358,7 +374,7 @@ impl<'a> TwoOpt<'a> {
 
     /// Runs to a 2-opt local optimum over the neighbour lists, or until
     /// `stop`; returns the number of moves.
-    fn run(&mut self, neighbours: &[Vec<u32>], stop: &mut dyn FnMut() -> bool) -> usize {
+    fn run(&mut self, neighbours: &Lists, stop: &mut dyn FnMut() -> bool) -> usize {
         const EPS: f64 = 1e-9;
         let n = self.points.len();
         let mut queue: VecDeque<u32> = self
@@ -381,7 +397,7 @@ impl<'a> TwoOpt<'a> {
             'search: for forward in [true, false] {
                 let b = if forward { self.succ(a) } else { self.pred(a) };
                 let d_ab = self.d(a, b);
-                for &c in &neighbours[a as usize] {
+                for &c in neighbours.of(a as usize) {
                     let g1 = d_ab - self.d(a, c);
                     if g1 <= EPS {
                         break;
