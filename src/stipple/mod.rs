@@ -168,7 +168,7 @@ pub fn relax_points(
                 let weights = relax::Weights {
                     width: w,
                     height: h,
-                    weight: &weight,
+                    weight,
                 };
                 relax::relax_polygons_until(&xy, &weights, options.iterations, edge, progress)
             }
