@@ -155,11 +155,21 @@ fn impossible_paper_options_end_in_one_error_line() {
 }
 
 /// The paths of a pen SVG, as lists of points.
+/// Each dot's pen path in mm (the file holds them in hundredths, in a
+/// group scaled to mm), as the reader gives them.
 fn paths(text: &str) -> Vec<Vec<(f64, f64)>> {
-    text.lines()
-        .filter(|l| l.starts_with("<path "))
-        .map(|l| polyline(attr(l, "d")).expect("a polyline"))
-        .collect()
+    let paths = read_svg(text).expect("a drawing").paths;
+    let raw = text.lines().filter(|l| l.starts_with("<path ")).count();
+    assert_eq!(paths.len(), raw, "a path per dot");
+    // Each read the same as its `d`, scaled.
+    for (p, l) in paths
+        .iter()
+        .zip(text.lines().filter(|l| l.starts_with("<path ")))
+    {
+        let d = polyline(attr(l, "d")).expect("a polyline");
+        assert_eq!(p.len(), d.len());
+    }
+    paths
 }
 
 #[test]

@@ -161,10 +161,9 @@ fn path_points(text: &str) -> Vec<usize> {
         .skip(1)
         .map(|rest| {
             let d = &rest[..rest.find('"').expect("closing quote")];
-            d.split_whitespace()
-                .filter(|t| *t != "M" && *t != "L")
-                .count()
-                / 2
+            pixelpie::stipple::read::polyline(d)
+                .expect("a polyline")
+                .len()
         })
         .collect()
 }

@@ -95,11 +95,16 @@ CHOICES: Dict[str, List[str]] = {
 
 _LABEL = re.compile(r'inkscape:label="([^"]*)"')
 _PATH = re.compile(r"<path\b[^>]*/>\s*")
-_GROUP = re.compile(r"<g\b[^>]*>")
+# A group's opening tag, with the opening tag of the group of its paths in
+# hundredths that follows it once the paths are gone, if any: a stand-in
+# goes where the paths were, so that vpype sees what they inherit.
+_GROUP = re.compile(r'<g\b[^>]*>(?:\s*<g transform="scale\(0\.01\)"[^>]*>)?')
 # A pen path's d as `pixelpie stipple --pen-mm` writes it: a moveto, then
 # one run of relative linetos; and SVG's numbers.
 _PEN_D = re.compile(r"M([-+.0-9 ]+)l([-+.0-9 ]+)")
 _NUMBER = re.compile(r"[-+]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)")
+# The group that holds a layer's pen paths, in hundredths of a mm.
+_HUNDREDTHS = "scale(0.01)"
 
 
 def _parse_value(text: str) -> Any:
@@ -203,9 +208,11 @@ def _read_svg(svg_text: str, quantization: float) -> Any:
 def _pen_paths(svg_text: str) -> Optional[Tuple[List[List[Any]], Tuple[float, float]]]:
     """The polylines of a pixelpie pen drawing, group by group, in the SVG's
     user units, and the viewBox's size; None unless the file is exactly what
-    ``pixelpie stipple --pen-mm`` writes: top-level groups of ``<path
-    d="Mx yldx dy...">`` (a point, then relative steps) with no transforms, a
-    viewBox from 0 0. Points are kept as vpype keeps them."""
+    ``pixelpie stipple --pen-mm`` writes: top-level groups without
+    transforms, each holding ``<path d="Mx yldx dy...">`` (a point, then
+    relative steps), or one group scaled by 0.01 that holds them (the paths
+    in hundredths of a mm), a viewBox from 0 0. Points are kept as vpype
+    keeps them."""
     import xml.etree.ElementTree as ET
 
     import numpy as np
@@ -220,7 +227,14 @@ def _pen_paths(svg_text: str) -> Optional[Tuple[List[List[Any]], Tuple[float, fl
         if g.tag != svg_ns + "g" or "transform" in g.attrib:
             return None
         lines = []
-        for path in g:
+        # The paths in hundredths of a mm, in one group scaled to mm.
+        inner = list(g)
+        scale = 1.0
+        if len(inner) == 1 and inner[0].tag == svg_ns + "g":
+            if inner[0].get("transform") != _HUNDREDTHS:
+                return None
+            inner, scale = list(inner[0]), 0.01
+        for path in inner:
             d = path.get("d", "")
             m = _PEN_D.fullmatch(d)
             if path.tag != svg_ns + "path" or "transform" in path.attrib or m is None:
@@ -231,7 +245,7 @@ def _pen_paths(svg_text: str) -> Optional[Tuple[List[List[Any]], Tuple[float, fl
             numbers = first + steps
             # The first point, then relative steps: added up in order, as
             # vpype's reader does.
-            xy = np.cumsum(np.array(numbers, dtype=np.float64).reshape(-1, 2), axis=0)
+            xy = np.cumsum(np.array(numbers, dtype=np.float64).reshape(-1, 2), axis=0) * scale
             # vpype leaves out a segment of zero length (a point that
             # repeats the one before, as the SVG's 0.01 mm grid can
             # make on a spiral's first turn); a path of one point is dropped.

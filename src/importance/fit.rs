@@ -29,6 +29,7 @@ pub struct Prepared {
 
 /// A map read at a larger domain: per domain column and row, the two map
 /// pixels between which it lies and the weight of the second.
+#[derive(Clone, Debug)]
 struct Stretch {
     domain: (u32, u32),
     xs: Vec<(u32, u32, f32)>,
@@ -363,12 +364,13 @@ impl Classes<'_> {
     pub fn union_params(&self, base: &Params, scale: f64) -> crate::sampler::Result<Params> {
         let range = self.maps[0].range.scaled(scale);
         let (w, h) = self.maps[0].domain();
-        let inv = self.union_density(range);
+        let inv = self.union_density_at(range);
         let m = RadiusMap::from_fn(w, h, |i| {
-            if inv[i] > 0.0 {
+            let inv = inv(i);
+            if inv > 0.0 {
                 // At most the lightest dots' radius (where a stretched
                 // map's sum fades out between pixels with and without ink).
-                (1.0 / inv[i].sqrt()).clamp(1.0, range.max)
+                (1.0 / inv.sqrt()).clamp(1.0, range.max)
             } else {
                 range.max
             }
@@ -382,35 +384,35 @@ impl Classes<'_> {
     /// maps' own pixels and read at the domain's (one map read, not one per
     /// pen, where the maps are stretched).
     pub(crate) fn union_density(&self, range: RadiusRange) -> Vec<f32> {
+        let (w, h) = self.maps[0].domain();
+        let at = self.union_density_at(range);
+        (0..w as usize * h as usize)
+            .into_par_iter()
+            .map(at)
+            .collect()
+    }
+
+    /// [`Self::union_density`] at a domain pixel's index, made where it is
+    /// asked (summed over the pens at the maps' own size once).
+    pub(crate) fn union_density_at(&self, range: RadiusRange) -> impl Fn(usize) -> f32 + Sync {
         let first = &self.maps[0];
         let density = self.densities(range);
-        let (w, h) = first.domain();
+        let w = first.domain().0 as usize;
         let own = (first.map.width(), first.map.height());
-        let sum = |i: usize| -> f32 {
-            self.maps
-                .iter()
-                .zip(&density)
-                .map(|(m, d)| d(m.map.values()[i]))
-                .sum()
-        };
-        match &first.stretch {
-            None => (0..w as usize * h as usize)
-                .into_par_iter()
-                .map(sum)
-                .collect(),
-            Some(s) => {
-                let summed: Vec<f32> = (0..own.0 as usize * own.1 as usize)
-                    .into_par_iter()
-                    .map(sum)
-                    .collect();
-                (0..w as usize * h as usize)
-                    .into_par_iter()
-                    .map(|i| {
-                        let (x, y) = ((i % w as usize) as u32, (i / w as usize) as u32);
-                        s.read(&summed, own.0, x, y)
-                    })
-                    .collect()
-            }
+        let summed: Vec<f32> = (0..own.0 as usize * own.1 as usize)
+            .into_par_iter()
+            .map(|i| {
+                self.maps
+                    .iter()
+                    .zip(&density)
+                    .map(|(m, d)| d(m.map.values()[i]))
+                    .sum()
+            })
+            .collect();
+        let stretch = first.stretch.clone();
+        move |i| match &stretch {
+            None => summed[i],
+            Some(s) => s.read(&summed, own.0, (i % w) as u32, (i / w) as u32),
         }
     }
 

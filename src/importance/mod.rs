@@ -428,15 +428,37 @@ impl ImportanceMap {
 
     /// The radius of a value under `mapping`, as [`Self::radii`] gives it.
     pub fn radius_fn(mapping: Mapping, range: RadiusRange) -> impl Fn(f32) -> f32 + Sync {
-        // The calibrated mappings invert a curve: tabulate them once.
+        // The calibrated mappings invert a curve: tabulate them once per
+        // mapping and range in the process (a drawing asks for the same
+        // table a dozen times, a colour one for each pen's).
         const STEPS: usize = 4096;
-        let lut: Vec<f32> = if mapping == Mapping::Linear {
-            Vec::new()
+        /// Tables kept, the latest made.
+        const KEPT: usize = 32;
+        type Table = (Mapping, RadiusRange, std::sync::Arc<Vec<f32>>);
+        static TABLES: std::sync::Mutex<Vec<Table>> = std::sync::Mutex::new(Vec::new());
+        let lut: std::sync::Arc<Vec<f32>> = if mapping == Mapping::Linear {
+            std::sync::Arc::new(Vec::new())
         } else {
-            (0..=STEPS)
-                .into_par_iter()
-                .map(|i| mapping.radius(i as f32 / STEPS as f32, range))
-                .collect()
+            let kept = TABLES.lock().ok().and_then(|t| {
+                t.iter()
+                    .find(|(m, r, _)| *m == mapping && *r == range)
+                    .map(|(_, _, lut)| lut.clone())
+            });
+            kept.unwrap_or_else(|| {
+                let lut: std::sync::Arc<Vec<f32>> = std::sync::Arc::new(
+                    (0..=STEPS)
+                        .into_par_iter()
+                        .map(|i| mapping.radius(i as f32 / STEPS as f32, range))
+                        .collect(),
+                );
+                if let Ok(mut t) = TABLES.lock() {
+                    if t.len() == KEPT {
+                        t.remove(0);
+                    }
+                    t.push((mapping, range, lut.clone()));
+                }
+                lut
+            })
         };
         move |v: f32| {
             if lut.is_empty() {

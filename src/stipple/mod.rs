@@ -184,12 +184,29 @@ pub fn relax_points(
     } else {
         // The union's density (Σ 1/r_c² over the pens that have samples,
         // the rule the sampler ran under), squared as a radius's 1/r⁴.
-        let weights: Vec<f32> = crate::importance::Classes { maps }
-            .union_density(range)
-            .into_iter()
-            .map(|inv| inv * inv)
-            .collect();
-        relax_on(&xy, w, h, &weights, options, progress)?
+        let classes = crate::importance::Classes { maps };
+        match polygons {
+            Some(edge) => {
+                let at = classes.union_density_at(range);
+                let weights = relax::Weights {
+                    width: w,
+                    height: h,
+                    weight: |i| {
+                        let inv = at(i);
+                        f64::from(inv * inv)
+                    },
+                };
+                relax::relax_polygons_until(&xy, &weights, options.iterations, edge, progress)
+            }
+            None => {
+                let weights: Vec<f32> = classes
+                    .union_density(range)
+                    .into_iter()
+                    .map(|inv| inv * inv)
+                    .collect();
+                relax_on(&xy, w, h, &weights, options, progress)?
+            }
+        }
     };
     // Each point's new radius: its pen's at its new pixel (what the map's
     // `radii` hold there), found for the points alone.

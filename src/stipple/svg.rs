@@ -7,8 +7,10 @@
 //! viewBox in millimetres. A dot no wider than the pen is one touch of the
 //! pen (a [`TOUCH_MM`]-long stroke: plotter tools drop zero-length paths); a
 //! bigger one is filled by an Archimedean spiral from its centre outward and
-//! one closing circle, so that the inked area is the dot's disk. Each path
-//! carries `data-dot="cx cy r"` (centre and radius in mm) so that the
+//! one closing circle, so that the inked area is the dot's disk. The paths
+//! are written in hundredths of a mm, whole numbers, in a group scaled to
+//! mm (`<g transform="scale(0.01)">`), and each carries `data-dot="cx cy
+//! r"` (centre and radius, in the same hundredths to a tenth) so that the
 //! drawing can be read back ([`super::read`]).
 
 use std::f64::consts::{PI, TAU};
@@ -336,7 +338,9 @@ impl SvgOptions {
 /// svg::write(&mut out, &[Dot { x: 10.0, y: 20.0, radius: 0.2 }], &opts)?;
 /// let text = String::from_utf8(out).unwrap();
 /// assert!(text.contains(r#"viewBox="0 0 100 50""#));
-/// assert!(text.contains(r#"<path d="M10 20l.01 0" data-dot="10 20 0.2"/>"#));
+/// // In hundredths of a mm: a touch of 0.01 mm at (10, 20) mm, radius 0.2 mm.
+/// assert!(text.contains(r#"<g transform="scale(0.01)" stroke-width="50">"#));
+/// assert!(text.contains(r#"<path d="M1000 2000l1 0" data-dot="1000 2000 20"/>"#));
 /// # Ok::<(), pixelpie::stipple::Error>(())
 /// ```
 pub fn write(w: &mut dyn Write, dots: &[Dot], opts: &SvgOptions) -> Result<()> {
@@ -562,6 +566,14 @@ fn write_pen_dots(
     pen: f64,
     path: DotPath,
 ) -> Result<()> {
+    // The paths in hundredths of a mm, whole numbers: a group scaled to
+    // mm, its stroke as wide in its own units.
+    writeln!(
+        w,
+        r#"<g transform="scale({})" stroke-width="{}">"#,
+        num(1.0 / PATH_UNITS_PER_MM),
+        num(pen * PATH_UNITS_PER_MM)
+    )?;
     write_lines(w, dots, |d, buf| {
         let (cx, cy, r) = (
             offset.0 + f64::from(d.x) * scale,
@@ -571,13 +583,35 @@ fn write_pen_dots(
         buf.extend_from_slice(br#"<path d=""#);
         push_path(buf, &pen_path(cx, cy, r, pen, path));
         buf.extend_from_slice(br#"" data-dot=""#);
-        push_num(buf, cx);
+        push_tenths(buf, cx);
         buf.push(b' ');
-        push_num(buf, cy);
+        push_tenths(buf, cy);
         buf.push(b' ');
-        push_num(buf, r);
+        push_tenths(buf, r);
         buf.extend_from_slice(b"\"/>\n");
-    })
+    })?;
+    writeln!(w, "</g>")?;
+    Ok(())
+}
+
+/// Appends `mm` in hundredths of a mm to a tenth (0.001 mm): `12345.6`
+/// for 123.456 mm, `61` for 0.61.
+fn push_tenths(buf: &mut Vec<u8>, mm: f64) {
+    let n = (mm * PATH_UNITS_PER_MM * 10.0).round();
+    if !n.is_finite() || n.abs() >= 1e15 {
+        buf.extend_from_slice(num(mm * PATH_UNITS_PER_MM).as_bytes());
+        return;
+    }
+    let n = n as i64;
+    if n < 0 {
+        buf.push(b'-');
+    }
+    let (int, tenth) = (n.unsigned_abs() / 10, n.unsigned_abs() % 10);
+    buf.extend_from_slice(int.to_string().as_bytes());
+    if tenth != 0 {
+        buf.push(b'.');
+        buf.push(b'0' + tenth as u8);
+    }
 }
 
 /// Units of a pen path's coordinates per mm: the 0.01 mm a plotter
@@ -600,12 +634,14 @@ pub(crate) fn on_grid(pts: &mut Vec<(f64, f64)>) {
     });
 }
 
-/// Appends a pen path's `d`: the first point absolute (`M12.05 87.93`),
-/// then each step relative (`l.1.02-.05.1…`), all on the 0.01 mm grid.
-/// Each point is rounded on the grid and the steps are the differences of
-/// the rounded points, so no error adds up along the path: every point is
-/// within 0.005 mm of its place. Steps that round to nothing are left out,
-/// and a separator is written only where SVG's number syntax needs one.
+/// Appends a pen path's `d` in hundredths of a mm, whole numbers: the
+/// first point absolute (`M1205 8793`), then each step relative
+/// (`l10 2-5 10…`), all on the 0.01 mm grid. Each point is rounded on the
+/// grid and the steps are the differences of the rounded points, so no
+/// error adds up along the path: every point is within 0.005 mm of its
+/// place on each axis. Steps that round to nothing are left out, and a
+/// separator is written only where SVG's number syntax needs one (before
+/// a number that is not negative).
 fn push_path(buf: &mut Vec<u8>, pts: &[(f64, f64)]) {
     let unit = |v: f64| (v * PATH_UNITS_PER_MM).round() as i64;
     let Some(&(x0, y0)) = pts.first() else {
@@ -613,8 +649,8 @@ fn push_path(buf: &mut Vec<u8>, pts: &[(f64, f64)]) {
     };
     let mut at = (unit(x0), unit(y0));
     buf.push(b'M');
-    let dot = push_units(buf, at.0, false);
-    let mut dot = push_units(buf, at.1, dot);
+    push_int(buf, at.0);
+    push_int(buf, at.1);
     let mut first = true;
     for &(x, y) in &pts[1..] {
         let p = (unit(x), unit(y));
@@ -624,42 +660,21 @@ fn push_path(buf: &mut Vec<u8>, pts: &[(f64, f64)]) {
         }
         if first {
             buf.push(b'l');
-            (first, dot) = (false, false);
+            first = false;
         }
-        dot = push_units(buf, step.0, dot);
-        dot = push_units(buf, step.1, dot);
+        push_int(buf, step.0);
+        push_int(buf, step.1);
         at = p;
     }
 }
 
-/// Appends `n` hundredths (`-1.5` for -150, `.05` for 5, `2` for 200),
-/// preceded by a space where it would otherwise run into the number before
-/// (`after_dot`: that number has a decimal point, so a number starting with
-/// `.` ends it). Returns whether this number has a decimal point.
-fn push_units(buf: &mut Vec<u8>, n: i64, after_dot: bool) -> bool {
-    let (int, frac) = (n.unsigned_abs() / 100, n.unsigned_abs() % 100);
-    let starts_with_dot = int == 0 && frac != 0;
-    let needs_space = match buf.last() {
-        None | Some(b'M' | b'l' | b' ') => false,
-        Some(_) => n >= 0 && !(starts_with_dot && after_dot),
-    };
-    if needs_space {
+/// Appends the whole number `n`, preceded by a space where it would run
+/// into the number before (a `-` starts a number of its own).
+fn push_int(buf: &mut Vec<u8>, n: i64) {
+    if n >= 0 && buf.last().is_some_and(u8::is_ascii_digit) {
         buf.push(b' ');
     }
-    if n < 0 {
-        buf.push(b'-');
-    }
-    if !starts_with_dot {
-        buf.extend_from_slice(int.to_string().as_bytes());
-    }
-    if frac != 0 {
-        buf.push(b'.');
-        buf.push(b'0' + (frac / 10) as u8);
-        if frac % 10 != 0 {
-            buf.push(b'0' + (frac % 10) as u8);
-        }
-    }
-    frac != 0
+    buf.extend_from_slice(n.to_string().as_bytes());
 }
 
 /// The polyline a pen `pen` wide follows to ink the disk of centre
@@ -843,10 +858,13 @@ mod tests {
                 // One moveto, then one run of relative steps.
                 let d = attr("d");
                 assert!(d.starts_with('M') && d.matches(char::is_alphabetic).count() <= 2);
+                // In hundredths of a mm (the group's scale), read in mm.
+                let mm = |v: f64| v / PATH_UNITS_PER_MM;
                 let pts = crate::stipple::read::polyline(d).expect("a polyline");
+                let pts = pts.into_iter().map(|(x, y)| (mm(x), mm(y))).collect();
                 let dot: Vec<f64> = attr("data-dot")
                     .split(' ')
-                    .map(|t| t.parse().expect("number"))
+                    .map(|t| mm(t.parse().expect("number")))
                     .collect();
                 (pts, [dot[0], dot[1], dot[2]])
             })
@@ -969,13 +987,14 @@ mod tests {
             r#"width="200mm" height="100mm" viewBox="0 0 200 100""#,
             "<!-- 1 dots, made by pixelpie -->",
             r#"<g inkscape:groupmode="layer" id="layer1" inkscape:label="1 stipple" fill="none" stroke="black" stroke-width="0.3" stroke-linecap="round" stroke-linejoin="round">"#,
-            r#"data-dot="100 50 4""#,
+            r#"<g transform="scale(0.01)" stroke-width="30">"#,
+            r#"data-dot="10000 5000 400""#,
         ] {
             assert!(text.contains(needle), "{needle} missing in\n{text}");
         }
-        assert_eq!(text.matches("<g").count(), 1);
+        assert_eq!(text.matches("<g").count(), 2);
         assert!(!text.contains("<circle"));
-        assert!(text.ends_with("</g>\n</svg>\n"));
+        assert!(text.ends_with("</g>\n</g>\n</svg>\n"));
     }
 
     #[test]
@@ -1031,7 +1050,12 @@ mod tests {
             let mut buf = Vec::new();
             push_path(&mut buf, &exact);
             let d = String::from_utf8(buf).unwrap();
-            let written = crate::stipple::read::polyline(&d).expect(&d);
+            // Read in hundredths, back in mm.
+            let written: Vec<(f64, f64)> = crate::stipple::read::polyline(&d)
+                .expect(&d)
+                .into_iter()
+                .map(|(x, y)| (x / PATH_UNITS_PER_MM, y / PATH_UNITS_PER_MM))
+                .collect();
             let mut kept = vec![exact[0]];
             let unit = |p: (f64, f64)| ((p.0 * 100.0).round(), (p.1 * 100.0).round());
             for &p in &exact[1..] {
@@ -1058,7 +1082,7 @@ mod tests {
             &pen_opts((10, 10), 20.0, 0.3),
         );
         assert!(
-            text.contains(r#"<path d="M6 8l.01 0" data-dot="6 8 0.15"/>"#),
+            text.contains(r#"<path d="M600 800l1 0" data-dot="600 800 15"/>"#),
             "{text}"
         );
     }

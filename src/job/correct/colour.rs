@@ -8,7 +8,6 @@ use super::{ERROR_BLUR, Grid, MAX_INK, damping, rounds};
 use crate::colour::pens::MAX_PENS;
 use crate::colour::{RenderModel, Separation};
 use crate::importance::ColourMap;
-use crate::importance::ink;
 use crate::sampler::Point;
 
 use super::super::Stage;
@@ -183,6 +182,12 @@ impl Correction {
         let grid = &self.grid;
         let (ww, wh) = grid.work;
         let mut assumed = inks.to_vec();
+        // The dot ratios tabulated over the spacings' range, as the grey
+        // correction reads them.
+        let (lo, hi) = spacing
+            .iter()
+            .fold((f64::INFINITY, 0f64), |(lo, hi), &r| (lo.min(r), hi.max(r)));
+        let ratios = super::super::density::Ratios::new(lo, hi);
         let of = rounds(grid.sigma);
         for round in 1..=of {
             stage(Stage::Correct { round, of })?;
@@ -249,11 +254,11 @@ impl Correction {
                         return;
                     }
                     let after = (before + f64::from(delta)).clamp(0.5 * before, MAX_INK);
-                    let had = ink::dot_ratio(before, r);
+                    let had = ratios.at(before, r);
                     if had <= 0.0 {
                         return;
                     }
-                    let factor = (ink::dot_ratio(after, r) / had).clamp(0.6, 1.6);
+                    let factor = (ratios.at(after, r) / had).clamp(0.6, 1.6);
                     *cal *= factor as f32;
                     *assumed = after;
                 });

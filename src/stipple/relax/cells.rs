@@ -162,7 +162,10 @@ impl Grid {
     /// `weights` asked at each block's middle pixel.
     pub(super) fn new<F: Fn(usize) -> f64 + Sync>(weights: &Weights<F>, step: u32) -> Self {
         let (width, height, step) = (weights.width, weights.height, step.max(1));
-        let (cols, rows) = (width.div_ceil(step) as usize, height.div_ceil(step) as usize);
+        let (cols, rows) = (
+            width.div_ceil(step) as usize,
+            height.div_ceil(step) as usize,
+        );
         let middle = |k: usize, len: u32| (k as u32 * step + step / 2).min(len - 1) as usize;
         let data = (0..cols * rows)
             .into_par_iter()
