@@ -269,11 +269,16 @@ impl Separation {
     pub fn image(&self, linear_rgb: &[[f32; 3]]) -> Vec<Vec<f32>> {
         const N: usize = TABLE_NODES;
         let step = (N - 1) as f32;
-        // sRGB encoding through a table: 2^16 steps of linear light.
+        // sRGB encoding through a table: 2^16 steps of linear light, made
+        // once in the process.
         const STEPS: usize = 1 << 16;
-        let enc: Vec<f32> = (0..=STEPS)
-            .map(|i| encode(i as f64 / STEPS as f64) as f32)
-            .collect();
+        static ENCODE: std::sync::OnceLock<Vec<f32>> = std::sync::OnceLock::new();
+        let enc = ENCODE.get_or_init(|| {
+            (0..=STEPS)
+                .into_par_iter()
+                .map(|i| encode(i as f64 / STEPS as f64) as f32)
+                .collect()
+        });
         let cell = |p: &[f32; 3]| {
             p.map(|v| {
                 let t = v.clamp(0.0, 1.0) * STEPS as f32;

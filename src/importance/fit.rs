@@ -485,8 +485,11 @@ impl Classes<'_> {
     /// thousand products.
     fn union_radii(&self) -> UnionRadii {
         let first = &self.maps[0];
-        let (w, h) = first.domain();
-        let (w, h) = (w as usize, h as usize);
+        let domain = first.domain();
+        // Read at the maps' own pixels: a map stretched to a larger domain
+        // has no more detail there, and each pixel read stands for its
+        // share of the domain.
+        let (w, h) = (first.map.width() as usize, first.map.height() as usize);
         let step = ((w * h) as f64 / 250_000.0).sqrt().floor().max(1.0) as usize;
         let density = self.densities(first.range);
         let bins = (0..h)
@@ -500,7 +503,7 @@ impl Classes<'_> {
                             .maps
                             .iter()
                             .zip(&density)
-                            .map(|(m, d)| d(m.value(x as u32, y as u32)))
+                            .map(|(m, d)| d(m.map.value(x as u32, y as u32)))
                             .sum();
                         if inv > 0.0 {
                             acc[UnionRadii::bin(1.0 / f64::from(inv).sqrt())] += 1;
@@ -518,7 +521,8 @@ impl Classes<'_> {
             );
         UnionRadii {
             bins,
-            scale: (w * h) as f64 / (h.div_ceil(step) * w.div_ceil(step)) as f64,
+            scale: f64::from(domain.0) * f64::from(domain.1)
+                / (h.div_ceil(step) * w.div_ceil(step)) as f64,
         }
     }
 }
