@@ -69,6 +69,86 @@ fn the_fit_recovers_each_pens_gain_and_ink_from_synthetic_scans() {
     }
 }
 
+/// The chart follows the paper: on black paper a white gel pen draws the
+/// marks and the fit reads them light on dark; its ink comes back opaque.
+/// Black and white pens on grey and kraft paper come back each their own
+/// way. White paper leaves the chart as it was, its code too.
+#[test]
+fn the_chart_and_its_fit_follow_the_paper_and_opaque_inks() {
+    let a4: Paper = "a4".parse().unwrap();
+    let place = a4.place((1, 1), false, 10.0).unwrap();
+    let spec = |pens: &str| ChartSpec::new(&PenSet::parse(pens).unwrap(), 0.3, &place, 0).unwrap();
+    let plain = Chart::new(spec("black")).unwrap();
+    let white = Chart::new(spec("black").with_paper([255, 255, 255])).unwrap();
+    assert_eq!(plain, white, "white paper is the chart without a paper");
+    let linear = |c: [u8; 3]| c.map(|v| pixelpie::colour::decode(f64::from(v) / 255.0));
+    for (pens, paper, gains, inks, opaque, mark) in [
+        (
+            "#ffffff",
+            [0u8, 0, 0],
+            vec![1.3],
+            vec![[240u8, 240, 240]],
+            vec![true],
+            0,
+        ),
+        (
+            "#000000,#ffffff",
+            [0x80, 0x80, 0x80],
+            vec![1.2, 1.4],
+            vec![[20, 20, 24], [245, 245, 240]],
+            vec![false, true],
+            0,
+        ),
+        (
+            "#ff6060,#ffffff",
+            [0xc4, 0xa2, 0x7a],
+            vec![1.5, 1.2],
+            vec![[250, 96, 96], [250, 250, 250]],
+            // A red darker than kraft multiplies (the default rule).
+            vec![false, true],
+            1,
+        ),
+    ] {
+        let c = Chart::new(spec(pens).with_paper(paper)).unwrap();
+        assert_eq!(c.mark_pen(), mark, "{pens} on {paper:?}");
+        let mut svg = Vec::new();
+        c.write_svg(&mut svg).unwrap();
+        let svg = String::from_utf8(svg).unwrap();
+        assert!(svg.contains(&format!(
+            r#"inkscape:label="% paper (not plotted)"><rect x="0" y="0" width="210" height="297" fill="{}"/>"#,
+            pixelpie::colour::pens::hex_of(paper)
+        )));
+        // The chart reads back with its paper, the same chart.
+        assert_eq!(Chart::read_svg(&svg).unwrap(), c);
+        let o = ScanOptions {
+            gains: gains.clone(),
+            inks: inks.clone(),
+            paper: linear(paper),
+            ..ScanOptions::default()
+        };
+        let fit = calibrate::fit::fit(&c, &simulate::scan(&c, &o).unwrap()).unwrap();
+        for (k, p) in fit.pens.iter().enumerate() {
+            let de = delta_e00(Lab::from_srgb8(p.colour), Lab::from_srgb8(inks[k]));
+            eprintln!(
+                "{pens} on {paper:?}: {} gain {:.3} ink ΔE00 {de:.2}",
+                p.name, p.dot_gain
+            );
+            assert!(
+                (p.dot_gain - gains[k]).abs() / gains[k] < 0.05,
+                "{}: {}",
+                p.name,
+                p.dot_gain
+            );
+            assert!(de < 3.0, "{}: ink {:?} for {:?}", p.name, p.colour, inks[k]);
+            assert_eq!(p.opacity.is_some(), opaque[k], "{}", p.name);
+        }
+        let set = PenSet::from_toml(&calibrate::pen_toml(&fit, "scan.png").unwrap()).unwrap();
+        for (pen, &o) in set.pens().iter().zip(&opaque) {
+            assert_eq!(pen.opacity, o.then_some(1.0), "{}", pen.name);
+        }
+    }
+}
+
 fn pixelpie(args: &[&str]) -> std::process::Output {
     Command::new(env!("CARGO_BIN_EXE_pixelpie"))
         .args(args)

@@ -53,6 +53,10 @@ struct ChartArgs {
     /// Landscape paper.
     #[arg(long)]
     landscape: bool,
+    /// The paper's colour: white, black, kraft, grey or #rrggbb (the marks
+    /// go to the pen that stands out most from it).
+    #[arg(long, default_value = "white")]
+    paper_colour: pixelpie::job::PaperColour,
     /// Seed of the patches' dots.
     #[arg(long, default_value_t = 0)]
     seed: u64,
@@ -110,7 +114,8 @@ pub fn run(a: &CalibrateArgs) -> Result<()> {
         CalibrateCommand::Chart(c) => {
             let pens = PenSet::parse(&c.pens)?;
             let place = c.paper.place((1, 1), c.landscape, c.margin)?;
-            let chart = Chart::new(ChartSpec::new(&pens, c.pen_mm, &place, c.seed)?)?;
+            let spec = ChartSpec::new(&pens, c.pen_mm, &place, c.seed)?;
+            let chart = Chart::new(spec.with_paper(c.paper_colour.0))?;
             write_chart(&chart, &c.output)?;
             eprintln!(
                 "chart {:04x}: {} pens × {} patches on {} paper; plot every pen's layer, then \
@@ -145,10 +150,18 @@ pub fn run(a: &CalibrateArgs) -> Result<()> {
                 .iter()
                 .map(|c| pixelpie::colour::pens::parse_hex(c))
                 .collect::<Result<Vec<_>, _>>()?;
+            // The chart's paper where it names one (else off-white).
+            let paper = chart.spec.paper.as_ref().map(|_| {
+                chart
+                    .spec
+                    .paper_rgb()
+                    .map(|c| pixelpie::colour::decode(f64::from(c) / 255.0))
+            });
             let opts = ScanOptions {
                 px_per_mm: s.px_per_mm,
                 gains: s.gain.clone(),
                 inks,
+                paper: paper.unwrap_or(ScanOptions::default().paper),
                 blur_px: s.blur,
                 noise: s.noise,
                 rotate_deg: s.rotate,

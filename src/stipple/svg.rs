@@ -496,14 +496,20 @@ pub fn write_layers(w: &mut dyn Write, layers: &[Layer<'_>], opts: &SvgOptions) 
 /// with `%`, which the AxiDraw's software skips; it holds no path.
 fn write_paper(w: &mut dyn Write, opts: &SvgOptions, view: &str) -> Result<()> {
     if let Some(paper) = opts.paper {
-        let size = view.replace(' ', "\" height=\"");
-        writeln!(
-            w,
-            r#"<g inkscape:groupmode="layer" id="paper" inkscape:label="% paper (not plotted)"><rect x="0" y="0" width="{size}" fill="{}"/></g>"#,
-            super::super::colour::pens::hex_of(paper)
-        )?;
+        write_paper_layer(w, view, &super::super::colour::pens::hex_of(paper))?;
     }
     Ok(())
+}
+
+/// The paper's layer: a rectangle of colour `fill` over the viewBox
+/// (`view`: its width and height) on a layer whose name starts with `%`,
+/// which the AxiDraw's software skips; it holds no path.
+pub(crate) fn write_paper_layer(w: &mut dyn Write, view: &str, fill: &str) -> std::io::Result<()> {
+    let size = view.replace(' ', "\" height=\"");
+    writeln!(
+        w,
+        r#"<g inkscape:groupmode="layer" id="paper" inkscape:label="% paper (not plotted)"><rect x="0" y="0" width="{size}" fill="{fill}"/></g>"#
+    )
 }
 
 /// The style of the one ink's group: multiplied over coloured paper when

@@ -68,6 +68,11 @@ pub struct ChartSpec {
     pub pens: Vec<ChartPen>,
     /// The seed of the patches' dots.
     pub seed: u64,
+    /// The paper's colour, `#rrggbb` (white when absent): the marks and
+    /// the code are drawn by the pen that stands out most from it, and the
+    /// fit reads them light on dark where that pen is lighter.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub paper: Option<String>,
 }
 
 /// One patch: its pen, ink fraction, square and dots (centres in mm).
@@ -131,7 +136,25 @@ impl ChartSpec {
                 })
                 .collect(),
             seed,
+            paper: None,
         })
+    }
+
+    /// The chart on paper of colour `paper` (sRGB; white leaves the chart
+    /// as it is, its code too).
+    #[must_use]
+    pub fn with_paper(mut self, paper: [u8; 3]) -> Self {
+        self.paper = (paper != [255, 255, 255]).then(|| hex_of(paper));
+        self
+    }
+
+    /// The paper's colour, sRGB (white when the chart names none).
+    #[must_use]
+    pub fn paper_rgb(&self) -> [u8; 3] {
+        self.paper
+            .as_deref()
+            .and_then(|h| crate::colour::pens::parse_hex(h).ok())
+            .unwrap_or([255, 255, 255])
     }
 
     /// The chart's code: a hash of its specification.
@@ -223,17 +246,31 @@ impl Chart {
             .collect()
     }
 
-    /// The pen that draws the marks and the code: the darkest.
+    /// The pen that draws the marks and the code: the one that stands out
+    /// most from the paper in lightness (on white, the darkest; the first
+    /// of equals).
     #[must_use]
     pub fn mark_pen(&self) -> usize {
-        let lum = |hex: &str| {
-            crate::colour::pens::parse_hex(hex).map_or(0.0, |c| crate::colour::Lab::from_srgb8(c).l)
+        let paper = crate::colour::Lab::from_srgb8(self.spec.paper_rgb()).l;
+        let contrast = |hex: &str| {
+            crate::colour::pens::parse_hex(hex)
+                .map_or(0.0, |c| (crate::colour::Lab::from_srgb8(c).l - paper).abs())
         };
         (0..self.spec.pens.len())
-            .min_by(|&a, &b| {
-                lum(&self.spec.pens[a].colour).total_cmp(&lum(&self.spec.pens[b].colour))
+            .rev()
+            .max_by(|&a, &b| {
+                contrast(&self.spec.pens[a].colour).total_cmp(&contrast(&self.spec.pens[b].colour))
             })
             .unwrap_or(0)
+    }
+
+    /// Whether the marks are lighter than the paper (a light pen on dark
+    /// paper): the fit then looks for light marks.
+    #[must_use]
+    pub fn light_marks(&self) -> bool {
+        let pen = &self.spec.pens[self.mark_pen()];
+        let ink = crate::colour::pens::parse_hex(&pen.colour).unwrap_or([0, 0, 0]);
+        crate::colour::luminance(ink) > crate::colour::luminance(self.spec.paper_rgb())
     }
 
     /// The patches of pen `pen`.
@@ -263,6 +300,9 @@ impl Chart {
             r#"<metadata id="pixelpie-chart">{}</metadata>"#,
             escape(&json)
         )?;
+        if let Some(paper) = &self.spec.paper {
+            crate::stipple::svg::write_paper_layer(w, &format!("{sw} {sh}"), paper)?;
+        }
         let mark_pen = self.mark_pen();
         for (i, pen) in self.spec.pens.iter().enumerate() {
             let wd = pen.width_mm;

@@ -2,7 +2,9 @@
 //! gain and ink colour.
 //!
 //! 1. The four round marks are found: the dark connected components (Otsu
-//!    threshold on each pixel's darkest channel) that are round (no pixel
+//!    threshold on each pixel's darkest channel; light ones, on one less
+//!    its lightest, where the chart's mark pen is lighter than its paper)
+//!    that are round (no pixel
 //!    farther from the centroid than 1.2 × the radius of a disk of the
 //!    same area: a square has 1.25) and large, away from the image's edge;
 //!    the four largest, of similar size, ordered by corner.
@@ -11,7 +13,8 @@
 //!    chart's.
 //! 3. Each patch's mean colour is measured inside a 1.5 mm inset (linear
 //!    light, bilinear samples through the homography); the paper white is
-//!    the 0% patches' mean, each pen's ink the solid patch's over the paper.
+//!    the 0% patches' mean, each pen's ink the solid patch's over the paper
+//!    (an ink lighter than the paper covers it: its own colour, opacity 1).
 //! 4. A patch's ink cover is its colour's distance from the paper toward
 //!    the solid ink. The model's cover at gain g is the fraction of the
 //!    inset within g × half the pen's width of a dot; the gain is the one
@@ -42,8 +45,12 @@ pub struct PenFit {
     pub width_mm: f64,
     /// The plotted dot's diameter over the drawn one.
     pub dot_gain: f64,
-    /// The ink as scanned, on white paper (sRGB).
+    /// The ink as scanned, on white paper (sRGB); an opaque ink's own
+    /// colour.
     pub colour: [u8; 3],
+    /// 1 for an ink lighter than the paper, which covers it (a gel pen on
+    /// dark paper); none for one that darkens it, which multiplies.
+    pub opacity: Option<f64>,
     /// The RMS error of the patches' cover at the fitted gain.
     pub rms: f64,
     /// Each stippled patch's (nominal, measured, fitted) cover.
@@ -72,7 +79,7 @@ impl Fit {
                 colour: p.colour,
                 width_mm: Some(p.width_mm),
                 dot_gain: Some((p.dot_gain * 1000.0).round() / 1000.0),
-                opacity: None,
+                opacity: p.opacity,
             })
             .collect();
         PenSet::new(pens).map_err(|e| Error::InvalidParameter(e.to_string()))
@@ -140,9 +147,15 @@ impl Scan {
     }
 }
 
-/// The darkest channel of a colour.
-fn dark(c: [f64; 3]) -> f64 {
-    c[0].min(c[1]).min(c[2])
+/// How much a colour looks like the marks, low where it does: its
+/// darkest channel, or for light marks on dark paper one less its
+/// lightest.
+fn tone(c: [f64; 3], light: bool) -> f64 {
+    if light {
+        1.0 - c[0].max(c[1]).max(c[2])
+    } else {
+        c[0].min(c[1]).min(c[2])
+    }
 }
 
 /// Otsu's threshold of `values` in [0, 1].
@@ -178,10 +191,24 @@ fn otsu(values: impl Iterator<Item = f32>) -> f32 {
 
 /// The centroids of the four fiducial marks, ordered top left, top right,
 /// bottom left, bottom right (in the scan's pixels).
-fn find_marks(scan: &Scan) -> Result<[(f64, f64); 4]> {
-    let (w, h) = (scan.width, scan.height);
-    let lum: Vec<f32> = scan.rgb.iter().map(|c| c[0].min(c[1]).min(c[2])).collect();
+fn find_marks(scan: &Scan, light: bool) -> Result<[(f64, f64); 4]> {
+    let lum: Vec<f32> = scan
+        .rgb
+        .iter()
+        .map(|c| tone(c.map(f64::from), light) as f32)
+        .collect();
+    // Otsu's threshold, and where a light ink (white on grey paper) takes
+    // the paper to the marks' side of it, Otsu's again below it.
     let t = otsu(lum.iter().copied());
+    marks_at(scan, &lum, t).or_else(|e| {
+        let below = otsu(lum.iter().copied().filter(|&v| v < t));
+        marks_at(scan, &lum, below).map_err(|_| e)
+    })
+}
+
+/// [`find_marks`] at the threshold `t` of `lum`.
+fn marks_at(scan: &Scan, lum: &[f32], t: f32) -> Result<[(f64, f64); 4]> {
+    let (w, h) = (scan.width, scan.height);
     let mut label = vec![u32::MAX; w * h];
     struct Comp {
         area: f64,
@@ -346,16 +373,17 @@ pub fn fit(chart: &Chart, img: &RgbImage) -> Result<Fit> {
         )));
     }
     let scan = Scan::new(img);
-    let found = find_marks(&scan)?;
+    let light = chart.light_marks();
+    let found = find_marks(&scan, light)?;
     let h = Homography::from_points(&chart.marks, &found).ok_or_else(|| {
         Error::InvalidParameter("the scan's marks do not make a quadrilateral".into())
     })?;
-    // The code, read against the marks' darkness and the paper's.
+    // The code, read against the marks' tone and the paper's.
     let r = MARK_RADIUS_MM / 2.0;
     let mark_dark = chart
         .marks
         .iter()
-        .map(|&(x, y)| dark(scan.mean(&h, (x - r, y - r, x + r, y + r), 6)))
+        .map(|&(x, y)| tone(scan.mean(&h, (x - r, y - r, x + r, y + r), 6), light))
         .sum::<f64>()
         / 4.0;
     let inset = |p: &super::chart::Patch, d: f64| {
@@ -374,12 +402,15 @@ pub fn fit(chart: &Chart, img: &RgbImage) -> Result<Fit> {
         .collect();
     let paper: [f64; 3] =
         std::array::from_fn(|k| blanks.iter().map(|c| c[k]).sum::<f64>() / blanks.len() as f64);
-    let t = (dark(paper) + mark_dark) / 2.0;
+    let t = (tone(paper, light) + mark_dark) / 2.0;
     let code = chart.bits().iter().fold(0u16, |acc, &((x, y), _)| {
-        let d = dark(scan.mean(&h, (x - 0.8, y - 0.8, x + 0.8, y + 0.8), 5));
+        let d = tone(
+            scan.mean(&h, (x - 0.8, y - 0.8, x + 0.8, y + 0.8), 5),
+            light,
+        );
         acc << 1 | u16::from(d < t)
     });
-    if code != chart.code || dark(paper) - mark_dark < 0.15 {
+    if code != chart.code || tone(paper, light) - mark_dark < 0.15 {
         return Err(Error::InvalidParameter(format!(
             "the scan is not of this chart: its code reads {code:04x}, the chart's is {:04x}",
             chart.code
@@ -429,12 +460,23 @@ pub fn fit(chart: &Chart, img: &RgbImage) -> Result<Fit> {
                 pen.name
             )));
         }
-        let ink: [f64; 3] =
-            std::array::from_fn(|k| (solid[k] / paper[k].max(1e-6)).clamp(0.0, 1.0));
+        // An ink lighter than the paper covers it: its colour is the solid
+        // patch's own; a darker one multiplies: its colour on white is the
+        // solid patch's over the paper's.
+        let luminance = |c: [f64; 3]| 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
+        let opaque = luminance(solid) > luminance(paper);
+        let ink: [f64; 3] = std::array::from_fn(|k| {
+            if opaque {
+                solid[k].clamp(0.0, 1.0)
+            } else {
+                (solid[k] / paper[k].max(1e-6)).clamp(0.0, 1.0)
+            }
+        });
         pens.push(PenFit {
             name: pen.name.clone(),
             width_mm: pen.width_mm,
             dot_gain: gain,
+            opacity: opaque.then_some(1.0),
             colour: ink.map(|v| (linear_to_srgb(v as f32) * 255.0).round() as u8),
             rms,
             patches: rows

@@ -6,7 +6,8 @@
 //! The plot model: a pen touch inks a disk `gain` × the pen's width across;
 //! a filled shape (a spiral-filled mark, a hatched square) grows by
 //! (gain − 1) × half the pen's width on every side; inks multiply in linear
-//! light on the paper.
+//! light on the paper, but one lighter than the paper covers what is below
+//! (an opaque gel pen on dark paper).
 
 use image::RgbImage;
 
@@ -140,11 +141,16 @@ fn plot(chart: &Chart, o: &ScanOptions) -> Sheet {
     let (sw, sh) = (w * SS, h * SS);
     let s = ppm * SS as f64;
     let mark_pen = chart.mark_pen();
+    let paper8 = o
+        .paper
+        .map(|v| (linear_to_srgb(v.clamp(0.0, 1.0) as f32) * 255.0).round() as u8);
     for (i, pen) in chart.spec.pens.iter().enumerate() {
         let gain = o.gains[i.min(o.gains.len() - 1)];
         let nominal = crate::colour::pens::parse_hex(&pen.colour).unwrap_or([0, 0, 0]);
-        let ink = o.inks.get(i).copied().unwrap_or(nominal);
-        let ink = ink.map(|c| decode(f64::from(c) / 255.0));
+        let ink8 = o.inks.get(i).copied().unwrap_or(nominal);
+        // An ink lighter than the paper covers it, a darker one multiplies.
+        let opaque = crate::colour::pens::default_opacity(ink8, paper8) >= 1.0;
+        let ink = ink8.map(|c| decode(f64::from(c) / 255.0));
         let grow = (gain - 1.0) * pen.width_mm / 2.0;
         let mut mask = vec![false; sw * sh];
         let mut disc = |(cx, cy): (f64, f64), r: f64| {
@@ -205,7 +211,11 @@ fn plot(chart: &Chart, o: &ScanOptions) -> Sheet {
                     let cov = n as f64 / (SS * SS) as f64;
                     let px = &mut rgb[y * w + x];
                     for c in 0..3 {
-                        px[c] *= (1.0 - cov * (1.0 - ink[c])) as f32;
+                        px[c] = if opaque {
+                            (f64::from(px[c]) * (1.0 - cov) + ink[c] * cov) as f32
+                        } else {
+                            px[c] * (1.0 - cov * (1.0 - ink[c])) as f32
+                        };
                     }
                 }
             }
