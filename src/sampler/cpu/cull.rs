@@ -50,6 +50,21 @@ pub(crate) fn cells_along(
     (out, len)
 }
 
+/// [`cells_along`] off a periodic domain, dividing by the cell side as
+/// `by` does.
+fn span_cells(p: u32, reach: u32, n: u32, by: super::throw::Recip) -> ([u32; 4], usize) {
+    let (mut out, mut len) = ([0u32; 4], 0);
+    let (a, b) = (
+        by.div(p.saturating_sub(reach)),
+        by.div((p + reach).min(n - 1)),
+    );
+    for c in a..=b {
+        out[len] = c;
+        len += 1;
+    }
+    (out, len)
+}
+
 /// Whether the dart of grid entry `e` is occluded at the centre of its pixel.
 fn occluded(plan: &Plan, grid: &DartGrid, e: &GridEntry) -> bool {
     let layout = plan.layout;
@@ -63,14 +78,22 @@ fn occluded(plan: &Plan, grid: &DartGrid, e: &GridEntry) -> bool {
     } else {
         grid.cell
     };
-    let (cols, ncols) = cells_along(px, reach, plan.width, grid.cell, plan.periodic);
-    let (rows, nrows) = cells_along(py, reach, plan.height, grid.cell, plan.periodic);
+    let by = grid.per_cell;
+    let (cols, ncols, rows, nrows) = if plan.periodic {
+        let (c, nc) = cells_along(px, reach, plan.width, grid.cell, true);
+        let (r, nr) = cells_along(py, reach, plan.height, grid.cell, true);
+        (c, nc, r, nr)
+    } else {
+        let (c, nc) = span_cells(px, reach, plan.width, by);
+        let (r, nr) = span_cells(py, reach, plan.height, by);
+        (c, nc, r, nr)
+    };
     // A cell's darts are in winning order: its scan stops at the first
     // that does not beat e (e itself at the latest: keys are unique), or at
     // the first that covers e's pixel centre. e's own cell comes first: the
     // nearest darts are the likeliest to cover it (in the crowded late
     // iterations of Smaller this reads a twentieth of the darts).
-    let own = (py / grid.cell) * grid.cols + px / grid.cell;
+    let own = by.div(py) * grid.cols + by.div(px);
     let others = rows[..nrows]
         .iter()
         .flat_map(|&ny| cols[..ncols].iter().map(move |&nx| ny * grid.cols + nx))
