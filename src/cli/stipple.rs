@@ -150,8 +150,9 @@ pub fn run(a: &StippleArgs, matches: Option<&clap::ArgMatches>) -> Result<()> {
     }
     // One picture: its pens are chosen before the job is saved; a batch
     // chooses for each picture.
+    let mut decoded = None;
     if o.choose.is_some() && !batch {
-        o = chosen(a, &o, &a.images[0])?;
+        (o, decoded) = chosen(a, &o, &a.images[0])?;
     }
     if let Some(path) = &a.save_job {
         let source = (a.images.len() == 1).then(|| a.images[0].as_path());
@@ -159,7 +160,7 @@ pub fn run(a: &StippleArgs, matches: Option<&clap::ArgMatches>) -> Result<()> {
         io::write_atomic(path, |w| Ok(w.write_all(text.as_bytes())?))?;
     }
     if !batch {
-        return draw(a, &o, &a.images[0], &a.output);
+        return draw(a, &o, &a.images[0], &a.output, decoded);
     }
     std::fs::create_dir_all(&a.output)
         .with_context(|| format!("cannot make the folder '{}'", a.output.display()))?;
@@ -179,7 +180,7 @@ pub fn run(a: &StippleArgs, matches: Option<&clap::ArgMatches>) -> Result<()> {
     }
     let mut failed = 0;
     for (image, out) in a.images.iter().zip(&outputs) {
-        match draw(a, &o, image, out) {
+        match draw(a, &o, image, out, None) {
             Ok(()) if !a.run.quiet => eprintln!("wrote {}", out.display()),
             Ok(()) => {}
             Err(e) => {
@@ -236,9 +237,12 @@ fn plotter(a: &StippleArgs) -> Result<Plotter> {
 }
 
 /// Job `o` with the pens of `--choose` chosen for `image`, the choice said
-/// on stderr (unless `--quiet`).
-fn chosen(a: &StippleArgs, o: &Job, image: &Path) -> Result<Job> {
+/// on stderr (unless `--quiet`), and the picture as decoded (and the
+/// seconds that took), to be drawn without decoding it again.
+fn chosen(a: &StippleArgs, o: &Job, image: &Path) -> Result<(Job, Option<(Decoded, f64)>)> {
+    let t0 = Instant::now();
     let picture = Decoded::open(o, image)?;
+    let opened = t0.elapsed().as_secs_f64();
     let t0 = Instant::now();
     let (job, choice) = o.chosen(picture.picture())?;
     if let (Some(c), false) = (choice, a.run.quiet) {
@@ -254,14 +258,23 @@ fn chosen(a: &StippleArgs, o: &Job, image: &Path) -> Result<Job> {
             c.sets_scored
         );
     }
-    Ok(job)
+    // A choice of one pen may draw in grey: that picture decodes apart.
+    let same = job.colour() == o.colour();
+    Ok((job, same.then_some((picture, opened))))
 }
 
-/// Draws `image` with job `o` to `output` in `format`.
-fn draw(a: &StippleArgs, o: &Job, image: &Path, output: &Path) -> Result<()> {
+/// Draws `image` with job `o` to `output` in `format`; `decoded`: the
+/// picture already decoded (to choose its pens), and the seconds that took.
+fn draw(
+    a: &StippleArgs,
+    o: &Job,
+    image: &Path,
+    output: &Path,
+    mut decoded: Option<(Decoded, f64)>,
+) -> Result<()> {
     let resolved;
     let o = if o.choose.is_some() {
-        resolved = chosen(a, o, image)?;
+        (resolved, decoded) = chosen(a, o, image)?;
         &resolved
     } else {
         o
@@ -289,8 +302,17 @@ fn draw(a: &StippleArgs, o: &Job, image: &Path, output: &Path) -> Result<()> {
         indicatif::ProgressStyle::with_template("{spinner} relaxing [{bar:30}] {pos}/{len}")
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
-    let drawing = o.run(
-        image,
+    // The picture decoded once: here, or to choose its pens.
+    let (picture, opened) = match decoded {
+        Some(d) => d,
+        None => {
+            let t0 = Instant::now();
+            let picture = Decoded::open(o, image)?;
+            (picture, t0.elapsed().as_secs_f64())
+        }
+    };
+    let mut drawing = o.draw(
+        picture.picture(),
         |params| {
             Ok(run_with_progress(
                 params,
@@ -320,6 +342,7 @@ fn draw(a: &StippleArgs, o: &Job, image: &Path, output: &Path) -> Result<()> {
             true
         },
     )?;
+    drawing.stages[0].1 += opened;
     bar.finish_and_clear();
     relax_bar.finish_and_clear();
     stage_bar.finish_and_clear();
