@@ -81,6 +81,19 @@ fn the_chart_and_its_fit_follow_the_paper_and_opaque_inks() {
     let plain = Chart::new(spec("black")).unwrap();
     let white = Chart::new(spec("black").with_paper([255, 255, 255])).unwrap();
     assert_eq!(plain, white, "white paper is the chart without a paper");
+    // On white, even yellow (lighter than the scanned off-white paper)
+    // multiplies: no pen comes back opaque.
+    let cmyk = Chart::new(spec("cmyk")).unwrap();
+    let fit = calibrate::fit::fit(
+        &cmyk,
+        &simulate::scan(&cmyk, &ScanOptions::default()).unwrap(),
+    )
+    .unwrap();
+    assert!(
+        fit.pens.iter().all(|p| p.opacity.is_none()),
+        "{:?}",
+        fit.pens
+    );
     let linear = |c: [u8; 3]| c.map(|v| pixelpie::colour::decode(f64::from(v) / 255.0));
     for (pens, paper, gains, inks, opaque, mark) in [
         (

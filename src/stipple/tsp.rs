@@ -143,6 +143,8 @@ const LISTS_AT_ONCE: usize = 1 << 16;
 /// come along a Hilbert curve. No lists when `stop` says so.
 fn nearest_lists(points: &[[f64; 2]], k: usize, stop: &mut dyn FnMut() -> bool) -> Option<Lists> {
     use rayon::prelude::*;
+    // At least one, and no more than there are other points.
+    let k = k.clamp(1, points.len().saturating_sub(1).max(1));
     let cells = Cells::new(points);
     let mut items = vec![NONE; points.len() * k];
     for (chunk, out) in items.chunks_mut(LISTS_AT_ONCE * k).enumerate() {

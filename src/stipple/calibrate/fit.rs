@@ -463,8 +463,11 @@ pub fn fit(chart: &Chart, img: &RgbImage) -> Result<Fit> {
         // An ink lighter than the paper covers it: its colour is the solid
         // patch's own; a darker one multiplies: its colour on white is the
         // solid patch's over the paper's.
+        // Only on a chart made for coloured paper: on white, a bright ink
+        // (yellow, fluorescent) lighter than the scanned paper still
+        // multiplies.
         let luminance = |c: [f64; 3]| 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
-        let opaque = luminance(solid) > luminance(paper);
+        let opaque = chart.spec.paper.is_some() && luminance(solid) > luminance(paper);
         let ink: [f64; 3] = std::array::from_fn(|k| {
             if opaque {
                 solid[k].clamp(0.0, 1.0)

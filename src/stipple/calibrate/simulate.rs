@@ -141,9 +141,9 @@ fn plot(chart: &Chart, o: &ScanOptions) -> Sheet {
     let (sw, sh) = (w * SS, h * SS);
     let s = ppm * SS as f64;
     let mark_pen = chart.mark_pen();
-    let paper8 = o
-        .paper
-        .map(|v| (linear_to_srgb(v.clamp(0.0, 1.0) as f32) * 255.0).round() as u8);
+    // Inks cover or multiply as on the chart's own paper (white when it
+    // names none, whatever the simulated paper's tint).
+    let paper8 = chart.spec.paper_rgb();
     for (i, pen) in chart.spec.pens.iter().enumerate() {
         let gain = o.gains[i.min(o.gains.len() - 1)];
         let nominal = crate::colour::pens::parse_hex(&pen.colour).unwrap_or([0, 0, 0]);

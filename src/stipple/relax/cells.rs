@@ -8,7 +8,8 @@
 //! - The cell is clipped to the domain `[0, W] × [0, H]` (it is convex,
 //!   so clipping by the four sides is exact).
 //! - The cell is cut into triangles from its point. A triangle whose
-//!   longest side passes `edge` pixels is split in four until none does;
+//!   longest side passes `edge` pixels is halved across that side until
+//!   none does;
 //!   each is then integrated by the rule exact for quadratics (the weight
 //!   at its sides' midpoints, a third of its area each). The weight at a
 //!   place is that of its block's middle pixel ([`Grid`]: the
@@ -88,8 +89,12 @@ pub(super) fn polygon_step(points: &[[f32; 2]], weights: &Grid, edge: f64) -> Ve
         .map(|&(_, i)| (i, points[i]))
         .map_init(Scratch::default, |s, (i, p)| {
             let start = into[i];
-            if start == EMPTY {
-                return p; // a duplicate of another point, or not finite
+            // A duplicate of another point, one not finite, or one outside
+            // the domain stays where it is.
+            let outside =
+                !(0.0..w).contains(&f64::from(p[0])) || !(0.0..h).contains(&f64::from(p[1]));
+            if start == EMPTY || outside {
+                return p;
             }
             s.cell.clear();
             let mut e = start;
@@ -110,7 +115,7 @@ pub(super) fn polygon_step(points: &[[f32; 2]], weights: &Grid, edge: f64) -> Ve
             let n = s.cell.len();
             for k in 0..n {
                 let (a, b) = (s.cell[k], s.cell[(k + 1) % n]);
-                field.integrate(site, a, b, site, &mut sums);
+                field.integrate(site, a, b, site, &mut sums, 0);
             }
             let q = [site[0] + sums[1] / sums[0], site[1] + sums[2] / sums[0]];
             if !(sums[0] > 0.0 && q[0].is_finite() && q[1].is_finite()) {
@@ -203,22 +208,33 @@ impl Field<'_> {
     }
 
     /// Adds `[∫w, ∫w·dx, ∫w·dy]` over the triangle `a b c` to `sums`, `d`
-    /// measured from `origin`.
-    fn integrate(&self, a: P, b: P, c: P, origin: P, sums: &mut [f64; 3]) {
-        let l2 = dist2(a, b).max(dist2(b, c)).max(dist2(c, a));
-        let (ab, bc, ca) = (mid(a, b), mid(b, c), mid(c, a));
-        if l2 > self.edge2 {
-            self.integrate(a, ab, ca, origin, sums);
-            self.integrate(ab, b, bc, origin, sums);
-            self.integrate(ca, bc, c, origin, sums);
-            self.integrate(bc, ca, ab, origin, sums);
+    /// measured from `origin`. A triangle whose longest side passes the
+    /// finest is cut in two across that side's midpoint (so a long thin
+    /// triangle costs about its length over the side, not its square),
+    /// at most [`MAX_DEPTH`] times.
+    fn integrate(&self, a: P, b: P, c: P, origin: P, sums: &mut [f64; 3], depth: u32) {
+        let twice = ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])).abs();
+        if twice == 0.0 || !twice.is_finite() {
             return;
         }
-        let area = ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])).abs() / 6.0;
-        if area == 0.0 {
+        let (ab, bc, ca) = (dist2(a, b), dist2(b, c), dist2(c, a));
+        let longest = ab.max(bc).max(ca);
+        if longest > self.edge2 && depth < MAX_DEPTH {
+            // Rotate so that the longest side is a–b, then halve it.
+            let (a, b, c) = if longest == ab {
+                (a, b, c)
+            } else if longest == bc {
+                (b, c, a)
+            } else {
+                (c, a, b)
+            };
+            let m = mid(a, b);
+            self.integrate(a, m, c, origin, sums, depth + 1);
+            self.integrate(m, b, c, origin, sums, depth + 1);
             return;
         }
-        for m in [ab, bc, ca] {
+        let area = twice / 6.0;
+        for m in [mid(a, b), mid(b, c), mid(c, a)] {
             let wt = self.at(m) * area;
             sums[0] += wt;
             sums[1] += wt * (m[0] - origin[0]);
@@ -226,6 +242,10 @@ impl Field<'_> {
         }
     }
 }
+
+/// How many times a triangle may be halved: 2⁴⁰ pieces bound no real
+/// cell, only a degenerate one or a tiny finest side.
+const MAX_DEPTH: u32 = 40;
 
 /// Clips the convex polygon `poly` to `[0, size.0] × [0, size.1]`
 /// (Sutherland–Hodgman, side by side).
@@ -395,6 +415,52 @@ mod tests {
         // The corner points move in, to their cells' centroids.
         assert!(out[32][0] > 0.0 && out[32][1] > 0.0, "{:?}", out[32]);
         assert!(out[33][0] < 59.999 && out[33][1] < 39.999, "{:?}", out[33]);
+    }
+
+    /// A row of points 2 px apart across a tall domain: each cell is a
+    /// strip 2 px wide and 1000 px tall, integrated at 2 px. Halving the
+    /// longest side keeps the pieces near the area over 2², where quartering
+    /// made (1000 / 2)² of each fan triangle. The strips' centroids are
+    /// their middles; a point outside the domain stays.
+    #[test]
+    fn thin_cells_and_points_outside() {
+        let (w, h) = (1000usize, 1000usize);
+        let weights = vec![1.0f32; w * h];
+        let density = Density {
+            width: w as u32,
+            height: h as u32,
+            weights: &weights,
+        };
+        let start: Vec<[f32; 2]> = (0..500).map(|i| [1.0 + 2.0 * i as f32, 300.0]).collect();
+        let t = std::time::Instant::now();
+        let out = step(&start, &density, Cells::Polygons { edge: 2.0 });
+        for (p, q) in start.iter().zip(&out) {
+            assert!(
+                (q[0] - p[0]).abs() < 0.01 && (q[1] - 500.0).abs() < 0.01,
+                "{p:?} -> {q:?}"
+            );
+        }
+        // A few hundred thousand pieces, not tens of millions.
+        assert!(t.elapsed().as_secs_f64() < 5.0, "{:?}", t.elapsed());
+        // A point outside the domain stays (its neighbour's cell is what
+        // the outside point leaves it).
+        let small = vec![1.0f32; 100];
+        let density = Density {
+            width: 10,
+            height: 10,
+            weights: &small,
+        };
+        let out = step(
+            &[[5.0, 5.0], [-1.0, 5.0]],
+            &density,
+            Cells::Polygons { edge: 2.0 },
+        );
+        assert_eq!(out[1], [-1.0, 5.0]);
+        assert!(
+            (out[0][0] - 6.0).abs() < 0.01 && (out[0][1] - 5.0).abs() < 0.01,
+            "{:?}",
+            out[0]
+        );
     }
 
     #[test]

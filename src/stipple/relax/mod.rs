@@ -100,7 +100,10 @@ pub enum Cells {
     /// pixel under each quadrature point: the cost follows the points and
     /// the area at `edge`'s resolution, not the pixels (module `cells`).
     Polygons {
-        /// The longest side integrated whole, in pixels (> 0).
+        /// The longest side integrated whole, in pixels (> 0; at least
+        /// [`MIN_EDGE`] is used). The weight is read once per block of
+        /// ⌊edge/3⌋² pixels, at its middle pixel: detail thinner than a
+        /// block (a 1 px line at edge 9) may be missed.
         edge: f32,
     },
 }
@@ -203,6 +206,9 @@ pub fn relax_until(
     current
 }
 
+/// The finest side [`Cells::Polygons`] integrates at, pixels.
+pub const MIN_EDGE: f32 = 0.5;
+
 /// A weight per pixel, asked for where it is needed ([`Cells::Polygons`]
 /// asks only at its quadrature points, not at every pixel).
 pub struct Weights<F: Fn(usize) -> f64 + Sync> {
@@ -231,6 +237,8 @@ pub fn relax_polygons_until<F: Fn(usize) -> f64 + Sync>(
     if weights.width == 0 || weights.height == 0 || edge.is_nan() || edge <= 0.0 {
         return current;
     }
+    // Finer than half a pixel reads no more of the weights, only slower.
+    let edge = edge.max(MIN_EDGE);
     // The weights asked once, at a third of the finest side: astronaut
     // and rocket at 10K, 100K and 200K dots measure the same as with
     // every pixel's weight (docs/drawing.md), and the cells read a
