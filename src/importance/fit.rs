@@ -378,22 +378,12 @@ impl Classes<'_> {
         Ok(base.clone().with_radius_map(Arc::new(m)))
     }
 
-    /// Σ 1/r_c² over the classes that have samples, at each of the
-    /// domain's pixels, for the radius range `range`: the union's density
-    /// (its radius map's 1/R², the weight of its relaxation). Summed at the
-    /// maps' own pixels and read at the domain's (one map read, not one per
-    /// pen, where the maps are stretched).
-    pub(crate) fn union_density(&self, range: RadiusRange) -> Vec<f32> {
-        let (w, h) = self.maps[0].domain();
-        let at = self.union_density_at(range);
-        (0..w as usize * h as usize)
-            .into_par_iter()
-            .map(at)
-            .collect()
-    }
-
-    /// [`Self::union_density`] at a domain pixel's index, made where it is
-    /// asked (summed over the pens at the maps' own size once).
+    /// Σ 1/r_c² over the classes that have samples, at a domain pixel's
+    /// index, for the radius range `range`: the union's density (its
+    /// radius map's 1/R², the weight of its relaxation), made where it is
+    /// asked. Summed over the pens at the maps' own pixels once and read at
+    /// the domain's (one map read, not one per pen, where the maps are
+    /// stretched).
     pub(crate) fn union_density_at(&self, range: RadiusRange) -> impl Fn(usize) -> f32 + Sync {
         let first = &self.maps[0];
         let density = self.densities(range);

@@ -146,67 +146,28 @@ pub fn relax_points(
     let own = (first.map.width(), first.map.height());
     let (w, h) = first.domain();
     let xy: Vec<[f32; 2]> = points.iter().map(|p| [p.x, p.y]).collect();
-    let polygons = match options.cells {
-        relax::Cells::Polygons { edge } if !options.periodic => Some(edge),
-        _ => None,
-    };
     let moved = if let ([prepared], true) = (maps, first.domain() == own) {
         // Each pixel's radius (as the map's `radii` gives it) and its
-        // weight, made where the relaxation asks.
+        // weight.
         let radius = crate::importance::ImportanceMap::radius_fn(prepared.mapping, range);
         let values = prepared.map.values();
-        let weight = |i: usize| {
+        relax_weighted(&xy, (w, h), options, progress, |i| {
             let v = values[i];
             if prepared.cutoff.is_some_and(|c| v > c) {
                 0.0
             } else {
                 1.0 / f64::from(radius(v)).powi(4)
             }
-        };
-        match polygons {
-            Some(edge) => {
-                let weights = relax::Weights {
-                    width: w,
-                    height: h,
-                    weight,
-                };
-                relax::relax_polygons_until(&xy, &weights, options.iterations, edge, progress)
-            }
-            None => {
-                use rayon::prelude::*;
-                let weights: Vec<f32> = (0..values.len())
-                    .into_par_iter()
-                    .map(|i| weight(i) as f32)
-                    .collect();
-                relax_on(&xy, w, h, &weights, options, progress)?
-            }
-        }
+        })?
     } else {
         // The union's density (Σ 1/r_c² over the pens that have samples,
         // the rule the sampler ran under), squared as a radius's 1/r⁴.
         let classes = crate::importance::Classes { maps };
-        match polygons {
-            Some(edge) => {
-                let at = classes.union_density_at(range);
-                let weights = relax::Weights {
-                    width: w,
-                    height: h,
-                    weight: |i| {
-                        let inv = at(i);
-                        f64::from(inv * inv)
-                    },
-                };
-                relax::relax_polygons_until(&xy, &weights, options.iterations, edge, progress)
-            }
-            None => {
-                let weights: Vec<f32> = classes
-                    .union_density(range)
-                    .into_iter()
-                    .map(|inv| inv * inv)
-                    .collect();
-                relax_on(&xy, w, h, &weights, options, progress)?
-            }
-        }
+        let at = classes.union_density_at(range);
+        relax_weighted(&xy, (w, h), options, progress, |i| {
+            let inv = at(i);
+            f64::from(inv * inv)
+        })?
     };
     // Each point's new radius: its pen's at its new pixel (what the map's
     // `radii` hold there), found for the points alone.
@@ -231,19 +192,39 @@ pub fn relax_points(
         .collect())
 }
 
-/// [`relax::relax_until`] on a weight array, checked first.
-fn relax_on(
+/// [`relax::relax_until`] of `xy` on the `(w, h)` domain, pixel `i`
+/// weighing `weight(i)`: asked only where [`relax::Cells::Polygons`]
+/// integrates, or for every pixel (checked) where the cells are pixels.
+fn relax_weighted(
     xy: &[[f32; 2]],
-    width: u32,
-    height: u32,
-    weights: &[f32],
+    (width, height): (u32, u32),
     options: relax::RelaxOptions,
     progress: &mut dyn FnMut(Option<u32>) -> bool,
+    weight: impl Fn(usize) -> f64 + Sync,
 ) -> Result<Vec<[f32; 2]>> {
+    if let (relax::Cells::Polygons { edge }, false) = (options.cells, options.periodic) {
+        let weights = relax::Weights {
+            width,
+            height,
+            weight,
+        };
+        return Ok(relax::relax_polygons_until(
+            xy,
+            &weights,
+            options.iterations,
+            edge,
+            progress,
+        ));
+    }
+    use rayon::prelude::*;
+    let weights: Vec<f32> = (0..width as usize * height as usize)
+        .into_par_iter()
+        .map(|i| weight(i) as f32)
+        .collect();
     let density = relax::Density {
         width,
         height,
-        weights,
+        weights: &weights,
     };
     relax::check(&density)?;
     Ok(relax::relax_until(xy, &density, options, progress))
