@@ -218,6 +218,7 @@ fn voronoi_row(density: &relax::Density<'_>, n: usize) -> Row {
         iterations: 30,
         periodic: false,
         cells: relax::Cells::Pixels,
+        over: 1.0,
     };
     let points = relax::relax(&start, density, options, |_| true);
     Row {

@@ -432,8 +432,8 @@ def stipple(
     for the spacing they have; ``"radius"``: for their sample radius, as
     earlier versions), ``correction`` (``"on"``: sized dots corrected
     toward the picture's tones by rendering; ``"off"``: the curves alone,
-    as earlier versions), ``relax`` (weighted Lloyd steps; by default 3 for
-    corrected sized dots up to 200 000 dots, else none),
+    as earlier versions), ``relax`` (weighted Lloyd steps, over-relaxed; by
+    default 2 for corrected sized dots up to 200 000 dots, else none),
     ``order`` (``"tsp"``: a short pen-plotter path), ``scale`` (PNG pixels
     per domain pixel), ``width_mm`` and ``pen_mm`` (SVG in millimetres,
     drawn with a pen), ``paper`` (``"a4"``, ``"letter"``, ``"WxHmm"``, ...:

@@ -566,14 +566,15 @@ impl PixelPieApp {
                 crate::job::Correction::Off
             };
         }
-        // Relaxation: by default three steps up to 200K dots, none past.
+        // Relaxation: by default two over-relaxed steps up to 200K dots,
+        // none past.
         let mut auto = job.relax.is_none();
         if ui
             .checkbox(&mut auto, "Auto relax")
             .on_hover_text(format!(
-                "{} Lloyd steps up to {}K dots where the dots are corrected (sized, tones \
-                 corrected by rendering), else none (a step costs about as much as sampling at \
-                 1M dots)",
+                "{} Lloyd steps (over-relaxed) up to {}K dots where the dots are corrected \
+                 (sized, tones corrected by rendering), else none (a step costs about as much \
+                 as sampling at 1M dots)",
                 crate::job::AUTO_RELAX_STEPS,
                 crate::job::AUTO_RELAX_DOTS / 1000
             ))

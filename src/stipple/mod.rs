@@ -213,6 +213,7 @@ fn relax_weighted(
             &weights,
             options.iterations,
             edge,
+            options.over,
             progress,
         ));
     }

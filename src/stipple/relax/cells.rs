@@ -15,8 +15,9 @@
 //!   place is that of its block's middle pixel ([`Grid`]: the
 //!   [`super::Weights`] asked once per block of `step`² pixels; negative
 //!   or not finite counts as zero).
-//! - The point moves to the weighted centroid; a cell of no weight leaves
-//!   it where it is.
+//! - The point moves to the weighted centroid, or `over` times the way
+//!   there (over-relaxation), held within the domain; a cell of no weight
+//!   leaves it where it is.
 //!
 //! Cells are independent, so they run in parallel and give the same
 //! result bit for bit for any number of threads. The triangulation is one
@@ -32,7 +33,12 @@ type P = [f64; 2];
 
 /// One Lloyd iteration of `points` on `density`, integrating with
 /// triangles of sides at most `edge` pixels.
-pub(super) fn polygon_step(points: &[[f32; 2]], weights: &Grid, edge: f64) -> Vec<[f32; 2]> {
+pub(super) fn polygon_step(
+    points: &[[f32; 2]],
+    weights: &Grid,
+    edge: f64,
+    over: f64,
+) -> Vec<[f32; 2]> {
     let (w, h) = (f64::from(weights.width), f64::from(weights.height));
     let far = 4.0 * w.max(h);
     // Non-finite points stay out (they stay where they are).
@@ -117,7 +123,11 @@ pub(super) fn polygon_step(points: &[[f32; 2]], weights: &Grid, edge: f64) -> Ve
                 let (a, b) = (s.cell[k], s.cell[(k + 1) % n]);
                 field.integrate(site, a, b, site, &mut sums, 0);
             }
-            let q = [site[0] + sums[1] / sums[0], site[1] + sums[2] / sums[0]];
+            // `over` times the way to the centroid.
+            let q = [
+                site[0] + over * sums[1] / sums[0],
+                site[1] + over * sums[2] / sums[0],
+            ];
             if !(sums[0] > 0.0 && q[0].is_finite() && q[1].is_finite()) {
                 return p;
             }
@@ -316,6 +326,7 @@ mod tests {
             iterations: 1,
             periodic: false,
             cells,
+            over: 1.0,
         };
         relax(points, density, options, |_| true)
     }

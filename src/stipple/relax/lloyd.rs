@@ -45,6 +45,7 @@ pub(super) fn lloyd_step(
     points: &[[f32; 2]],
     field: &Field<'_>,
     periodic: bool,
+    over: f64,
     stop: &mut dyn FnMut() -> bool,
 ) -> Option<Vec<[f32; 2]>> {
     let dom = [field.width as f64, field.height as f64];
@@ -68,18 +69,23 @@ pub(super) fn lloyd_step(
         points
             .iter()
             .zip(&sums)
-            .map(|(p, s)| centroid(*p, s, dom, periodic))
+            .map(|(p, s)| centroid(*p, s, dom, periodic, over))
             .collect(),
     )
 }
 
-/// The new position of point `p` from its sums `[Σw, Σw·dx, Σw·dy]`.
-fn centroid(p: [f32; 2], sums: &[f64; 3], dom: [f64; 2], periodic: bool) -> [f32; 2] {
+/// The new position of point `p` from its sums `[Σw, Σw·dx, Σw·dy]`:
+/// `over` times the way to the centroid (1: the centroid itself), within
+/// the domain.
+fn centroid(p: [f32; 2], sums: &[f64; 3], dom: [f64; 2], periodic: bool, over: f64) -> [f32; 2] {
     if sums[0] <= 0.0 {
         return p;
     }
     let base = site_position(p, dom, periodic);
-    let q = [base[0] + sums[1] / sums[0], base[1] + sums[2] / sums[0]];
+    let q = [
+        base[0] + over * sums[1] / sums[0],
+        base[1] + over * sums[2] / sums[0],
+    ];
     match periodic {
         // Rounding to f32 may land on the far edge, which is the near one.
         true => [0, 1].map(|a| {
@@ -87,7 +93,9 @@ fn centroid(p: [f32; 2], sums: &[f64; 3], dom: [f64; 2], periodic: bool) -> [f32
                 .filter(|&v| v < dom[a] as f32)
                 .unwrap_or(0.0)
         }),
-        false => q.map(|v| v as f32),
+        // Past the centroid may be past the edge: held inside the
+        // domain's half-open box, as sampled points are.
+        false => [0, 1].map(|a| (q[a] as f32).clamp(0.0, (dom[a] as f32).next_down())),
     }
 }
 
@@ -272,7 +280,7 @@ mod tests {
         points
             .iter()
             .zip(&sums)
-            .map(|(p, s)| centroid(*p, s, dom, periodic))
+            .map(|(p, s)| centroid(*p, s, dom, periodic, 1.0))
             .collect()
     }
 

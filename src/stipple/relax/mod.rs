@@ -85,6 +85,26 @@ pub struct RelaxOptions {
     pub periodic: bool,
     /// How the cells are taken.
     pub cells: Cells,
+    /// How far each step moves a point, in its way to the centroid: 1 is
+    /// Lloyd's step; between 1 and 2 over-relaxes, which converges in
+    /// fewer steps ([`OVER_RELAX`]). Not finite, or outside (0, 2],
+    /// counts as 1.
+    pub over: f32,
+}
+
+/// The over-relaxation the drawings use ([`RelaxOptions::over`]): two
+/// steps of 1.6 make drawings at least as close to their photos as three
+/// of Lloyd's at σ and σ/2 (five photos at LBG's count, and astronaut at
+/// 100K and 200K dots; docs/drawing.md), in two thirds of the time.
+pub const OVER_RELAX: f32 = 1.6;
+
+/// [`RelaxOptions::over`] as used: 1 where it is not in (0, 2].
+fn over_factor(over: f32) -> f64 {
+    if over > 0.0 && over <= 2.0 {
+        f64::from(over)
+    } else {
+        1.0
+    }
 }
 
 /// How a Lloyd iteration takes the Voronoi cells and their centroids.
@@ -189,13 +209,23 @@ pub fn relax_until(
             height: density.height,
             weight: |i| f64::from(density.weights[i]),
         };
-        return relax_polygons_until(points, &weights, options.iterations, edge, progress);
+        return relax_polygons_until(
+            points,
+            &weights,
+            options.iterations,
+            edge,
+            options.over,
+            progress,
+        );
     }
     let Some(field) = Field::new(density) else {
         return current;
     };
     for done in 1..=options.iterations {
-        match lloyd_step(&current, &field, options.periodic, &mut || !progress(None)) {
+        let over = over_factor(options.over);
+        match lloyd_step(&current, &field, options.periodic, over, &mut || {
+            !progress(None)
+        }) {
             Some(moved) => current = moved,
             None => break,
         }
@@ -223,14 +253,16 @@ pub struct Weights<F: Fn(usize) -> f64 + Sync> {
 
 /// `iterations` Lloyd steps over the cells as polygons ([`Cells::Polygons`]
 /// with sides of at most `edge` pixels, the weight asked at the middle of
-/// each block of ⌊edge/3⌋² pixels) on a bounded domain, with
-/// `progress` as [`relax_until`] has it. Points outside the domain, not
-/// finite, or duplicated stay where they are.
+/// each block of ⌊edge/3⌋² pixels) on a bounded domain, each moving a
+/// point `over` times the way to its centroid ([`RelaxOptions::over`]),
+/// with `progress` as [`relax_until`] has it. Points outside the domain,
+/// not finite, or duplicated stay where they are.
 pub fn relax_polygons_until<F: Fn(usize) -> f64 + Sync>(
     points: &[[f32; 2]],
     weights: &Weights<F>,
     iterations: u32,
     edge: f32,
+    over: f32,
     progress: &mut dyn FnMut(Option<u32>) -> bool,
 ) -> Vec<[f32; 2]> {
     let mut current = points.to_vec();
@@ -248,7 +280,7 @@ pub fn relax_polygons_until<F: Fn(usize) -> f64 + Sync>(
         if !progress(None) {
             break;
         }
-        current = cells::polygon_step(&current, &grid, f64::from(edge));
+        current = cells::polygon_step(&current, &grid, f64::from(edge), over_factor(over));
         if !progress(Some(done)) {
             break;
         }
@@ -325,6 +357,63 @@ mod tests {
                     &points,
                     1e-3,
                     &format!("periodic {periodic}, {cells:?}"),
+                );
+            }
+        }
+    }
+
+    /// An over-relaxed step moves each point `over` times as far as
+    /// Lloyd's step, the same way (held in the domain), for both kinds of
+    /// cells and on a torus; `over` outside (0, 2] is Lloyd's step; and two
+    /// steps of [`OVER_RELAX`] spread random points more evenly than two
+    /// of Lloyd's.
+    #[test]
+    fn over_relaxation_goes_past_the_centroid_and_converges_sooner() {
+        let (w, h) = (128usize, 96usize);
+        let weights = vec![1.0f32; w * h];
+        let density = Density {
+            width: w as u32,
+            height: h as u32,
+            weights: &weights,
+        };
+        let start = random_start(150, &density, 3);
+        for periodic in [false, true] {
+            for cells in BOTH {
+                let with = |iterations, over| {
+                    let options = RelaxOptions {
+                        over,
+                        ..opts_with(iterations, periodic, cells)
+                    };
+                    relax_all(&start, &density, options)
+                };
+                let lloyd = with(1, 1.0);
+                let over = with(1, 1.6);
+                let mut checked = 0;
+                for ((s, l), o) in start.iter().zip(&lloyd).zip(&over) {
+                    let step = [l[0] - s[0], l[1] - s[1]];
+                    let far = [s[0] + 1.6 * step[0], s[1] + 1.6 * step[1]];
+                    let inside = (1.0..w as f32 - 1.0).contains(&far[0])
+                        && (1.0..h as f32 - 1.0).contains(&far[1]);
+                    if inside {
+                        let (dx, dy) = (o[0] - far[0], o[1] - far[1]);
+                        assert!(
+                            dx.hypot(dy) < 1e-3,
+                            "periodic {periodic}, {cells:?}: {s:?} to {l:?} by Lloyd, {o:?} over-relaxed"
+                        );
+                        checked += 1;
+                    } else {
+                        assert!((0.0..w as f32).contains(&o[0]) && (0.0..h as f32).contains(&o[1]));
+                    }
+                }
+                assert!(checked > 100, "{checked} points checked");
+                for odd in [0.0, -1.0, 2.5, f32::NAN, f32::INFINITY] {
+                    assert_eq!(with(1, odd), lloyd, "over = {odd}");
+                }
+                let spread = |p: &[[f32; 2]]| std_dev(&cell_areas(p, w, h));
+                let (plain, fast) = (spread(&with(2, 1.0)), spread(&with(2, OVER_RELAX)));
+                assert!(
+                    fast < 0.9 * plain,
+                    "periodic {periodic}, {cells:?}: cell areas' spread {fast} over-relaxed, {plain} plain"
                 );
             }
         }

@@ -26,6 +26,7 @@ pub(super) fn opts(iterations: u32, periodic: bool) -> RelaxOptions {
         iterations,
         periodic,
         cells: super::Cells::Pixels,
+        over: 1.0,
     }
 }
 
