@@ -140,10 +140,17 @@ pub fn sample_union<E: From<Error> + From<ImportanceError>>(
     let mut pen_run = |s: f64| -> Result<SampleSet, E> {
         let set = run(&classes.union_params(base, s)?)?;
         let shares = classes.shares(range.scaled(s));
-        let mut given = super::assign::pens(&set.points, domain, classes.maps.len(), &shares);
-        // Each point's radius: its pen's own at its pixel, as a pen's
-        // sample (and relaxation) has it, not the union's.
-        let radius = classes.class_radius(range.scaled(s));
+        let given = super::assign::pens(&set.points, domain, classes.maps.len(), &shares);
+        Ok(set.with_points(given))
+    };
+    // The fit's last run, its pens spread apart, and each point's radius
+    // its pen's own at its pixel, as a pen's sample (and relaxation) has
+    // it, not the union's.
+    let finish = |mut fitted: Fitted| -> Fitted {
+        let mut given = std::mem::take(&mut fitted.set.points);
+        let shares = classes.shares(fitted.range);
+        super::assign::spread_pens(&mut given, domain, classes.maps.len(), &shares);
+        let radius = classes.class_radius(fitted.range);
         given.par_iter_mut().for_each(|p| {
             let px = (p.x.max(0.0) as u32).min(domain.0 - 1) as usize;
             let py = (p.y.max(0.0) as u32).min(domain.1 - 1) as usize;
@@ -152,15 +159,16 @@ pub fn sample_union<E: From<Error> + From<ImportanceError>>(
                 p.radius = r;
             }
         });
-        Ok(set.with_points(given))
+        fitted.set = fitted.set.with_points(given);
+        fitted
     };
     let Some(n) = points else {
-        return Ok(Fitted {
+        return Ok(finish(Fitted {
             set: pen_run(1.0)?,
             range,
             runs: 1,
             short_of: None,
-        });
+        }));
     };
     let target = Target {
         n,
@@ -168,11 +176,13 @@ pub fn sample_union<E: From<Error> + From<ImportanceError>>(
         domain,
         periodic: base.periodic,
     };
-    target.fit(
-        classes.union_predictor(),
-        "the picture needs no ink",
-        pen_run,
-    )
+    target
+        .fit(
+            classes.union_predictor(),
+            "the picture needs no ink",
+            pen_run,
+        )
+        .map(finish)
 }
 
 /// A count to fit on a map of radii `range` (scale 1) over `domain`.
