@@ -232,8 +232,7 @@ pub(crate) fn spread_pens(
     }
 }
 
-/// The points of one run in a grid of cells about as wide as the
-/// spreading's reach.
+/// The points of one run in a grid of cells `cell` wide.
 struct Local {
     origin: (f32, f32),
     cell: f32,
@@ -290,7 +289,10 @@ impl Local {
         let (x1, y1) = self.cell_of(p.x + reach, p.y + reach);
         for cy in y0..=y1 {
             let row = cy * self.cols;
-            let (a, b) = (self.start[row + x0] as usize, self.start[row + x1 + 1] as usize);
+            let (a, b) = (
+                self.start[row + x0] as usize,
+                self.start[row + x1 + 1] as usize,
+            );
             for &j in &self.items[a..b] {
                 f(j as usize);
             }
@@ -309,8 +311,8 @@ impl Local {
 /// point's union radius and s_c its share of pen c: a pen's points lie
 /// about r/√s_c apart, and the floor keeps a rare pen's reach a few
 /// neighbours wide. Each point in turn takes the swap with a neighbour of
-/// another pen within [`SWAP_REACH`] radii that lowers the sum of the
-/// repulsions most, each pen's sum at every point kept up to date; at
+/// another pen (in the grid cells within [`SWAP_REACH`] radii) that lowers
+/// the sum of the repulsions most, each pen's sum at every point kept up to date; at
 /// most [`SWEEPS`] passes, fewer when a pass swaps nothing. Swaps keep
 /// each pen's count, and between neighbours its share of every area.
 fn spread(curve: &[Point], pen: &mut [u32], shares: &[f32], pens: usize) {
@@ -318,38 +320,57 @@ fn spread(curve: &[Point], pen: &mut [u32], shares: &[f32], pens: usize) {
     if n < 2 {
         return;
     }
-    // (KAPPA r)² / max(s_c, FLOOR) of pen c at point k.
-    let sigma2 = |k: usize, c: usize| {
-        let s = shares[k * pens + c];
-        let s = if s.is_finite() { s.max(FLOOR) } else { 1.0 };
-        let r = curve[k].radius * KAPPA;
-        r * r / s
-    };
-    // Its square root's largest value at point k, over the pens.
-    let most = |k: usize| curve[k].radius * KAPPA / FLOOR.sqrt();
-    let kernel = |k: usize, m: usize, c: usize| {
+    // 1 / (CUT σ²) of pen c at point k, σ² = 2 (KAPPA r)² / max(s_c, FLOOR):
+    // a pair's kernel takes the larger of its two (the narrower σ).
+    let inv: Vec<f32> = (0..n * pens)
+        .map(|i| {
+            let s = shares[i];
+            let s = if s.is_finite() { s.max(FLOOR) } else { 1.0 };
+            let r = curve[i / pens].radius * KAPPA;
+            s / (CUT * 2.0 * r * r)
+        })
+        .collect();
+    let d2 = |k: usize, m: usize| {
         let (p, q) = (&curve[k], &curve[m]);
-        let d2 = (p.x - q.x).powi(2) + (p.y - q.y).powi(2);
-        let s2 = 2.0 * sigma2(k, c).min(sigma2(m, c));
-        let t = 1.0 - d2 / (CUT * s2);
+        (p.x - q.x).powi(2) + (p.y - q.y).powi(2)
+    };
+    let kernel = |k: usize, m: usize, d2: f32, c: usize| {
+        let t = 1.0 - d2 * inv[k * pens + c].max(inv[m * pens + c]);
         if t <= 0.0 { 0.0 } else { t * t * t }
     };
+    // The widest σ at point k over the pens, times √CUT: past it no
+    // kernel of k reaches.
+    let reach = |k: usize| (2.0 * CUT).sqrt() * curve[k].radius * KAPPA / FLOOR.sqrt();
     let mut radii: Vec<f32> = curve.iter().map(|p| p.radius).collect();
     let mid = radii.len() / 2;
     let median = *radii.select_nth_unstable_by(mid, f32::total_cmp).1;
+    // Cells about three median radii wide (a rare pen's reach at the
+    // median): swap partners come from the cells around ±SWAP_REACH radii.
     let grid = Local::new(curve, 2.0 * median * KAPPA / FLOOR.sqrt());
-    let reach = |k: usize| (2.0 * CUT).sqrt() * most(k);
+    // Each point's neighbours within both points' reach (every pair whose
+    // kernel is not zero, both ways), and each pen's sum at each point.
+    let mut start = Vec::with_capacity(n + 1);
+    let mut near: Vec<u32> = Vec::with_capacity(n * 16);
     let mut field = vec![0f32; n * pens];
+    start.push(0u32);
     for k in 0..n {
+        let rk = reach(k);
         let mut acc = [0f32; MAX_PENS];
-        grid.each(&curve[k], reach(k), |m| {
-            let c = pen[m] as usize;
-            if m != k && c < pens {
-                acc[c] += kernel(k, m, c);
+        grid.each(&curve[k], rk, |m| {
+            let d = d2(k, m);
+            let r = rk.min(reach(m));
+            if m != k && d < r * r {
+                near.push(m as u32);
+                let c = pen[m] as usize;
+                if c < pens {
+                    acc[c] += kernel(k, m, d, c);
+                }
             }
         });
+        start.push(near.len() as u32);
         field[k * pens..(k + 1) * pens].copy_from_slice(&acc[..pens]);
     }
+    let around = |k: usize| &near[start[k] as usize..start[k + 1] as usize];
     for _ in 0..SWEEPS {
         let mut swaps = 0;
         for k in 0..n {
@@ -363,8 +384,9 @@ fn spread(curve: &[Point], pen: &mut [u32], shares: &[f32], pens: usize) {
                 if b >= pens || b == a {
                     return;
                 }
-                let delta = (field[k * pens + b] - kernel(k, j, b))
-                    + (field[j * pens + a] - kernel(j, k, a))
+                let d = d2(k, j);
+                let delta = (field[k * pens + b] - kernel(k, j, d, b))
+                    + (field[j * pens + a] - kernel(j, k, d, a))
                     - field[k * pens + a]
                     - field[j * pens + b];
                 if delta < best.0 {
@@ -377,18 +399,16 @@ fn spread(curve: &[Point], pen: &mut [u32], shares: &[f32], pens: usize) {
             }
             let b = pen[j] as usize;
             // k: a → b; j: b → a.
-            grid.each(&curve[k], reach(k), |m| {
-                if m != k {
-                    field[m * pens + a] -= kernel(m, k, a);
-                    field[m * pens + b] += kernel(m, k, b);
-                }
-            });
-            grid.each(&curve[j], reach(j), |m| {
-                if m != j {
-                    field[m * pens + b] -= kernel(m, j, b);
-                    field[m * pens + a] += kernel(m, j, a);
-                }
-            });
+            for &m in around(k) {
+                let (m, d) = (m as usize, d2(m as usize, k));
+                field[m * pens + a] -= kernel(m, k, d, a);
+                field[m * pens + b] += kernel(m, k, d, b);
+            }
+            for &m in around(j) {
+                let (m, d) = (m as usize, d2(m as usize, j));
+                field[m * pens + b] -= kernel(m, j, d, b);
+                field[m * pens + a] += kernel(m, j, d, a);
+            }
             pen[k] = b as u32;
             pen[j] = a as u32;
             swaps += 1;
@@ -509,16 +529,27 @@ mod tests {
             assert_eq!(before, after, "pen {c}'s count");
             for left in [true, false] {
                 let (b, a) = (count(&given, c, left), count(&spread, c, left));
-                assert!(b.abs_diff(a) <= b / 20 + 2, "pen {c}, left {left}: {b} → {a}");
+                assert!(
+                    b.abs_diff(a) <= b / 20 + 2,
+                    "pen {c}, left {left}: {b} → {a}"
+                );
             }
         }
         assert!(spread.iter().zip(&given).any(|(a, b)| a.class != b.class));
-        assert!(spread.iter().zip(&given).all(|(a, b)| (a.x, a.y) == (b.x, b.y)));
+        assert!(
+            spread
+                .iter()
+                .zip(&given)
+                .all(|(a, b)| (a.x, a.y) == (b.x, b.y))
+        );
         // Pen 0 on the left: 0.2 of the points, about 4/√0.2 ≈ 9 px apart.
         let rare = |p: &[Point]| {
             let left: Vec<Point> = p.iter().filter(|p| p.x < 120.0).copied().collect();
             close_pairs(
-                &left.into_iter().filter(|p| p.class == 0).collect::<Vec<_>>(),
+                &left
+                    .into_iter()
+                    .filter(|p| p.class == 0)
+                    .collect::<Vec<_>>(),
                 7.0,
             )
         };

@@ -128,11 +128,14 @@ pub fn sample_map<E: From<Error> + From<ImportanceError>>(
 /// map ([`Classes::union_params`]) with `run`, then gives each point a pen
 /// ([`super::assign::pens`]), fitting the radius scale to `points` in all
 /// (±3%) when given, from the union's predicted count, as [`sample_map`]
-/// does. One run costs what a grey drawing's does.
+/// does; with `spread`, the last run's pens are then spread apart
+/// ([`super::assign::spread_pens`]). One run costs what a grey drawing's
+/// does.
 pub fn sample_union<E: From<Error> + From<ImportanceError>>(
     classes: &Classes<'_>,
     base: &Params,
     points: Option<usize>,
+    spread: bool,
     mut run: impl FnMut(&Params) -> Result<SampleSet, E>,
 ) -> Result<Fitted, E> {
     let range = classes.maps[0].range;
@@ -143,13 +146,15 @@ pub fn sample_union<E: From<Error> + From<ImportanceError>>(
         let given = super::assign::pens(&set.points, domain, classes.maps.len(), &shares);
         Ok(set.with_points(given))
     };
-    // The fit's last run, its pens spread apart, and each point's radius
+    // The fit's last run, its pens spread apart (where `spread`), and each point's radius
     // its pen's own at its pixel, as a pen's sample (and relaxation) has
     // it, not the union's.
     let finish = |mut fitted: Fitted| -> Fitted {
         let mut given = std::mem::take(&mut fitted.set.points);
         let shares = classes.shares(fitted.range);
-        super::assign::spread_pens(&mut given, domain, classes.maps.len(), &shares);
+        if spread {
+            super::assign::spread_pens(&mut given, domain, classes.maps.len(), &shares);
+        }
         let radius = classes.class_radius(fitted.range);
         given.par_iter_mut().for_each(|p| {
             let px = (p.x.max(0.0) as u32).min(domain.0 - 1) as usize;
