@@ -1868,7 +1868,7 @@ fn the_correction_box_switches_the_correction() {
     same_points_other_sizes(&before, &h.state().outcome.as_ref().unwrap().drawing);
 }
 
-/// "Auto relax" is the default (three Lloyd steps at the app's counts);
+/// "Auto relax" is the default (two Lloyd steps at the app's counts);
 /// unticked, the slider sets the steps, and none gives the sampler's set.
 #[test]
 fn auto_relax_relaxes_and_the_slider_takes_over_when_unticked() {

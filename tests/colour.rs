@@ -618,6 +618,42 @@ fn the_run_reports_every_stage_and_the_sizing_parts() {
     assert!(stopped.is_err());
 }
 
+/// The plan spreads a colour drawing's pens instead of relaxing it, up to
+/// the count where grey drawings stop relaxing; grey drawings relax and
+/// have no pens to spread.
+#[test]
+fn the_plan_spreads_colour_pens_and_relaxes_grey() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.svg").display().to_string();
+    let plan = |points: &str, pens: Option<&str>| -> serde_json::Value {
+        let photo = asset("astronaut.jpg");
+        let mut args = vec!["stipple", &photo, "-o", &out, "--points", points, "--plan"];
+        if let Some(p) = pens {
+            args.extend(["--pens", p]);
+        }
+        let r = pixelpie(&args);
+        assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+        serde_json::from_slice(&r.stdout).unwrap()
+    };
+    let colour = plan("20000", Some("cmyk"));
+    assert_eq!(
+        (colour["spread"].as_bool(), colour["relax"].as_u64()),
+        (Some(true), Some(0))
+    );
+    assert_eq!(colour["corrected"].as_bool(), Some(true));
+    let dense = plan("300000", Some("cmyk"));
+    assert_eq!(dense["spread"].as_bool(), Some(false));
+    let grey = plan("20000", None);
+    assert_eq!(
+        (grey["spread"].as_bool(), grey["relax"].as_u64()),
+        (
+            Some(false),
+            Some(u64::from(pixelpie::job::AUTO_RELAX_STEPS))
+        )
+    );
+    assert!(!Path::new(&out).exists(), "--plan draws nothing");
+}
+
 /// Mean blurred ΔE00 between two RGB pictures of one size (σ in pixels).
 fn blurred_delta_e(a: &image::RgbImage, b: &image::RgbImage, sigma: f64) -> f64 {
     let (w, h) = a.dimensions();

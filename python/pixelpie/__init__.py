@@ -433,7 +433,8 @@ def stipple(
     earlier versions), ``correction`` (``"on"``: sized dots corrected
     toward the picture's tones by rendering; ``"off"``: the curves alone,
     as earlier versions), ``relax`` (weighted Lloyd steps, over-relaxed; by
-    default 2 for corrected sized dots up to 200 000 dots, else none),
+    default 2 for corrected sized grey dots up to 200 000 dots, else none;
+    colour drawings spread their pens apart instead),
     ``order`` (``"tsp"``: a short pen-plotter path), ``scale`` (PNG pixels
     per domain pixel), ``width_mm`` and ``pen_mm`` (SVG in millimetres,
     drawn with a pen), ``paper`` (``"a4"``, ``"letter"``, ``"WxHmm"``, ...:
@@ -514,7 +515,7 @@ def plan(
     """The plan of the drawing :func:`stipple` would make of ``image`` with
     these ``options`` (and ``job`` file), as ``pixelpie stipple --plan``
     prints it: every decision made once (``domain``, ``points``, ``dots``,
-    ``dot``, ``relax``, ``corrected`` and ``why``, the correction's
+    ``dot``, ``relax``, ``spread``, ``corrected`` and ``why``, the correction's
     ``render``, ``order``, an estimated ``seconds``) and its one-line
     summary, ``line``. Nothing is drawn."""
     given, job_file = _job(options, job)

@@ -217,7 +217,7 @@ def test_the_plan_is_the_clis(tmp_path, points):
     assert not out.exists()
     assert ours["line"].startswith(f"{points:,} dots".replace(",", " "))
     if points <= 200_000:
-        assert ours["corrected"] and ours["relax"] == 3
+        assert ours["corrected"] and ours["relax"] == 2 and not ours["spread"]
     else:
         assert ours["relax"] == 0
 

@@ -8,7 +8,7 @@
 //! share of the points, spread evenly with its own density (a diffusion
 //! along the curve alone, without the neighbours, was 1 ΔE00 worse).
 //!
-//! The count fit's last sample then has its pens swapped between
+//! The count fit's chosen sample then has its pens swapped between
 //! neighbours so that each pen's points repel as its own sample's would
 //! ([`spread_pens`]): each pen's dots evener, the drawing's colour at
 //! five photos' mean spacing 0.7 ΔE00 closer (docs/colour.md).
@@ -182,8 +182,10 @@ pub(crate) fn pens(
 
 /// `points` (given pens by [`pens`], each with the union's sample radius)
 /// with their pens swapped between neighbours so that each pen's points
-/// spread apart ([`spread`]), along the same curve in the same runs as
-/// [`pens`]: the same pens for any thread count.
+/// spread apart ([`spread`]), along the same curve as [`pens`], cut into
+/// [`PARTS`] runs of equal length spread apart in parallel: the same pens
+/// for any thread count. A point with no pen, or whose radius is not a
+/// positive number, is left out.
 pub(crate) fn spread_pens(
     points: &mut [Point],
     (w, h): (u32, u32),
@@ -221,14 +223,20 @@ pub(crate) fn spread_pens(
                 out.fill(f32::NAN);
             }
         });
-    let mut pen: Vec<u32> = curve.iter().map(|p| p.class).collect();
+    let kept = |p: &Point| p.radius.is_finite() && p.radius > 0.0 && (p.class as usize) < pens;
+    let mut pen: Vec<u32> = curve
+        .iter()
+        .map(|p| if kept(p) { p.class } else { u32::MAX })
+        .collect();
     let part = n.div_ceil(PARTS).max(1);
     pen.par_chunks_mut(part)
         .zip(shares.par_chunks(part * pens))
         .zip(curve.par_chunks(part))
         .for_each(|((pen, shares), curve)| spread(curve, pen, shares, pens));
     for (&(_, i), &c) in along.iter().zip(&pen) {
-        points[i as usize].class = c;
+        if c != u32::MAX {
+            points[i as usize].class = c;
+        }
     }
 }
 
@@ -248,9 +256,14 @@ impl Local {
         for p in points {
             (x0, y0, x1, y1) = (x0.min(p.x), y0.min(p.y), x1.max(p.x), y1.max(p.y));
         }
-        let cell = cell.max(1.0);
-        let cols = (((x1 - x0) / cell) as usize + 1).clamp(1, 4096);
-        let rows = (((y1 - y0) / cell) as usize + 1).clamp(1, 4096);
+        // At most 4096 cells a side and about four a point.
+        let span = ((x1 - x0).max(0.0), (y1 - y0).max(0.0));
+        let cell = cell
+            .max(1.0)
+            .max(span.0.max(span.1) / 4095.0)
+            .max((span.0 * span.1 / (4.0 * points.len().max(1) as f32)).sqrt());
+        let along = |s: f32| ((s / cell).min(4095.0) as usize + 1).max(1);
+        let (cols, rows) = (along(span.0), along(span.1));
         let mut grid = Self {
             origin: (x0, y0),
             cell,
@@ -310,11 +323,13 @@ impl Local {
 /// cost), σ² = 2 min over the two of (KAPPA r)² / max(s_c, FLOOR), r the
 /// point's union radius and s_c its share of pen c: a pen's points lie
 /// about r/√s_c apart, and the floor keeps a rare pen's reach a few
-/// neighbours wide. Each point in turn takes the swap with a neighbour of
-/// another pen (in the grid cells within [`SWAP_REACH`] radii) that lowers
-/// the sum of the repulsions most, each pen's sum at every point kept up to date; at
-/// most [`SWEEPS`] passes, fewer when a pass swaps nothing. Swaps keep
-/// each pen's count, and between neighbours its share of every area.
+/// neighbours wide. Each point in turn takes the swap with a point of
+/// another pen nearby (from the grid cells that reach [`SWAP_REACH`]
+/// radii: up to about six radii away) that lowers the sum of the
+/// repulsions most, a pen going only where it has ink; each pen's sum at
+/// every point is kept up to date. At most [`SWEEPS`] passes, fewer when a
+/// pass swaps nothing. Swaps keep each pen's count and, between points a
+/// few radii apart, its share of every area.
 fn spread(curve: &[Point], pen: &mut [u32], shares: &[f32], pens: usize) {
     let n = curve.len();
     if n < 2 {
@@ -353,10 +368,15 @@ fn spread(curve: &[Point], pen: &mut [u32], shares: &[f32], pens: usize) {
     let mut near: Vec<u32> = Vec::with_capacity(n * 16);
     let mut field = vec![0f32; n * pens];
     start.push(0u32);
+    // Points left out (pen u32::MAX) have no neighbours and are no one's.
+    let kept = |k: usize| (pen[k] as usize) < pens;
     for k in 0..n {
         let rk = reach(k);
         let mut acc = [0f32; MAX_PENS];
         grid.each(&curve[k], rk, |m| {
+            if !kept(k) || !kept(m) {
+                return;
+            }
             let d = d2(k, m);
             let r = rk.min(reach(m));
             if m != k && d < r * r {
@@ -381,7 +401,11 @@ fn spread(curve: &[Point], pen: &mut [u32], shares: &[f32], pens: usize) {
             let mut best = (-1e-4f32, usize::MAX);
             grid.each(&curve[k], SWAP_REACH * curve[k].radius, |j| {
                 let b = pen[j] as usize;
-                if b >= pens || b == a {
+                // Each takes only a pen that has ink where it lies.
+                if b >= pens
+                    || b == a
+                    || !(shares[k * pens + b] > 0.0 && shares[j * pens + a] > 0.0)
+                {
                     return;
                 }
                 let d = d2(k, j);
@@ -559,6 +583,52 @@ mod tests {
             after * 2 < before,
             "pairs of the rare pen within 7 px: {before} before, {after} after"
         );
+    }
+
+    /// A pen is never swapped to where it has no ink, and a point whose
+    /// radius is not a positive number keeps its pen (and breaks nothing).
+    #[test]
+    fn spreading_keeps_pens_where_they_have_ink() {
+        let mut points: Vec<Point> = (0..48 * 48u32)
+            .map(|i| Point {
+                x: (i % 48) as f32 * 4.0 + 2.0 + ((i * 7) % 5) as f32 * 0.3,
+                y: (i / 48) as f32 * 4.0 + 2.0,
+                radius: 2.0,
+                class: 0,
+            })
+            .collect();
+        points[100].radius = f32::NAN;
+        points[101].radius = -1.0;
+        // Pen 2 has no ink right of x = 96; pen 0 none left of it.
+        let share = |i: usize, out: &mut [f32]| {
+            out.copy_from_slice(if i % 192 < 96 {
+                &[0.0, 0.5, 0.5]
+            } else {
+                &[0.5, 0.5, 0.0]
+            });
+            true
+        };
+        let given = pens(&points, (192, 192), 3, &share);
+        let mut spread = given.clone();
+        spread_pens(&mut spread, (192, 192), 3, &share);
+        assert!(spread.iter().zip(&given).any(|(a, b)| a.class != b.class));
+        for (a, b) in spread.iter().zip(&given) {
+            let left = (a.x as usize) < 96;
+            assert!(
+                if left { a.class != 0 } else { a.class != 2 },
+                "pen {} at x = {} (was pen {})",
+                a.class,
+                a.x,
+                b.class
+            );
+            if a.radius.is_nan() || a.radius <= 0.0 {
+                assert_eq!(
+                    a.class, b.class,
+                    "a point with radius {} kept its pen",
+                    a.radius
+                );
+            }
+        }
     }
 
     #[test]

@@ -128,7 +128,7 @@ pub fn sample_map<E: From<Error> + From<ImportanceError>>(
 /// map ([`Classes::union_params`]) with `run`, then gives each point a pen
 /// ([`super::assign::pens`]), fitting the radius scale to `points` in all
 /// (±3%) when given, from the union's predicted count, as [`sample_map`]
-/// does; with `spread`, the last run's pens are then spread apart
+/// does; with `spread`, the chosen run's pens are then spread apart
 /// ([`super::assign::spread_pens`]). One run costs what a grey drawing's
 /// does.
 pub fn sample_union<E: From<Error> + From<ImportanceError>>(
@@ -146,7 +146,8 @@ pub fn sample_union<E: From<Error> + From<ImportanceError>>(
         let given = super::assign::pens(&set.points, domain, classes.maps.len(), &shares);
         Ok(set.with_points(given))
     };
-    // The fit's last run, its pens spread apart (where `spread`), and each point's radius
+    // The fit's chosen run (the nearest to the count), its pens spread
+    // apart (where `spread`), and each point's radius
     // its pen's own at its pixel, as a pen's sample (and relaxation) has
     // it, not the union's.
     let finish = |mut fitted: Fitted| -> Fitted {

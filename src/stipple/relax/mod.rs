@@ -2,7 +2,8 @@
 //! algorithm of StippleGen).
 //!
 //! Each iteration moves every point to the darkness-weighted centroid of its
-//! Voronoi cell. Cells are restricted to pixel centres: pixel `(x, y)`, centre
+//! Voronoi cell, or [`RelaxOptions::over`] times the way there
+//! (over-relaxation, held within the domain). Cells are restricted to pixel centres: pixel `(x, y)`, centre
 //! `(x + 0.5, y + 0.5)`, belongs to the point nearest to that centre, and the
 //! centroid is the weighted mean of the centres of the cell's pixels.
 //!
@@ -164,7 +165,7 @@ fn check_density(density: &Density<'_>) -> Result<(), String> {
 
 /// Moves each point to the darkness-weighted centroid of its Voronoi cell
 /// (cells restricted to pixel centres: pixel (x,y) has centre (x+0.5, y+0.5)),
-/// `options.iterations` times. Points are (x, y) in pixel units, 0..width, 0..height.
+/// or `options.over` times the way there, `options.iterations` times. Points are (x, y) in pixel units, 0..width, 0..height.
 ///
 /// A point whose cell has zero total weight stays where it is (so does a point
 /// with a non-finite coordinate, which owns no pixel).
