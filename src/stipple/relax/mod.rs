@@ -389,14 +389,32 @@ mod tests {
                 };
                 let lloyd = with(1, 1.0);
                 let over = with(1, 1.6);
-                let mut checked = 0;
+                let (mut checked, mut seam) = (0, 0);
+                let dom = [w as f32, h as f32];
+                // On a torus, the step the short way round and the place
+                // it reaches wrapped.
+                let short = |d: f32, len: f32| {
+                    if periodic {
+                        d - len * (d / len).round()
+                    } else {
+                        d
+                    }
+                };
+                let wrapped = |v: f32, len: f32| if periodic { v.rem_euclid(len) } else { v };
                 for ((s, l), o) in start.iter().zip(&lloyd).zip(&over) {
-                    let step = [l[0] - s[0], l[1] - s[1]];
-                    let far = [s[0] + 1.6 * step[0], s[1] + 1.6 * step[1]];
-                    let inside = (1.0..w as f32 - 1.0).contains(&far[0])
-                        && (1.0..h as f32 - 1.0).contains(&far[1]);
+                    let step = [0, 1].map(|a| short(l[a] - s[a], dom[a]));
+                    let far = [0, 1].map(|a| s[a] + 1.6 * step[a]);
+                    let inside = periodic
+                        || ((1.0..w as f32 - 1.0).contains(&far[0])
+                            && (1.0..h as f32 - 1.0).contains(&far[1]));
                     if inside {
-                        let (dx, dy) = (o[0] - far[0], o[1] - far[1]);
+                        seam += usize::from(
+                            far.iter()
+                                .zip(dom)
+                                .any(|(&v, len)| !(0.0..len).contains(&v)),
+                        );
+                        let far = [0, 1].map(|a| wrapped(far[a], dom[a]));
+                        let [dx, dy] = [0, 1].map(|a| short(o[a] - far[a], dom[a]));
                         assert!(
                             dx.hypot(dy) < 1e-3,
                             "periodic {periodic}, {cells:?}: {s:?} to {l:?} by Lloyd, {o:?} over-relaxed"
@@ -407,6 +425,11 @@ mod tests {
                     }
                 }
                 assert!(checked > 100, "{checked} points checked");
+                // On the torus every point is checked, some across the seam.
+                assert!(
+                    !periodic || (checked == start.len() && seam > 0),
+                    "{seam} across the seam"
+                );
                 for odd in [0.0, -1.0, 2.5, f32::NAN, f32::INFINITY] {
                     assert_eq!(with(1, odd), lloyd, "over = {odd}");
                 }
