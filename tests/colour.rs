@@ -641,6 +641,8 @@ fn the_plan_spreads_colour_pens_and_relaxes_grey() {
         (Some(true), Some(0))
     );
     assert_eq!(colour["corrected"].as_bool(), Some(true));
+    let line = colour["line"].as_str().unwrap();
+    assert!(line.contains("pens spread apart"), "{line}");
     let dense = plan("300000", Some("cmyk"));
     assert_eq!(dense["spread"].as_bool(), Some(false));
     let grey = plan("20000", None);
