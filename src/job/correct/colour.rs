@@ -4,7 +4,7 @@
 
 use rayon::prelude::*;
 
-use super::{ERROR_BLUR, Grid, MAX_INK, damping, rounds};
+use super::{ERROR_BLUR, Grid, MAX_INK, blur_sigmas, damping, rounds};
 use crate::colour::pens::MAX_PENS;
 use crate::colour::{RenderModel, Separation};
 use crate::importance::ColourMap;
@@ -129,7 +129,8 @@ impl Correction {
                     }
                 }
             });
-        let src_sigma = grid.sigma * f64::from(src.0) / f64::from(work.0);
+        let src_sigma =
+            blur_sigmas(grid.px_per_spacing()) * grid.sigma * f64::from(src.0) / f64::from(work.0);
         let mut target = Vec::with_capacity(3);
         for k in 0..3 {
             let blurred = blur(
@@ -221,7 +222,9 @@ impl Correction {
                     self.model.primary(whole)
                 }
             });
-            let drawn = [0, 1, 2].map(|k| grid.blurred(shown.iter().map(|c| c[k]).collect(), 1.0));
+            let sigmas = blur_sigmas(grid.px_per_spacing());
+            let drawn =
+                [0, 1, 2].map(|k| grid.blurred(shown.iter().map(|c| c[k]).collect(), sigmas));
             // The error, smoothed once more: corrections follow the local
             // bias, not each dot's own noise.
             let error = [0, 1, 2].map(|k| {
@@ -231,7 +234,7 @@ impl Correction {
                     .zip(&drawn[k].values)
                     .map(|(t, d)| t - d)
                     .collect();
-                grid.blurred(values, ERROR_BLUR)
+                grid.blurred(values, ERROR_BLUR * sigmas)
             });
             // Each dot's own update: in parallel, the same values.
             points

@@ -3,7 +3,7 @@
 
 use rayon::prelude::*;
 
-use super::{ERROR_BLUR, Grid, MAX_INK, damping, rounds};
+use super::{ERROR_BLUR, Grid, MAX_INK, blur_sigmas, damping, rounds};
 use crate::importance::{Prepared, ink};
 use crate::sampler::Point;
 
@@ -39,7 +39,8 @@ pub(crate) fn correct_grey(
         let (x, y) = ((i as u32 % w) as f32 + 0.5, (i as u32 / w) as f32 + 0.5);
         [ink(x * inv, y * inv)]
     });
-    let target = grid.blurred(target.into_iter().map(|[v]| v).collect(), 1.0);
+    let sigmas = blur_sigmas(grid.px_per_spacing());
+    let target = grid.blurred(target.into_iter().map(|[v]| v).collect(), sigmas);
     let damping = damping(grid.sigma);
     let ratios =
         super::super::density::Ratios::new(f64::from(range.min) * 0.5, f64::from(range.max) * 3.2);
@@ -54,7 +55,7 @@ pub(crate) fn correct_grey(
         let paper = grid.render(points, radii, |_| true)?;
         let raw = paper.as_raw();
         let shown = grid.cell_means(|i| [1.0 - f64::from(raw[i]) / 255.0]);
-        let drawn = grid.blurred(shown.into_iter().map(|[v]| v).collect(), 1.0);
+        let drawn = grid.blurred(shown.into_iter().map(|[v]| v).collect(), sigmas);
         let error = grid.blurred(
             target
                 .values
@@ -62,7 +63,7 @@ pub(crate) fn correct_grey(
                 .zip(&drawn.values)
                 .map(|(t, d)| t - d)
                 .collect(),
-            ERROR_BLUR,
+            ERROR_BLUR * sigmas,
         );
         // Each dot's own update: in parallel, the same values.
         points

@@ -20,6 +20,20 @@ pub(crate) use grid::{Grid, GridSpec};
 /// dot's own noise.
 pub(crate) const ERROR_BLUR: f64 = 1.0;
 
+/// The correction's blurs in the measure's σ (the mean spacing), for a
+/// render of `px_per_spacing` pixels between dots: the photo and the
+/// drawing are blurred by it, and their difference by it again
+/// ([`ERROR_BLUR`] times), so that the error is seen at √2 times it. 0.75
+/// (the error at 1.06 σ) where the render resolves the dots (4 px between
+/// them or more), else 1 (1.41 σ; finer there chases the render's own
+/// noise: colour at 1M dots 5.31 → 5.98 ΔE00). At 0.75, grey drawings
+/// measured 0.3–1.8 dB closer at σ and σ/2 on astronaut at 10K–200K dots
+/// and five photos at LBG's counts (2σ within −0.13 dB); colour at 20K
+/// 0.24 ΔE00 closer at σ and 0.5 at σ/2 on five photos (docs/colour.md).
+pub(crate) fn blur_sigmas(px_per_spacing: f64) -> f64 {
+    if px_per_spacing >= 4.0 { 0.75 } else { 1.0 }
+}
+
 /// The fraction of each round's ink change that is made, by the blur's σ
 /// in work-grid cells: 1.15 (a little past the linear model's step, which
 /// falls short) where σ spans 1.5 cells or more, 0.7 at one cell and less
