@@ -33,36 +33,11 @@ pub(crate) fn pens(
 ) -> Vec<Point> {
     let n = points.len();
     let pens = pens.clamp(1, MAX_PENS);
-    let side = ((w.max(h) as f32 * CELLS_PER_PX) as u64)
-        .next_power_of_two()
-        .max(1);
-    let order = side.trailing_zeros();
-    // Each point's place on the curve, and the points along it.
-    let mut along: Vec<(u64, u32)> = points
-        .par_iter()
-        .enumerate()
-        .map(|(i, p)| {
-            let cx = ((p.x.max(0.0) * CELLS_PER_PX) as u64).min(side - 1);
-            let cy = ((p.y.max(0.0) * CELLS_PER_PX) as u64).min(side - 1);
-            (hilbert(cx, cy, order), i as u32)
-        })
-        .collect();
-    along.par_sort_unstable();
-    // The points along the curve: near points near in memory too.
-    let curve: Vec<Point> = along.iter().map(|&(_, i)| points[i as usize]).collect();
-    // The shares, point by point along the curve (NaN first: no pen there).
-    let mut shares = vec![0f32; n * pens];
-
-    shares
-        .par_chunks_mut(pens)
-        .zip(curve.par_iter())
-        .for_each(|(out, p)| {
-            let px = (p.x.max(0.0) as u32).min(w - 1) as usize;
-            let py = (p.y.max(0.0) as u32).min(h - 1) as usize;
-            if !share(py * w as usize + px, out) {
-                out[0] = f32::NAN;
-            }
-        });
+    let Curve {
+        along,
+        points: curve,
+        mut shares,
+    } = Curve::new(points, (w, h), pens, share);
     // A grid of the points (their places along the curve) for their
     // neighbours.
     let cell = curve
@@ -180,6 +155,62 @@ pub(crate) fn pens(
         .collect()
 }
 
+/// The points along a Hilbert curve through the domain (near points near
+/// in memory too), what [`pens`] and [`spread_pens`] walk.
+struct Curve {
+    /// Each point's place on the curve and its index in the caller's
+    /// points, in the curve's order.
+    along: Vec<(u64, u32)>,
+    /// The points in the curve's order.
+    points: Vec<Point>,
+    /// Each point's pen shares (`pens` a point), in the curve's order: all
+    /// NaN where no pen has dots.
+    shares: Vec<f32>,
+}
+
+impl Curve {
+    /// `points` over a `(w, h)` domain along the curve, with the shares
+    /// `share(pixel, out)` writes (false: no pen there).
+    fn new(
+        points: &[Point],
+        (w, h): (u32, u32),
+        pens: usize,
+        share: &(impl Fn(usize, &mut [f32]) -> bool + Sync),
+    ) -> Self {
+        let side = ((w.max(h) as f32 * CELLS_PER_PX) as u64)
+            .next_power_of_two()
+            .max(1);
+        let order = side.trailing_zeros();
+        let mut along: Vec<(u64, u32)> = points
+            .par_iter()
+            .enumerate()
+            .map(|(i, p)| {
+                let cx = ((p.x.max(0.0) * CELLS_PER_PX) as u64).min(side - 1);
+                let cy = ((p.y.max(0.0) * CELLS_PER_PX) as u64).min(side - 1);
+                (hilbert(cx, cy, order), i as u32)
+            })
+            .collect();
+        along.par_sort_unstable();
+        let curve: Vec<Point> = along.iter().map(|&(_, i)| points[i as usize]).collect();
+        let mut shares = vec![0f32; curve.len() * pens];
+        shares
+            .par_chunks_mut(pens)
+            .zip(curve.par_iter())
+            .for_each(|(out, p)| {
+                let px = (p.x.max(0.0) as u32).min(w - 1) as usize;
+                let py = (p.y.max(0.0) as u32).min(h - 1) as usize;
+                if !share(py * w as usize + px, out) {
+                    out.fill(f32::NAN);
+                }
+            });
+        Self {
+            along,
+            points: curve,
+            shares,
+        }
+    }
+}
+
 /// `points` (given pens by [`pens`], each with the union's sample radius)
 /// with their pens swapped between neighbours so that each pen's points
 /// spread apart ([`spread`]), along the same curve as [`pens`], cut into
@@ -197,32 +228,11 @@ pub(crate) fn spread_pens(
     if pens < 2 || n < 2 {
         return;
     }
-    let side = ((w.max(h) as f32 * CELLS_PER_PX) as u64)
-        .next_power_of_two()
-        .max(1);
-    let order = side.trailing_zeros();
-    let mut along: Vec<(u64, u32)> = points
-        .par_iter()
-        .enumerate()
-        .map(|(i, p)| {
-            let cx = ((p.x.max(0.0) * CELLS_PER_PX) as u64).min(side - 1);
-            let cy = ((p.y.max(0.0) * CELLS_PER_PX) as u64).min(side - 1);
-            (hilbert(cx, cy, order), i as u32)
-        })
-        .collect();
-    along.par_sort_unstable();
-    let curve: Vec<Point> = along.iter().map(|&(_, i)| points[i as usize]).collect();
-    let mut shares = vec![0f32; n * pens];
-    shares
-        .par_chunks_mut(pens)
-        .zip(curve.par_iter())
-        .for_each(|(out, p)| {
-            let px = (p.x.max(0.0) as u32).min(w - 1) as usize;
-            let py = (p.y.max(0.0) as u32).min(h - 1) as usize;
-            if !share(py * w as usize + px, out) {
-                out.fill(f32::NAN);
-            }
-        });
+    let Curve {
+        along,
+        points: curve,
+        shares,
+    } = Curve::new(points, (w, h), pens, share);
     let kept = |p: &Point| p.radius.is_finite() && p.radius > 0.0 && (p.class as usize) < pens;
     let mut pen: Vec<u32> = curve
         .iter()
