@@ -353,8 +353,8 @@ fn colour_takes_every_grey_control() {
     };
     let plain = cmyk(&|j| j.relax = Some(0));
     let d0 = run(&plain, &photo);
-    // Relaxation moves all pens together: every dot keeps its pen, and the
-    // union's spacing evens out.
+    // Relaxation moves each pen's dots on their own: every dot keeps its
+    // pen, and each pen's spacing evens out.
     let relaxed = cmyk(&|j| j.relax = Some(4));
     let d1 = run(&relaxed, &photo);
     let counts = |d: &Stipple| {
@@ -369,15 +369,17 @@ fn colour_takes_every_grey_control() {
         counts(&d1),
         "relaxation changed the pens' counts"
     );
-    // Each dot's nearest distance over the mean of its six nearest: 1 on a
-    // hexagonal packing, lower the more irregular the spacing. Relaxation
-    // raises it on average.
+    // Each dot's nearest distance over the mean of its six nearest among
+    // its own pen's dots: 1 on a hexagonal packing, lower the more
+    // irregular the spacing. Relaxation raises it on average.
     let evenness = |d: &Stipple| {
-        let pts = &d.points;
-        let sum: f64 = pts
-            .iter()
-            .enumerate()
-            .map(|(i, a)| {
+        let (mut sum, mut n) = (0f64, 0usize);
+        for pen in 0..4 {
+            let pts: Vec<_> = d.points.iter().filter(|p| p.class == pen).collect();
+            if pts.len() < 7 {
+                continue;
+            }
+            for (i, a) in pts.iter().enumerate() {
                 let mut near: Vec<f32> = pts
                     .iter()
                     .enumerate()
@@ -386,10 +388,11 @@ fn colour_takes_every_grey_control() {
                     .collect();
                 near.select_nth_unstable_by(5, f32::total_cmp);
                 near[..6].sort_by(f32::total_cmp);
-                f64::from(near[0] / (near[..6].iter().sum::<f32>() / 6.0))
-            })
-            .sum();
-        sum / pts.len() as f64
+                sum += f64::from(near[0] / (near[..6].iter().sum::<f32>() / 6.0));
+                n += 1;
+            }
+        }
+        sum / n.max(1) as f64
     };
     assert!(
         evenness(&d1) > evenness(&d0) + 0.02,
@@ -618,11 +621,11 @@ fn the_run_reports_every_stage_and_the_sizing_parts() {
     assert!(stopped.is_err());
 }
 
-/// The plan spreads a colour drawing's pens instead of relaxing it, up to
-/// the count where grey drawings stop relaxing; grey drawings relax and
-/// have no pens to spread.
+/// The plan spreads a colour drawing's pens and relaxes them, up to the
+/// count where grey drawings stop relaxing; grey drawings relax and have
+/// no pens to spread.
 #[test]
-fn the_plan_spreads_colour_pens_and_relaxes_grey() {
+fn the_plan_spreads_and_relaxes_colour_pens_and_relaxes_grey() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("x.svg").display().to_string();
     let plan = |points: &str, pens: Option<&str>| -> serde_json::Value {
@@ -638,13 +641,19 @@ fn the_plan_spreads_colour_pens_and_relaxes_grey() {
     let colour = plan("20000", Some("cmyk"));
     assert_eq!(
         (colour["spread"].as_bool(), colour["relax"].as_u64()),
-        (Some(true), Some(0))
+        (
+            Some(true),
+            Some(u64::from(pixelpie::job::AUTO_RELAX_STEPS))
+        )
     );
     assert_eq!(colour["corrected"].as_bool(), Some(true));
     let line = colour["line"].as_str().unwrap();
     assert!(line.contains("pens spread apart"), "{line}");
     let dense = plan("300000", Some("cmyk"));
-    assert_eq!(dense["spread"].as_bool(), Some(false));
+    assert_eq!(
+        (dense["spread"].as_bool(), dense["relax"].as_u64()),
+        (Some(false), Some(0))
+    );
     let grey = plan("20000", None);
     assert_eq!(
         (grey["spread"].as_bool(), grey["relax"].as_u64()),

@@ -159,10 +159,10 @@ pub struct Job {
     /// Weighted Lloyd (Voronoi) relaxation steps after sampling: moves each
     /// dot 1.6 times the way to the centroid of its Voronoi cell
     /// (over-relaxed), weighted to keep the calibrated density; a few steps
-    /// make the spacing more even [default: 2 for corrected grey dots
-    /// (sized, --correction on) up to 200 000 dots, else none (a step
-    /// costs about 0.45 s at 1M dots on two cores); colour drawings spread
-    /// their pens apart instead].
+    /// make the spacing more even, each pen's dots on their own in colour
+    /// [default: 2 for corrected dots (sized, --correction on) up to
+    /// 200 000 dots, else none (a step costs about 0.45 s at 1M dots on
+    /// two cores)].
     #[cfg_attr(feature = "cli", arg(long))]
     #[serde(skip_serializing_if = "Option::is_none")]
     pub relax: Option<u32>,

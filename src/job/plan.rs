@@ -7,10 +7,10 @@
 //!
 //! The one rule for grey and colour alike ([`Job::corrects`], `decide`): sized dots
 //! on a tone mapping with `--correction on` are corrected toward the
-//! picture by rendering the drawing, and up to [`AUTO_RELAX_DOTS`] a grey
-//! drawing is relaxed by default ([`AUTO_RELAX_STEPS`]) and a colour
-//! drawing's pens are spread apart instead ([`Plan::spread`]: relaxing
-//! them as well measured no closer in colour); a relaxed drawing is
+//! picture by rendering the drawing, and up to [`AUTO_RELAX_DOTS`] a
+//! drawing is relaxed by default ([`AUTO_RELAX_STEPS`]; a colour drawing's
+//! pens are first spread apart, [`Plan::spread`], and then each relaxed on
+//! its own); a relaxed drawing is
 //! always corrected (its dots overlap less than the calibration's, so only
 //! the correction keeps its tones), its render made as fine as the
 //! correction needs. Past [`AUTO_RELAX_DOTS`] the drawing is neither
@@ -56,10 +56,8 @@ pub struct Plan {
     /// Whether a colour drawing's pens are spread apart after they are
     /// given out (each pen's dots evener): up to [`AUTO_RELAX_DOTS`] dots,
     /// where it costs little beside the rest (0.13 s at 200K dots; 0.65 s
-    /// at 1M, nearly the drawing's own cost). Such a drawing is not
-    /// relaxed by default: on five photos at 20K dots the relaxation
-    /// brought it no closer (mean ΔE00 2.69 relaxed, 2.68 not; at half the
-    /// blur 11.32 and 11.22), and it costs 0.03 s at 20K dots.
+    /// at 1M, nearly the drawing's own cost). Such a drawing is then
+    /// relaxed pen by pen (`crate::stipple::relax_points`).
     pub spread: bool,
     /// Whether the dots are corrected toward the picture by rendering.
     pub corrected: bool,
@@ -351,7 +349,7 @@ struct Decided {
 fn decide(job: &Job, colour: bool, domain: (u32, u32), dots: usize) -> Decided {
     let wants = job.corrects();
     let dense = dots > AUTO_RELAX_DOTS;
-    let relax = job.relax.unwrap_or(if wants && !dense && !colour {
+    let relax = job.relax.unwrap_or(if wants && !dense {
         AUTO_RELAX_STEPS
     } else {
         0
@@ -497,8 +495,7 @@ mod tests {
         ] {
             for colour in [false, true] {
                 let d = decide(&job, colour, domain, dots);
-                let steps = if colour { 0 } else { AUTO_RELAX_STEPS };
-                assert_eq!(d.relax, steps, "{dots}, colour {colour}");
+                assert_eq!(d.relax, AUTO_RELAX_STEPS, "{dots}, colour {colour}");
                 let grid = d.grid.expect("corrected").grid(domain, dots);
                 if !colour {
                     assert!(grid.px_per_spacing() >= MIN_PX_PER_SPACING, "{dots}");
