@@ -641,10 +641,7 @@ fn the_plan_spreads_and_relaxes_colour_pens_and_relaxes_grey() {
     let colour = plan("20000", Some("cmyk"));
     assert_eq!(
         (colour["spread"].as_bool(), colour["relax"].as_u64()),
-        (
-            Some(true),
-            Some(u64::from(pixelpie::job::AUTO_RELAX_STEPS))
-        )
+        (Some(true), Some(u64::from(pixelpie::job::AUTO_RELAX_STEPS)))
     );
     assert_eq!(colour["corrected"].as_bool(), Some(true));
     let line = colour["line"].as_str().unwrap();

@@ -380,7 +380,7 @@ impl Classes<'_> {
 
     /// Σ 1/r_c² over the classes that have samples, at a domain pixel's
     /// index, for the radius range `range`: the union's density (its
-    /// radius map's 1/R², the weight of its relaxation), made where it is
+    /// radius map's 1/R²), made where it is
     /// asked. Summed over the pens at the maps' own pixels once and read at
     /// the domain's (one map read, not one per pen, where the maps are
     /// stretched).

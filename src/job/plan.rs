@@ -349,11 +349,9 @@ struct Decided {
 fn decide(job: &Job, colour: bool, domain: (u32, u32), dots: usize) -> Decided {
     let wants = job.corrects();
     let dense = dots > AUTO_RELAX_DOTS;
-    let relax = job.relax.unwrap_or(if wants && !dense {
-        AUTO_RELAX_STEPS
-    } else {
-        0
-    });
+    let relax = job
+        .relax
+        .unwrap_or(if wants && !dense { AUTO_RELAX_STEPS } else { 0 });
     if !wants {
         let why = if job.correction == super::Correction::Off {
             "--correction off"
@@ -482,7 +480,7 @@ mod tests {
     use super::*;
 
     /// The one rule: corrected up to the auto limit, for grey and colour
-    /// alike, grey relaxed with it (colour's pens spread instead); a
+    /// alike, both relaxed with it (colour's pens spread first); a
     /// relaxed grey drawing is corrected at any count, its render grown;
     /// fixed dots are neither.
     #[test]
