@@ -11,7 +11,9 @@
 
 use rayon::prelude::*;
 
-use crate::sampler::coverage::{BAND_ROWS, BLOCK, Blocks, Disk, fill_span, for_each_bucket, isqrt};
+use crate::sampler::coverage::{
+    BAND_ROWS, BLOCK, Blocks, Disk, fill_span, for_each_bucket, isqrt, set_bits,
+};
 use crate::sampler::fixed::{POS_FRAC_BITS, RADIUS_FRAC_BITS};
 use crate::sampler::{Dart, Plan, Policy};
 
@@ -98,6 +100,35 @@ fn cover_band(
             y1.min(i64::from(band.end) - 1 - top),
         )
     };
+    if blocks.is_none() && !plan.periodic {
+        // One distance for every pixel, on a domain with edges: each row's
+        // span straight into the band's words.
+        let f = i64::from(reach) << (POS_FRAC_BITS - RADIUS_FRAC_BITS);
+        let Some(ff) = (f * f).checked_sub(1) else {
+            return;
+        };
+        let ff = ff as u64;
+        let last = i64::from(plan.width) - 1;
+        for qy in y0.max(0)..=y1.min(i64::from(plan.height) - 1) {
+            let sy = s.layer * plan.height + qy as u32;
+            if !band.contains(&sy) {
+                continue;
+            }
+            let dy = (qy * one + half - cy).unsigned_abs();
+            let Some(left) = ff.checked_sub(dy * dy) else {
+                continue;
+            };
+            let dx = isqrt(left) as i64;
+            // Pixels whose centres x·256 + 128 lie within dx of cx.
+            let x0 = ((cx - dx - half + one - 1) >> POS_FRAC_BITS).max(0);
+            let x1 = ((cx + dx - half) >> POS_FRAC_BITS).min(last);
+            if x0 <= x1 {
+                let row = (sy - band.start) as usize * w;
+                set_bits(cov, row + x0 as usize, row + x1 as usize);
+            }
+        }
+        return;
+    }
     // The bounds of the last row of blocks: (its index, [lo, hi]).
     let mut bounds: Option<(u32, [u32; 2])> = None;
     for qy in y0..=y1 {
