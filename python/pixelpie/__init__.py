@@ -433,8 +433,8 @@ def stipple(
     earlier versions), ``correction`` (``"on"``: sized dots corrected
     toward the picture's tones by rendering; ``"off"``: the curves alone,
     as earlier versions), ``relax`` (weighted Lloyd steps, over-relaxed; by
-    default 2 for corrected sized grey dots up to 200 000 dots, else none;
-    colour drawings spread their pens apart instead),
+    default 2 for corrected sized dots up to 200 000 dots, else none; in
+    colour each pen's dots relax on their own),
     ``order`` (``"tsp"``: a short pen-plotter path), ``scale`` (PNG pixels
     per domain pixel), ``width_mm`` and ``pen_mm`` (SVG in millimetres,
     drawn with a pen), ``paper`` (``"a4"``, ``"letter"``, ``"WxHmm"``, ...:

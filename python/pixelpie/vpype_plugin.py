@@ -748,7 +748,11 @@ def _make_command() -> Any:
         **choice("order"),
         help="Drawing order: as sampled, or a short plotter path [default: none].",
     )
-    @click.option("--relax", type=vpype_cli.IntegerType(), help="Weighted Lloyd steps [default: 0].")
+    @click.option(
+        "--relax",
+        type=vpype_cli.IntegerType(),
+        help="Weighted Lloyd steps [default: 2 for corrected dots up to 200 000, else 0].",
+    )
     @click.option("-s", "--seed", type=vpype_cli.IntegerType(), help="Sampler seed [default: 0].")
     @click.option(
         "--policy",

@@ -572,9 +572,9 @@ impl PixelPieApp {
         if ui
             .checkbox(&mut auto, "Auto relax")
             .on_hover_text(format!(
-                "{} Lloyd steps (over-relaxed) up to {}K dots where grey dots are corrected \
+                "{} Lloyd steps (over-relaxed) up to {}K dots where dots are corrected \
                  (sized, tones corrected by rendering), else none (a step costs about as much \
-                 as sampling at 1M dots); colour drawings spread their pens apart instead",
+                 as sampling at 1M dots); in colour, each pen's dots on their own",
                 crate::job::AUTO_RELAX_STEPS,
                 crate::job::AUTO_RELAX_DOTS / 1000
             ))

@@ -444,7 +444,10 @@ mod tests {
             let d = isqrt(m);
             assert!(d * d <= m && (d + 1) * (d + 1) > m, "isqrt({m}) = {d}");
         };
-        for d in (0..5000u64).chain(4000..4200).chain([(1 << 31) - 1, 1 << 30]) {
+        for d in (0..5000u64)
+            .chain(4000..4200)
+            .chain([(1 << 31) - 1, 1 << 30])
+        {
             for m in [d * d, (d * d).saturating_sub(1), d * d + 1, d * d + 2 * d] {
                 check(m);
             }

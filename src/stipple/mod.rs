@@ -141,6 +141,16 @@ pub fn relax_points(
     let Some(first) = maps.first() else {
         return Err(Error::InvalidParameter("nothing to relax".into()));
     };
+    if maps.len() > 1
+        && let Some(p) = points.iter().find(|p| p.class as usize >= maps.len())
+    {
+        return Err(Error::InvalidParameter(format!(
+            "a point of pen {} among {} pens: give each point a pen below {}",
+            p.class,
+            maps.len(),
+            maps.len()
+        )));
+    }
     let own = (first.map.width(), first.map.height());
     let (w, h) = first.domain();
     let xy: Vec<[f32; 2]> = points.iter().map(|p| [p.x, p.y]).collect();
@@ -191,11 +201,12 @@ pub fn relax_points(
 /// even as a grey drawing's, as if each pen were stippled alone, while the
 /// union sample and the spreading ([`crate::job`]) start them interleaved:
 /// `--pens cmyk` at 20K dots on five held-out photos measured a blurred
-/// ΔE00 of 1.08–1.75 at the mean spacing σ and 6.2–9.5 at σ/2, against
+/// ΔE00 of 1.07–1.74 at the mean spacing σ and 6.2–9.5 at σ/2, against
 /// 2.1–2.7 and 8.8–12.6 spread but not relaxed, and 2.5–3.0 and 9.5–13.3
 /// with all pens relaxed together toward the union's density, as before
-/// (docs/colour.md). The pens relax in parallel (each one's triangulation
-/// is one thread's work); the result does not depend on the thread count.
+/// (docs/colour.md). The pens take each step in parallel (each one's
+/// triangulation is one thread's work), and each step is reported; the
+/// result does not depend on the thread count.
 fn relax_pens(
     maps: &[Prepared],
     range: RadiusRange,
@@ -217,55 +228,77 @@ fn relax_pens(
                 .collect()
         })
         .collect();
-    if !progress(None) {
-        return Ok(xy.to_vec());
-    }
-    // Every pen takes all its steps in one call (its weights gathered
-    // once); the steps are reported when all pens are done.
-    let moved = groups
-        .par_iter()
-        .enumerate()
-        .map(|(c, idx)| {
-            let own: Vec<[f32; 2]> = idx.iter().map(|&i| xy[i]).collect();
-            if own.len() < 3 {
-                return Ok(own);
-            }
-            // Integrated at the pen's own spacing, the edge given for
-            // all points times √(all / the pen's): as the union's cells
-            // would be at the union's (at 20K dots 0.037 → 0.020 s, ΔE00
-            // within 0.06 on five photos).
-            let options = match options.cells {
-                relax::Cells::Polygons { edge } => relax::RelaxOptions {
-                    cells: relax::Cells::Polygons {
-                        edge: edge * (xy.len() as f32 / own.len() as f32).sqrt(),
-                    },
-                    ..options
-                },
-                _ => options,
-            };
-            relax_weighted(&own, (w, h), options, &mut |_| true, |i| {
-                let r = f64::from(radius(c, i));
-                if r.is_finite() && r > 0.0 {
-                    r.powi(-4)
-                } else {
-                    0.0
-                }
-            })
-        })
-        .collect::<Result<Vec<_>>>()?;
-    let mut now = xy.to_vec();
-    for (idx, own) in groups.iter().zip(moved) {
-        for (&i, p) in idx.iter().zip(own) {
-            now[i] = p;
+    // Integrated at the pen's own spacing: the edge given for all points
+    // times √(all / the pen's), as the union's cells would be at the
+    // union's (at 20K dots 0.037 → 0.020 s, ΔE00 within 0.06 on five
+    // photos), at most twice it, so that a pen whose ink lies in a small
+    // part of the picture is not integrated coarser than its cells.
+    let options_of = |own: usize| match options.cells {
+        relax::Cells::Polygons { edge } => relax::RelaxOptions {
+            iterations: 1,
+            cells: relax::Cells::Polygons {
+                edge: edge
+                    * (xy.len() as f32 / own.max(1) as f32)
+                        .sqrt()
+                        .min(MAX_PEN_EDGE),
+            },
+            ..options
+        },
+        _ => relax::RelaxOptions {
+            iterations: 1,
+            ..options
+        },
+    };
+    let step = |c: usize, idx: &Vec<usize>, now: &[[f32; 2]]| -> Result<Vec<[f32; 2]>> {
+        let own: Vec<[f32; 2]> = idx.iter().map(|&i| now[i]).collect();
+        if own.len() < 3 {
+            return Ok(own);
         }
-    }
-    for step in 1..=options.iterations {
-        if !progress(Some(step)) {
+        relax_weighted(&own, (w, h), options_of(own.len()), &mut |_| true, |i| {
+            let r = f64::from(radius(c, i));
+            if r.is_finite() && r > 0.0 {
+                r.powi(-4)
+            } else {
+                0.0
+            }
+        })
+    };
+    let mut now = xy.to_vec();
+    for done in 1..=options.iterations {
+        if !progress(None) {
+            break;
+        }
+        // The pens in parallel on polygon cells; one after another on
+        // pixel cells, whose weights span the whole domain per pen.
+        let moved: Vec<Vec<[f32; 2]>> =
+            if matches!(options.cells, relax::Cells::Polygons { .. }) && !options.periodic {
+                groups
+                    .par_iter()
+                    .enumerate()
+                    .map(|(c, idx)| step(c, idx, &now))
+                    .collect::<Result<_>>()?
+            } else {
+                groups
+                    .iter()
+                    .enumerate()
+                    .map(|(c, idx)| step(c, idx, &now))
+                    .collect::<Result<_>>()?
+            };
+        for (idx, own) in groups.iter().zip(moved) {
+            for (&i, p) in idx.iter().zip(own) {
+                now[i] = p;
+            }
+        }
+        if !progress(Some(done)) {
             break;
         }
     }
     Ok(now)
 }
+
+/// The most a pen's integration edge is widened over the one given for
+/// all its points ([`relax_pens`]).
+const MAX_PEN_EDGE: f32 = 2.0;
 
 /// [`relax::relax_until`] of `xy` on the `(w, h)` domain, pixel `i`
 /// weighing `weight(i)`: asked only where [`relax::Cells::Polygons`]
@@ -323,7 +356,7 @@ mod tests {
             let values = (0..w * h)
                 .map(|i| {
                     let x = (i % w) as f32 / (w - 1) as f32;
-                    0.2 + 0.6 * if flip { 1.0 - x } else { x }
+                    0.02 + 0.96 * if flip { 1.0 - x } else { x }
                 })
                 .collect();
             let map = ImportanceMap::from_values(w, h, values).unwrap();
@@ -335,37 +368,56 @@ mod tests {
             state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
             (state >> 8) as f32 / (1u32 << 24) as f32
         };
-        let points: Vec<Point> = (0..400)
+        let points: Vec<Point> = (0..1200)
             .map(|i| Point {
                 x: next() * w as f32,
                 y: next() * h as f32,
-                radius: 3.0,
+                radius: 2.0,
                 class: i % 2,
             })
             .collect();
         let options = relax::RelaxOptions {
-            iterations: 2,
+            iterations: 4,
             periodic: false,
-            cells: relax::Cells::Polygons { edge: 3.0 },
+            cells: relax::Cells::Polygons { edge: 2.0 },
             over: relax::OVER_RELAX,
         };
-        let both = relax_points(&maps, range, &points, options, &mut |_| true).unwrap();
-        let pen0: Vec<Point> = points.iter().filter(|p| p.class == 0).copied().collect();
-        // Alone, at the edge its cells had among both pens' (each pen's
-        // cells are integrated at its own spacing).
-        let scaled = relax::RelaxOptions {
-            cells: relax::Cells::Polygons {
-                edge: 3.0 * (points.len() as f32 / pen0.len() as f32).sqrt(),
-            },
-            ..options
-        };
-        let alone = relax_points(&maps, range, &pen0, scaled, &mut |_| true).unwrap();
-        let moved: Vec<&Point> = both.iter().filter(|p| p.class == 0).collect();
-        assert_eq!(moved.len(), alone.len());
-        for (a, b) in moved.iter().zip(&alone) {
-            assert_eq!((a.x, a.y, a.class), (b.x, b.y, b.class));
-        }
+        let mut steps = Vec::new();
+        let both = relax_points(&maps, range, &points, options, &mut |s| {
+            steps.extend(s);
+            true
+        })
+        .unwrap();
+        assert_eq!(steps, [1, 2, 3, 4], "each step is reported");
         assert!(both.iter().zip(&points).all(|(a, b)| a.class == b.class));
+        // Each pen as the relaxation of its points alone on its own
+        // density (1/r⁴ of its own radius) makes it, at the edge its cells
+        // had among both pens' (each pen's integrated at its own spacing).
+        let classes = crate::importance::Classes { maps: &maps };
+        let radius = classes.class_radius(range);
+        for pen in 0..2u32 {
+            let own: Vec<[f32; 2]> = points
+                .iter()
+                .filter(|p| p.class == pen)
+                .map(|p| [p.x, p.y])
+                .collect();
+            let scaled = relax::RelaxOptions {
+                cells: relax::Cells::Polygons {
+                    edge: 2.0 * (points.len() as f32 / own.len() as f32).sqrt(),
+                },
+                ..options
+            };
+            let want = relax_weighted(&own, (w, h), scaled, &mut |_| true, |i| {
+                f64::from(radius(pen as usize, i)).powi(-4)
+            })
+            .unwrap();
+            let got: Vec<[f32; 2]> = both
+                .iter()
+                .filter(|p| p.class == pen)
+                .map(|p| [p.x, p.y])
+                .collect();
+            assert_eq!(got, want, "pen {pen}");
+        }
         // Pen 0 is darkest on the left, pen 1 on the right: each drifts
         // toward its own dark side (relaxed together toward the union's
         // density, even across the picture, neither would).
@@ -373,7 +425,14 @@ mod tests {
             let xs: Vec<f32> = pts.iter().filter(|p| p.class == c).map(|p| p.x).collect();
             xs.iter().sum::<f32>() / xs.len() as f32
         };
-        assert!(mean_x(&both, 0) < mean_x(&points, 0) - 0.15);
-        assert!(mean_x(&both, 1) > mean_x(&points, 1) + 0.15);
+        let drift = (
+            mean_x(&both, 0) - mean_x(&points, 0),
+            mean_x(&both, 1) - mean_x(&points, 1),
+        );
+        assert!(drift.0 < -0.25 && drift.1 > 0.25, "{drift:?}");
+        // A point of a pen the maps do not have is refused.
+        let mut odd = points.clone();
+        odd[5].class = 2;
+        assert!(relax_points(&maps, range, &odd, options, &mut |_| true).is_err());
     }
 }
