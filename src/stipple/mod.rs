@@ -201,7 +201,7 @@ pub fn relax_points(
 /// even as a grey drawing's, as if each pen were stippled alone, while the
 /// union sample and the spreading ([`crate::job`]) start them interleaved:
 /// `--pens cmyk` at 20K dots on five held-out photos measured a blurred
-/// ΔE00 of 1.07–1.74 at the mean spacing σ and 6.2–9.5 at σ/2, against
+/// ΔE00 of 1.08–1.73 at the mean spacing σ and 6.2–9.6 at σ/2, against
 /// 2.1–2.7 and 8.8–12.6 spread but not relaxed, and 2.5–3.0 and 9.5–13.3
 /// with all pens relaxed together toward the union's density, as before
 /// (docs/colour.md). The pens take each step in parallel (each one's
