@@ -479,6 +479,19 @@ const REACH: f32 = 2.5;
 mod tests {
     use super::*;
 
+    /// Three pens' shares on a domain `width` pixels wide: `left` on its
+    /// left half, `right` on its right.
+    fn halves(
+        width: usize,
+        left: [f32; 3],
+        right: [f32; 3],
+    ) -> impl Fn(usize, &mut [f32]) -> bool + Sync {
+        move |i, out| {
+            out.copy_from_slice(if i % width < width / 2 { &left } else { &right });
+            true
+        }
+    }
+
     #[test]
     fn the_curve_visits_every_cell_once_moving_one_cell_at_a_time() {
         let order = 4;
@@ -531,14 +544,7 @@ mod tests {
                 }
             })
             .collect();
-        let share = |i: usize, out: &mut [f32]| {
-            out.copy_from_slice(if i % 256 < 128 {
-                &[0.2, 0.3, 0.5]
-            } else {
-                &[0.6, 0.2, 0.2]
-            });
-            true
-        };
+        let share = halves(256, [0.2, 0.3, 0.5], [0.6, 0.2, 0.2]);
         let given = pens(&points, (256, 256), 3, &share);
         let run = |threads| {
             let mut p = given.clone();
@@ -611,14 +617,7 @@ mod tests {
         points[100].radius = f32::NAN;
         points[101].radius = -1.0;
         // Pen 2 has no ink right of x = 96; pen 0 none left of it.
-        let share = |i: usize, out: &mut [f32]| {
-            out.copy_from_slice(if i % 192 < 96 {
-                &[0.0, 0.5, 0.5]
-            } else {
-                &[0.5, 0.5, 0.0]
-            });
-            true
-        };
+        let share = halves(192, [0.0, 0.5, 0.5], [0.5, 0.5, 0.0]);
         let given = pens(&points, (192, 192), 3, &share);
         let mut spread = given.clone();
         spread_pens(&mut spread, (192, 192), 3, &share);
