@@ -143,6 +143,16 @@ fn a_larger_domain_and_capped_runs_match_reference_implementation() {
             .with_seed(5),
         "odd sizes, small batch",
     );
+    // A batch above the pixel count: the GPU's room for accepted samples is
+    // the pixel count, too small for another batch once any are held, so
+    // every iteration's survivors are read back apart.
+    assert_identical(
+        &Params::new(96, 80)
+            .with_radius(2.0)
+            .with_batch(1 << 20)
+            .with_seed(4),
+        "batch above the pixel count",
+    );
 }
 
 /// A 200×150 domain with a stepped radius map, for every policy, periodic

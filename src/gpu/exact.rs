@@ -799,6 +799,7 @@ impl Stepper for ExactGpuStepper<'_> {
             stages: StageTimes::default(),
             finished: false,
             removed: Vec::new(),
+            held: 0,
         };
         if rules::refines(self.ex.level, self.ex.frac, count as usize, darts as usize) {
             self.refine()?;

@@ -354,6 +354,7 @@ impl GpuSampler {
             res,
             plan: &plan,
             config,
+            held: 0,
         };
         run::run(&plan, &mut stepper, stats, ctl)
     }
@@ -419,8 +420,10 @@ impl GpuSampler {
     }
 }
 
-/// One GPU run between iterations: the device, the stages, the buffers and
-/// the configuration that the next iteration uploads.
+/// One GPU run between iterations: the device, the stages, the buffers,
+/// the configuration that the next iteration uploads and the accepted
+/// samples the GPU holds, read back when the run ends or their room would
+/// not take another batch (one read-back per run, not one per iteration).
 struct GpuStepper<'a> {
     device: &'a wgpu::Device,
     queue: &'a wgpu::Queue,
@@ -428,6 +431,18 @@ struct GpuStepper<'a> {
     res: &'a Resources,
     plan: &'a Plan,
     config: Config,
+    held: u32,
+}
+
+impl GpuStepper<'_> {
+    /// Reads back the held samples.
+    fn take_held(&mut self) -> Result<Vec<crate::sampler::Point>> {
+        let points = self
+            .res
+            .take_held(self.device, self.queue, self.plan, self.held)?;
+        self.held = 0;
+        Ok(points)
+    }
 }
 
 impl Stepper for GpuStepper<'_> {
@@ -439,9 +454,23 @@ impl Stepper for GpuStepper<'_> {
         self.config.iteration_key = iteration_key(self.plan.seed_key, iteration);
         self.config.darts = darts;
         self.res.dart_scan.set_len(self.queue, darts + 1, 0);
-        let it = self
-            .res
-            .iterate(self.device, self.queue, self.stages, self.plan, self.config)?;
+        let mut accepted = Vec::new();
+        if self.held + darts > self.res.held_capacity() {
+            accepted = self.take_held()?;
+        }
+        let it = self.res.iterate(
+            self.device,
+            self.queue,
+            self.stages,
+            self.plan,
+            self.config,
+            self.held,
+        )?;
+        self.held += it.accepted;
+        let last = it.empty == 0 || iteration + 1 >= self.plan.max_iterations;
+        if last || self.held + self.res.capacity() > self.res.held_capacity() {
+            accepted.extend(self.take_held()?);
+        }
         self.config.empty = it.empty;
         self.config.first = 0;
         let mut stages = StageTimes::default();
@@ -450,10 +479,11 @@ impl Stepper for GpuStepper<'_> {
         }
         Ok(Step {
             empty: u64::from(it.empty),
-            accepted: it.survivors.iter().map(|d| self.plan.point(d)).collect(),
+            accepted,
             stages,
             finished: false,
             removed: Vec::new(),
+            held: self.held as usize,
         })
     }
 

@@ -1,6 +1,7 @@
 //! The GPU memory of a run, allocated once per domain and reused: darts,
-//! survivors, the depth map, the coverage bitmap, the scans, the radius map
-//! and the read-back buffer; and the encoding of one iteration.
+//! survivors, the depth map, the coverage bitmap, the scans, the radius map,
+//! the accepted samples held on the GPU and the read-back buffer; and the
+//! encoding of one iteration.
 
 use std::time::Instant;
 
@@ -11,7 +12,7 @@ use super::cull::CullStage;
 use super::throw::{ThrowGroups, ThrowStage};
 use super::util::{self, Bindings};
 use crate::sampler::Dart;
-use crate::sampler::{Plan, Policy, Result};
+use crate::sampler::{Plan, Point, Policy, Result};
 
 /// Bytes of the read-back header: empty count, survivor count, padding and
 /// six timestamps.
@@ -68,14 +69,26 @@ const fn str_eq(a: &str, b: &str) -> bool {
     true
 }
 
-/// What one iteration returns.
+/// What one iteration returns. Its survivors stay on the GPU, appended to
+/// the held samples ([`Resources::take_held`] reads them back).
 pub struct Iteration {
     /// Empty pixels after the iteration.
     pub empty: u32,
-    /// Survivors in dart order.
-    pub survivors: Vec<Dart>,
+    /// Survivors (darts accepted) in this iteration.
+    pub accepted: u32,
     /// Seconds of S1, S2 and PP.
     pub seconds: [f64; 3],
+}
+
+/// Accepted samples the GPU holds between read-backs: four full batches, at
+/// least 64K, and never more than the slots (one sample per slot at most).
+/// A run of the paper's batch (N/2) is read back once, at its end.
+fn held_capacity(capacity: u32, slots: u32) -> u32 {
+    capacity
+        .saturating_mul(4)
+        .max(1 << 16)
+        .min(slots)
+        .max(capacity)
 }
 
 /// How dart throwing (S1) rasterizes the disks.
@@ -210,6 +223,10 @@ pub struct Resources {
     /// The run's configuration (uniform).
     pub config: wgpu::Buffer,
     survivors: wgpu::Buffer,
+    /// Accepted samples not yet read back, in acceptance order.
+    held: wgpu::Buffer,
+    /// Room in `held`, in samples.
+    held_capacity: u32,
     /// The coverage bitmap, one bit per pixel.
     pub coverage: wgpu::Buffer,
     words: u32,
@@ -259,6 +276,14 @@ impl Resources {
         );
         let darts = util::buffer_of(device, "darts", dart_bytes, B::STORAGE);
         let survivors = util::buffer_of(device, "survivors", dart_bytes, B::STORAGE | B::COPY_SRC);
+        let held_capacity = held_capacity(capacity, plan.slots());
+        let held_bytes = u64::from(held_capacity) * DART_BYTES;
+        let held = util::buffer_of(
+            device,
+            "held samples",
+            held_bytes,
+            B::COPY_DST | B::COPY_SRC,
+        );
         let coverage = util::buffer_of(
             device,
             "coverage",
@@ -275,7 +300,7 @@ impl Resources {
         let staging = util::buffer_of(
             device,
             "read-back",
-            HEADER + dart_bytes,
+            HEADER + held_bytes,
             B::MAP_READ | B::COPY_DST,
         );
         let queries = timestamps.then(|| timestamp_queries(device));
@@ -303,7 +328,8 @@ impl Resources {
         let bytes = s1_bytes
             + radius.bytes(plan)
             + radius.near.size()
-            + 3 * dart_bytes
+            + 2 * dart_bytes
+            + held_bytes
             + coverage.size()
             + word_scan.bytes()
             + dart_scan.bytes();
@@ -317,6 +343,8 @@ impl Resources {
             keys,
             config,
             survivors,
+            held,
+            held_capacity,
             coverage,
             words,
             word_scan,
@@ -347,6 +375,16 @@ impl Resources {
         self.bytes
     }
 
+    /// Darts per batch, at most.
+    pub fn capacity(&self) -> u32 {
+        self.capacity
+    }
+
+    /// Room for accepted samples on the GPU between read-backs.
+    pub fn held_capacity(&self) -> u32 {
+        self.held_capacity
+    }
+
     /// The timestamp writes of a pass that is all of the stage whose first
     /// query is `first` ([`stage_index`]).
     fn pass_writes(&self, first: u32) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
@@ -359,8 +397,10 @@ impl Resources {
             })
     }
 
-    /// Encodes, runs and reads back one iteration of `config.darts` darts.
-    /// Without timestamp queries each stage is submitted and timed on its own.
+    /// Encodes and runs one iteration of `config.darts` darts, appends its
+    /// survivors to the `held` samples the GPU already holds, and reads back
+    /// its counts and times. Without timestamp queries each stage is
+    /// submitted and timed on its own.
     pub fn iterate(
         &self,
         device: &wgpu::Device,
@@ -368,8 +408,15 @@ impl Resources {
         stages: Stages<'_>,
         plan: &Plan,
         config: Config,
+        held: u32,
     ) -> Result<Iteration> {
         let darts = config.darts;
+        if u64::from(held) + u64::from(darts) > u64::from(self.held_capacity) {
+            return Err(super::error::unusable(format!(
+                "{held} held samples and {darts} darts exceed the room for {}",
+                self.held_capacity
+            )));
+        }
         let mut laps = Laps::new(device, queue, self.queries.is_none());
         let mut encoder = device.create_command_encoder(&Default::default());
         let strips = self.encode_s1(device, queue, &mut encoder, stages, plan, config);
@@ -410,7 +457,41 @@ impl Resources {
         }
         laps.lap(&mut encoder, 2);
         let seconds = laps.seconds;
+        // The whole batch's room: what lies past this iteration's survivors
+        // is overwritten by the next iteration's or never read.
+        encoder.copy_buffer_to_buffer(
+            &self.survivors,
+            0,
+            &self.held,
+            u64::from(held) * DART_BYTES,
+            u64::from(darts) * DART_BYTES,
+        );
         self.read_iteration(device, queue, encoder, darts, seconds)
+    }
+
+    /// Reads back the first `count` held samples, as points, in acceptance
+    /// order; the GPU's room for them is free again afterwards.
+    pub fn take_held(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        plan: &Plan,
+        count: u32,
+    ) -> Result<Vec<Point>> {
+        if count == 0 {
+            return Ok(Vec::new());
+        }
+        let bytes = u64::from(count.min(self.held_capacity)) * DART_BYTES;
+        let mut encoder = device.create_command_encoder(&Default::default());
+        encoder.copy_buffer_to_buffer(&self.held, 0, &self.staging, HEADER, bytes);
+        queue.submit([encoder.finish()]);
+        util::read_back_with(device, &self.staging, HEADER..HEADER + bytes, |view| {
+            let points = |darts: &[Dart]| darts.iter().map(|d| plan.point(d)).collect();
+            match bytemuck::try_cast_slice::<u8, Dart>(view) {
+                Ok(darts) => points(darts),
+                Err(_) => points(&bytemuck::pod_collect_to_vec::<u8, Dart>(view)),
+            }
+        })
     }
 
     /// Encodes S1: the darts made, then rasterized into the depth map (a
@@ -533,9 +614,9 @@ impl Resources {
         Ok(empty[0])
     }
 
-    /// Copies the counts, the timestamps and the survivors to the
-    /// read-back buffer, submits `encoder` and reads the iteration back;
-    /// with timestamps, they replace the wall-clock `seconds`.
+    /// Copies the counts and the timestamps to the read-back buffer, submits
+    /// `encoder` and reads them back; with timestamps, they replace the
+    /// wall-clock `seconds`.
     fn read_iteration(
         &self,
         device: &wgpu::Device,
@@ -556,11 +637,9 @@ impl Resources {
                 8 * u64::from(QUERIES),
             );
         }
-        let dart_bytes = u64::from(darts) * DART_BYTES;
-        encoder.copy_buffer_to_buffer(&self.survivors, 0, &self.staging, HEADER, dart_bytes);
         queue.submit([encoder.finish()]);
 
-        let view = util::read_back(device, &self.staging, HEADER + dart_bytes)?;
+        let view = util::read_back(device, &self.staging, HEADER)?;
         let header: Vec<u32> = bytemuck::pod_collect_to_vec(&view[..HEADER as usize]);
         let (empty, count) = (header[0], header[1].min(darts));
         if self.queries.is_some() {
@@ -581,12 +660,9 @@ impl Resources {
                 *s = ts[b].saturating_sub(ts[a]) as f64 * period;
             }
         }
-        let survivors = bytemuck::pod_collect_to_vec(
-            &view[HEADER as usize..(HEADER + u64::from(count) * DART_BYTES) as usize],
-        );
         Ok(Iteration {
             empty,
-            survivors,
+            accepted: count,
             seconds,
         })
     }

@@ -202,8 +202,19 @@ pub fn read_back(
     staging: &wgpu::Buffer,
     len: u64,
 ) -> crate::sampler::Result<Vec<u8>> {
+    read_back_with(device, staging, 0..len, <[u8]>::to_vec)
+}
+
+/// Waits for the submitted work and hands the bytes `range` of a `MAP_READ`
+/// buffer to `read` while they are mapped (no copy of them in between).
+pub fn read_back_with<T>(
+    device: &wgpu::Device,
+    staging: &wgpu::Buffer,
+    range: std::ops::Range<u64>,
+    read: impl FnOnce(&[u8]) -> T,
+) -> crate::sampler::Result<T> {
     let (tx, rx) = std::sync::mpsc::channel();
-    staging.map_async(wgpu::MapMode::Read, 0..len, move |r| {
+    staging.map_async(wgpu::MapMode::Read, range.clone(), move |r| {
         let _ = tx.send(r);
     });
     device
@@ -212,12 +223,13 @@ pub fn read_back(
     rx.recv()
         .map_err(|e| super::error::failed("the read-back never answered", e))?
         .map_err(|e| super::error::failed("cannot read back", e))?;
-    let bytes = staging
-        .get_mapped_range(0..len)
-        .map_err(|e| super::error::unusable(format!("cannot read back: {e:?}")))?
-        .to_vec();
+    let out = read(
+        &staging
+            .get_mapped_range(range)
+            .map_err(|e| super::error::unusable(format!("cannot read back: {e:?}")))?,
+    );
     staging.unmap();
-    Ok(bytes)
+    Ok(out)
 }
 
 /// The buffers and views that the stages bind, for their `bind` functions.

@@ -98,6 +98,9 @@ pub struct Step {
     /// Samples taken back, by their index in acceptance order over the
     /// whole run (exact mode's repair of voids; see [`super::exact`]).
     pub removed: Vec<u32>,
+    /// Samples accepted but not yet in `accepted`: the GPU holds them and
+    /// hands them over in a later step, at the latest the run's last.
+    pub held: usize,
 }
 
 /// A backend as the loop sees it: something that runs one iteration.
@@ -132,14 +135,18 @@ pub fn run(
         ctl.check()?;
         let step = stepper.step(iteration, stepper.darts_for(plan, empty))?;
         stats.stages.merge(&step.stages);
-        points.extend(step.accepted);
+        if points.is_empty() {
+            points = step.accepted;
+        } else {
+            points.extend(step.accepted);
+        }
         removed.extend(step.removed);
         empty = step.empty;
         iteration += 1;
         let finished = step.finished;
         ctl.report(Progress {
             iteration,
-            points: points.len() - removed.len(),
+            points: points.len() - removed.len() + step.held,
             empty_pixels: empty,
             pixels: u64::from(pixels),
         });

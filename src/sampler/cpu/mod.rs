@@ -133,6 +133,7 @@ impl Stepper for CpuStepper<'_> {
             stages,
             finished: false,
             removed: Vec::new(),
+            held: 0,
         })
     }
 

@@ -727,6 +727,7 @@ impl Stepper for ExactStepper<'_> {
             stages,
             finished: active == 0,
             removed,
+            held: 0,
         })
     }
 
