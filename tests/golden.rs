@@ -281,7 +281,7 @@ fn the_gpu_gives_the_pinned_points_on_both_s1_paths() {
             return;
         }
     };
-    for path in [S1Path::Raster, S1Path::Compute] {
+    for path in S1Path::ALL {
         let results: Vec<_> = sampler_cases()
             .into_iter()
             .map(|(case, params)| {

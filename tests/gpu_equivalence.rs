@@ -174,10 +174,10 @@ fn step_map_cases(seed: u64) -> impl Iterator<Item = (Policy, bool, Params)> {
 }
 
 #[test]
-fn both_s1_paths_match_reference_implementation() {
+fn every_s1_path_matches_reference_implementation() {
     use pixelpie::gpu::S1Path;
     let Some(g) = gpu() else { return };
-    for path in [S1Path::Raster, S1Path::Compute] {
+    for path in S1Path::ALL {
         for (policy, periodic, params) in step_map_cases(13) {
             let mut s = g.sampler.lock().unwrap();
             s.set_path(Some(path));
@@ -193,10 +193,10 @@ fn both_s1_paths_match_reference_implementation() {
             );
             assert_eq!(
                 on_gpu.stats.backend,
-                if path == S1Path::Raster {
-                    BackendKind::GpuRaster
-                } else {
-                    BackendKind::GpuCompute
+                match path {
+                    S1Path::Raster => BackendKind::GpuRaster,
+                    S1Path::Compute => BackendKind::GpuCompute,
+                    S1Path::Coalesced => BackendKind::GpuCoalesced,
                 }
             );
         }
@@ -208,39 +208,44 @@ fn a_chunked_key_buffer_matches_reference_implementation() {
     use pixelpie::gpu::S1Path;
     let Some(g) = gpu() else { return };
     let mut s = g.sampler.lock().unwrap();
-    s.set_path(Some(S1Path::Compute));
-    let mut run = |params: &Params, cap: Option<u32>| {
-        s.set_strip_cap(cap);
-        s.sample(&g.ctx.device, &g.ctx.queue, params, Control::default())
-            .expect("GPU")
-    };
-    // Strips of 1 row, of 7 (the last one partial) and of 64 rows.
-    let uniform = Params::new(200, 150).with_radius(3.5).with_seed(5);
-    let whole = run(&uniform, None);
-    let reference = cpu::sample(&uniform, Control::default()).unwrap();
-    assert_eq!(whole.points, reference.points, "uniform, whole key buffer");
-    for cap in [1, 7, 64] {
-        let chunked = run(&uniform, Some(cap));
+    for path in [S1Path::Compute, S1Path::Coalesced] {
+        s.set_path(Some(path));
+        let mut run = |params: &Params, cap: Option<u32>| {
+            s.set_strip_cap(cap);
+            s.sample(&g.ctx.device, &g.ctx.queue, params, Control::default())
+                .expect("GPU")
+        };
+        // Strips of 1 row, of 7 (the last one partial) and of 64 rows.
+        let uniform = Params::new(200, 150).with_radius(3.5).with_seed(5);
+        let whole = run(&uniform, None);
+        let reference = cpu::sample(&uniform, Control::default()).unwrap();
         assert_eq!(
-            chunked.points, whole.points,
-            "uniform, strips of {cap} rows"
+            whole.points, reference.points,
+            "{path:?} uniform, whole key buffer"
         );
-        // The key buffer, 4 B/px when whole, shrinks to one strip; nothing
-        // else changes.
-        let saved = whole.stats.bytes_per_pixel - chunked.stats.bytes_per_pixel;
-        let want = 4.0 * f64::from(150 - cap) / 150.0;
-        assert!(
-            (saved - want).abs() < 1e-9,
-            "strips of {cap} rows save {saved} B/px, not {want}"
-        );
-    }
-    for (policy, periodic, params) in step_map_cases(21) {
-        let on_gpu = run(&params, Some(7));
-        let on_cpu = cpu::sample(&params, Control::default()).unwrap();
-        assert_eq!(
-            on_gpu.points, on_cpu.points,
-            "strips of 7 rows, {policy:?} periodic {periodic}"
-        );
+        for cap in [1, 7, 64] {
+            let chunked = run(&uniform, Some(cap));
+            assert_eq!(
+                chunked.points, whole.points,
+                "{path:?} uniform, strips of {cap} rows"
+            );
+            // The key buffer, 4 B/px when whole, shrinks to one strip;
+            // nothing else changes.
+            let saved = whole.stats.bytes_per_pixel - chunked.stats.bytes_per_pixel;
+            let want = 4.0 * f64::from(150 - cap) / 150.0;
+            assert!(
+                (saved - want).abs() < 1e-9,
+                "{path:?} strips of {cap} rows save {saved} B/px, not {want}"
+            );
+        }
+        for (policy, periodic, params) in step_map_cases(21) {
+            let on_gpu = run(&params, Some(7));
+            let on_cpu = cpu::sample(&params, Control::default()).unwrap();
+            assert_eq!(
+                on_gpu.points, on_cpu.points,
+                "{path:?} strips of 7 rows, {policy:?} periodic {periodic}"
+            );
+        }
     }
     s.set_strip_cap(None);
     s.set_path(None);
@@ -377,6 +382,7 @@ fn class_maps(w: u32, h: u32) -> pixelpie::sampler::ClassRadii {
 /// every policy, periodic or not, whole or in strips of the key buffer.
 #[test]
 fn classes_match_reference_implementation() {
+    use pixelpie::gpu::S1Path;
     let Some(g) = gpu() else { return };
     let classes = Arc::new(class_maps(160, 120));
     for policy in Policy::ALL {
@@ -396,25 +402,42 @@ fn classes_match_reference_implementation() {
                 (0..3).all(|c| class(&on_cpu).contains(&c)),
                 "{what}: a class is missing"
             );
-            assert_eq!(on_gpu.stats.backend, BackendKind::GpuCompute);
+            assert!(
+                matches!(
+                    on_gpu.stats.backend,
+                    BackendKind::GpuCompute | BackendKind::GpuCoalesced
+                ),
+                "{what}: classes take a compute path, not {}",
+                on_gpu.stats.backend
+            );
         }
     }
     // The key buffer in strips of 5 stacked rows (a strip may span two
-    // classes' layers), and small batches.
-    let mut s = g.sampler.lock().unwrap();
-    s.set_strip_cap(Some(5));
+    // classes' layers), and small batches, on both compute paths; a raster
+    // path asked for takes the compute path with classes.
     let params = Params::new(160, 120)
         .with_classes(classes)
         .with_batch(37)
         .with_seed(3);
-    let chunked = s
-        .sample(&g.ctx.device, &g.ctx.queue, &params, Control::default())
-        .expect("GPU");
-    s.set_strip_cap(None);
-    drop(s);
     let reference = cpu::sample(&params, Control::default()).unwrap();
-    assert_eq!(
-        chunked.points, reference.points,
-        "classes in strips of 5 rows"
-    );
+    for (path, kind) in [
+        (S1Path::Compute, BackendKind::GpuCompute),
+        (S1Path::Coalesced, BackendKind::GpuCoalesced),
+        (S1Path::Raster, BackendKind::GpuCompute),
+    ] {
+        let mut s = g.sampler.lock().unwrap();
+        s.set_strip_cap(Some(5));
+        s.set_path(Some(path));
+        let chunked = s
+            .sample(&g.ctx.device, &g.ctx.queue, &params, Control::default())
+            .expect("GPU");
+        s.set_strip_cap(None);
+        s.set_path(None);
+        drop(s);
+        assert_eq!(
+            chunked.points, reference.points,
+            "{path:?}: classes in strips of 5 rows"
+        );
+        assert_eq!(chunked.stats.backend, kind, "{path:?}");
+    }
 }

@@ -138,6 +138,7 @@ pub fn run(a: &BenchArgs) -> Result<()> {
             for (label, path) in [
                 ("GPU raster", S1Path::Raster),
                 ("GPU compute", S1Path::Compute),
+                ("GPU coalesced", S1Path::Coalesced),
             ] {
                 match best(a.reps, || {
                     g.sample_on(&params, Some(path), Control::default())

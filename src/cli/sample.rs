@@ -73,8 +73,10 @@ pub enum GpuPath {
     Auto,
     /// An instanced depth-only draw (the paper's way).
     Raster,
-    /// A compute pass with atomicMax.
+    /// A compute pass with atomicMax, a thread per row of a disk.
     Compute,
+    /// The compute pass with a warp's lanes along one disk's rows.
+    Coalesced,
 }
 
 impl GpuPath {
@@ -84,6 +86,7 @@ impl GpuPath {
             Self::Auto => None,
             Self::Raster => Some(S1Path::Raster),
             Self::Compute => Some(S1Path::Compute),
+            Self::Coalesced => Some(S1Path::Coalesced),
         };
         if let Ok(gpu) = backend::SharedGpu::get() {
             gpu.set_preferred_path(path);

@@ -220,7 +220,7 @@ impl GpuSampler {
         let side = 512.min(device.limits().max_texture_dimension_2d);
         let probe = Params::new(side, side).with_radius(8.5).with_seed(1);
         let mut best = (f64::INFINITY, S1Path::Raster);
-        for path in [S1Path::Raster, S1Path::Compute] {
+        for path in S1Path::ALL {
             self.path = Some(path);
             // The first run compiles and allocates; time the second.
             let _ = self.run(device, queue, &probe, Control::default())?;
@@ -285,11 +285,10 @@ impl GpuSampler {
         if plan.exact {
             return self.run_exact(device, queue, &plan, ctl);
         }
-        // Classes rasterize a key layer per class: the compute path's.
-        let path = if plan.classes() > 1 {
-            S1Path::Compute
-        } else {
-            self.path_for(device, queue)?
+        // Classes rasterize a key layer per class: a compute path's.
+        let path = match self.path_for(device, queue)? {
+            S1Path::Raster if plan.classes() > 1 => S1Path::Compute,
+            p => p,
         };
         let map_rows = plan.slot_rows() + if plan.classes() > 1 { plan.height } else { 0 };
         if map_rows > max {
@@ -327,7 +326,7 @@ impl GpuSampler {
         res.radius.upload(queue, &plan);
         res.radius.upload_near(queue, &plan);
         let mut config = Config::new(&plan);
-        config.splat = u32::from(path == S1Path::Compute);
+        config.splat = u32::from(path.splats());
         let mut encoder = device.create_command_encoder(&Default::default());
         encoder.clear_buffer(&res.coverage, 0, None);
         queue.submit([encoder.finish()]);
@@ -342,6 +341,7 @@ impl GpuSampler {
             backend: match path {
                 S1Path::Raster => BackendKind::GpuRaster,
                 S1Path::Compute => BackendKind::GpuCompute,
+                S1Path::Coalesced => BackendKind::GpuCoalesced,
             },
             device: self.adapter.clone(),
             gpu_timestamps: timestamps,

@@ -24,7 +24,7 @@ const DART_BYTES: u64 = std::mem::size_of::<Dart>() as u64;
 /// binding; otherwise as many rows as fit, and never more than `cap`. 0 when
 /// not even one row fits.
 fn strip_rows(device: &wgpu::Device, plan: &Plan, path: S1Path, cap: Option<u32>) -> u32 {
-    if path == S1Path::Raster {
+    if !path.splats() {
         return plan.height;
     }
     let max_binding = device.limits().max_storage_buffer_binding_size;
@@ -98,8 +98,23 @@ fn held_capacity(capacity: u32, slots: u32) -> u32 {
 pub enum S1Path {
     /// An instanced depth-only draw into a Depth32Float target (the paper's way).
     Raster,
-    /// A compute pass with atomicMax into a key buffer (`splat.wgsl`).
+    /// A compute pass with atomicMax into a key buffer (`splat.wgsl`), a
+    /// thread per row of a disk.
     Compute,
+    /// The compute pass with the lanes of a warp along one disk's rows, so
+    /// that neighbouring threads write neighbouring keys.
+    Coalesced,
+}
+
+impl S1Path {
+    /// Every path, in the order `auto` measures them.
+    pub const ALL: [Self; 3] = [Self::Raster, Self::Compute, Self::Coalesced];
+
+    /// Whether the path rasterizes into the key buffer (a compute pass).
+    #[must_use]
+    pub const fn splats(self) -> bool {
+        !matches!(self, Self::Raster)
+    }
 }
 
 /// The pixel pass's four stages, as the resources bind and encode them.
@@ -136,7 +151,7 @@ fn s1_target(
     path: S1Path,
     strip_rows: u32,
 ) -> (wgpu::Buffer, wgpu::TextureView) {
-    let splat = path == S1Path::Compute;
+    let splat = path.splats();
     let keys = util::buffer_of(
         device,
         "splat keys",
@@ -294,7 +309,7 @@ impl Resources {
         word_scan.set_len(queue, words, plan.slots());
         // One more flag than darts: the 0 that ends them (see cull.wgsl).
         let dart_scan = ScanChain::new(device, stages.compact, "dart scan", capacity + 1, None);
-        let splat = path == S1Path::Compute;
+        let splat = path.splats();
         let (keys, depth) = s1_target(device, plan, path, strip_rows);
         let radius = RadiusTexture::new(device, plan);
         let staging = util::buffer_of(
@@ -542,7 +557,7 @@ impl Resources {
                         end_of_pass_write_index: Some(1),
                     }),
             ),
-            S1Path::Compute => {
+            S1Path::Compute | S1Path::Coalesced => {
                 for strip in 0..strips {
                     if strip > 0 {
                         let done = std::mem::replace(
@@ -572,6 +587,7 @@ impl Resources {
                         darts,
                         plan.radius_range.1,
                         self.classes,
+                        self.path == S1Path::Coalesced,
                     );
                     if strips > 1 {
                         stages.cull.encode_cull(&mut pass, &self.cull_group, darts);

@@ -5,7 +5,8 @@
 //! trims it to the disk and writes the dart's key as depth, compared Less or
 //! Greater by policy. GPUs that shade fragments slowly take the other path:
 //! `shaders/splat.wgsl` rasterizes the disks in a compute pass with atomicMax
-//! into a key buffer, with the same winners.
+//! into a key buffer, with the same winners: a thread per row of a disk, or
+//! (coalesced) the lanes of a warp along one disk's rows.
 //! Shaders: `shaders/throw.wgsl`, `shaders/raster.wgsl`, `shaders/splat.wgsl`;
 //! CPU mirror: `sampler::cpu::throw`.
 
@@ -33,6 +34,7 @@ pub struct ThrowStage {
     pub splat_layout: wgpu::BindGroupLayout,
     throw: wgpu::ComputePipeline,
     splat: wgpu::ComputePipeline,
+    splat_coalesced: wgpu::ComputePipeline,
     less: wgpu::RenderPipeline,
     greater: wgpu::RenderPipeline,
 }
@@ -107,15 +109,13 @@ impl ThrowStage {
             ],
         );
         let splat_module = util::module(device, "splat.wgsl", util::SHADERS[5].1);
-        let splat = util::compute(
-            device,
-            &util::pipeline_layout(device, &splat_layout),
-            &splat_module,
-            "splat",
-        );
+        let splat_pl = util::pipeline_layout(device, &splat_layout);
+        let splat = util::compute(device, &splat_pl, &splat_module, "splat");
+        let splat_coalesced = util::compute(device, &splat_pl, &splat_module, "splat_coalesced");
         Self {
             splat_layout,
             splat,
+            splat_coalesced,
             less: pipeline(wgpu::CompareFunction::Less),
             greater: pipeline(wgpu::CompareFunction::Greater),
             throw,
@@ -169,7 +169,9 @@ impl ThrowStage {
     }
 
     /// Rasterizes `darts` darts into the key buffer with a compute pass (the
-    /// buffer must be cleared to 0 first), on each of `classes` key layers.
+    /// buffer must be cleared to 0 first), on each of `classes` key layers:
+    /// a thread per row of a disk, or with `coalesced` the lanes of a warp
+    /// along one disk's rows.
     pub fn encode_splat(
         &self,
         pass: &mut wgpu::ComputePass<'_>,
@@ -177,10 +179,18 @@ impl ThrowStage {
         darts: u32,
         max_radius: u32,
         classes: u32,
+        coalesced: bool,
     ) {
-        pass.set_pipeline(&self.splat);
         pass.set_bind_group(0, group, &[]);
-        util::dispatch_rows(pass, darts, util::disk_rows(max_radius), classes);
+        if coalesced {
+            pass.set_pipeline(&self.splat_coalesced);
+            let lanes = u64::from(util::splat_lanes(max_radius));
+            let groups = (u64::from(darts) * lanes).div_ceil(256);
+            util::dispatch_layers(pass, u32::try_from(groups).unwrap_or(u32::MAX), classes);
+        } else {
+            pass.set_pipeline(&self.splat);
+            util::dispatch_rows(pass, darts, util::disk_rows(max_radius), classes);
+        }
     }
 
     /// Rasterizes `darts` darts into `depth`, cleared to the losing end.

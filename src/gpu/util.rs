@@ -158,11 +158,27 @@ const MAX_GROUPS: u32 = 65535;
 
 /// Dispatches `groups` workgroups as a 2D grid (the shaders flatten it).
 pub fn dispatch(pass: &mut wgpu::ComputePass<'_>, groups: u32) {
+    dispatch_layers(pass, groups, 1);
+}
+
+/// Dispatches `groups` workgroups as a 2D grid (the shaders flatten it) on
+/// each of `layers` class layers (z).
+pub fn dispatch_layers(pass: &mut wgpu::ComputePass<'_>, groups: u32, layers: u32) {
     if groups == 0 {
         return;
     }
     let x = groups.min(MAX_GROUPS);
-    pass.dispatch_workgroups(x, groups.div_ceil(x), 1);
+    pass.dispatch_workgroups(x, groups.div_ceil(x), layers.max(1));
+}
+
+/// The threads that share one dart on the coalesced S1 path
+/// (`splat_coalesced` in `splat.wgsl`): the widest row of a disk of radius
+/// up to `r_fx` (1/64 px), 2⌈r⌉ + 1 pixels, rounded up to a power of two,
+/// at most 32. Mirrors `splat_lanes` there.
+#[must_use]
+pub fn splat_lanes(r_fx: u32) -> u32 {
+    let width = 2 * r_fx.div_ceil(crate::sampler::fixed::RADIUS_ONE) + 1;
+    width.next_power_of_two().min(32)
 }
 
 /// The rows a disk of radius up to `r_fx` (1/64 px) spans: the second

@@ -17,7 +17,7 @@ pub struct Point {
 }
 
 /// The backend that ran a set (its name in statistics: `cpu`,
-/// `gpu-raster`, `gpu-compute`, `gpu-exact`).
+/// `gpu-raster`, `gpu-compute`, `gpu-coalesced`, `gpu-exact`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize)]
 #[non_exhaustive]
 pub enum BackendKind {
@@ -31,6 +31,9 @@ pub enum BackendKind {
     /// The GPU, S1 as a compute pass.
     #[serde(rename = "gpu-compute")]
     GpuCompute,
+    /// The GPU, S1 as a compute pass with coalesced writes.
+    #[serde(rename = "gpu-coalesced")]
+    GpuCoalesced,
     /// The GPU in exact mode.
     #[serde(rename = "gpu-exact")]
     GpuExact,
@@ -44,6 +47,7 @@ impl BackendKind {
             Self::Cpu => "cpu",
             Self::GpuRaster => "gpu-raster",
             Self::GpuCompute => "gpu-compute",
+            Self::GpuCoalesced => "gpu-coalesced",
             Self::GpuExact => "gpu-exact",
         }
     }
