@@ -119,7 +119,18 @@ impl RenderModel {
     /// pen k covers `a[k]` of the paper.
     #[must_use]
     pub fn mix(&self, a: &[f64]) -> [f64; 3] {
-        let mut w = [0f64; 1 << super::pens::MAX_PENS];
+        // The weights on the stack at the size the pens need (clearing all
+        // 2^MAX_PENS of them cost more than the mix of four pens).
+        match self.pens {
+            0..=4 => self.mix_in::<16>(a),
+            5..=6 => self.mix_in::<64>(a),
+            _ => self.mix_in::<{ 1 << super::pens::MAX_PENS }>(a),
+        }
+    }
+
+    /// [`Self::mix`] with room for `M` ≥ 2^pens weights.
+    fn mix_in<const M: usize>(&self, a: &[f64]) -> [f64; 3] {
+        let mut w = [0f64; M];
         w[0] = 1.0;
         for (k, &ak) in a.iter().enumerate().take(self.pens) {
             let half = 1usize << k;
@@ -225,17 +236,21 @@ impl Separation {
             let mut step = 0.25;
             let mut fine = false;
             let mut e = cost(&a, fine);
+            // The point the last move came from (pen, ink): its cost is
+            // higher than the current one's, so it is never picked again.
+            let mut came_from: Option<(usize, f64)> = None;
             while step > finest {
                 if !fine && step < FINE_STEP {
                     fine = true;
                     e = cost(&a, fine);
+                    came_from = None;
                 }
                 // The best of the 2n coordinate steps, if any improves.
                 let mut pick: Option<(f64, usize, f64)> = None;
                 for k in 0..n {
                     for dir in [1.0, -1.0] {
                         let t = (a[k] + dir * step).clamp(0.0, self.max_ink);
-                        if t == a[k] {
+                        if t == a[k] || came_from == Some((k, t)) {
                             continue;
                         }
                         let old = a[k];
@@ -250,6 +265,7 @@ impl Separation {
                 match pick {
                     Some((e2, k, t)) => {
                         e = e2;
+                        came_from = Some((k, a[k]));
                         a[k] = t;
                     }
                     None => step *= 0.5,
