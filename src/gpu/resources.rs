@@ -81,13 +81,16 @@ pub struct Iteration {
 }
 
 /// Accepted samples the GPU holds between read-backs: four full batches, at
-/// least 64K, and never more than the slots (one sample per slot at most).
-/// A run of the paper's batch (N/2) is read back once, at its end.
-fn held_capacity(capacity: u32, slots: u32) -> u32 {
+/// least 64K, and never more than the slots (one sample per slot at most)
+/// or than a buffer of the adapter's (`max_bytes`) holds, but one batch at
+/// least. A run of the paper's batch (N/2) is read back once, at its end.
+fn held_capacity(capacity: u32, slots: u32, max_bytes: u64) -> u32 {
+    let fits = u32::try_from(max_bytes.saturating_sub(HEADER) / DART_BYTES).unwrap_or(u32::MAX);
     capacity
         .saturating_mul(4)
         .max(1 << 16)
         .min(slots)
+        .min(fits)
         .max(capacity)
 }
 
@@ -291,7 +294,7 @@ impl Resources {
         );
         let darts = util::buffer_of(device, "darts", dart_bytes, B::STORAGE);
         let survivors = util::buffer_of(device, "survivors", dart_bytes, B::STORAGE | B::COPY_SRC);
-        let held_capacity = held_capacity(capacity, plan.slots());
+        let held_capacity = held_capacity(capacity, plan.slots(), device.limits().max_buffer_size);
         let held_bytes = u64::from(held_capacity) * DART_BYTES;
         let held = util::buffer_of(
             device,
@@ -860,5 +863,25 @@ impl RadiusTexture {
                 depth_or_array_layers: 1,
             },
         );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{DART_BYTES, HEADER, held_capacity};
+
+    #[test]
+    fn the_held_samples_take_four_batches_within_the_slots_and_a_buffer() {
+        let big = u64::MAX;
+        // Room for four batches, at least 64K.
+        assert_eq!(held_capacity(1000, 1 << 20, big), 1 << 16);
+        assert_eq!(held_capacity(100_000, 1 << 24, big), 400_000);
+        // Never more than the slots, but one batch at least.
+        assert_eq!(held_capacity(5000, 9000, big), 9000);
+        assert_eq!(held_capacity(9000, 9000, big), 9000);
+        // Never more than a buffer holds after the header, but one batch.
+        let buffer = HEADER + 300_000 * DART_BYTES;
+        assert_eq!(held_capacity(100_000, 1 << 24, buffer), 300_000);
+        assert_eq!(held_capacity(400_000, 1 << 24, buffer), 400_000);
     }
 }
