@@ -53,6 +53,10 @@ pub struct BenchArgs {
         requires = "stipple"
     )]
     points: Vec<usize>,
+    /// With --stipple: the backend the drawings (and the uniform sampling
+    /// beside them) sample on, in every process and in this one.
+    #[arg(long, value_enum, default_value = "cpu", requires = "stipple")]
+    backend: pixelpie::backend::BackendChoice,
 }
 
 fn best(reps: u32, mut run: impl FnMut() -> sampler::Result<SampleSet>) -> Result<SampleSet> {
@@ -97,10 +101,10 @@ fn row(label: &str, side: u32, batch: u32, s: &SampleSet) {
 
 pub fn run(a: &BenchArgs) -> Result<()> {
     if a.stipple && a.colour {
-        return super::bench_stipple::run_colour(&a.image, &a.points, a.reps);
+        return super::bench_stipple::run_colour(&a.image, &a.points, a.reps, a.backend);
     }
     if a.stipple {
-        return super::bench_stipple::run(&a.image, &a.points, a.reps);
+        return super::bench_stipple::run(&a.image, &a.points, a.reps, a.backend);
     }
     let gpu = if a.no_gpu {
         None

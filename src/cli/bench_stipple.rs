@@ -11,6 +11,7 @@ use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 
+use pixelpie::backend::BackendChoice;
 use pixelpie::importance::ink;
 use pixelpie::job::{Job, Stage, default_domain};
 use pixelpie::sampler::RSA_DENSITY;
@@ -79,13 +80,44 @@ fn uniform_radius(domain: (u32, u32), n: usize) -> f64 {
     r
 }
 
+/// `--backend`'s value for `choice`.
+fn choice_arg(choice: BackendChoice) -> &'static str {
+    match choice {
+        BackendChoice::Auto => "auto",
+        BackendChoice::Cpu => "cpu",
+        BackendChoice::Gpu => "gpu",
+    }
+}
+
+/// The backend in the table's heading.
+fn backend_name(choice: BackendChoice) -> &'static str {
+    match choice {
+        BackendChoice::Auto => "backend auto",
+        BackendChoice::Cpu => "CPU backend",
+        BackendChoice::Gpu => "GPU backend",
+    }
+}
+
+/// Samples `params` on `choice` in this process (the stages' timings).
+fn sample(
+    params: &pixelpie::sampler::Params,
+    choice: BackendChoice,
+) -> pixelpie::Result<pixelpie::sampler::SampleSet> {
+    Ok(pixelpie::backend::sample(
+        params,
+        choice,
+        Default::default(),
+        &mut |_| {},
+    )?)
+}
+
 fn s(p: &Path) -> &str {
     p.to_str().unwrap_or_default()
 }
 
 /// Runs the drawing benchmark on `image` for each of `counts` and prints
 /// its table.
-pub fn run(image: &Path, counts: &[usize], reps: u32) -> Result<()> {
+pub fn run(image: &Path, counts: &[usize], reps: u32, backend: BackendChoice) -> Result<()> {
     let dir = tempfile::tempdir()?;
     let (svg, png, csv): (PathBuf, PathBuf, PathBuf) = (
         dir.path().join("d.svg"),
@@ -95,9 +127,10 @@ pub fn run(image: &Path, counts: &[usize], reps: u32) -> Result<()> {
     let (iw, ih) = image::image_dimensions(image)
         .with_context(|| format!("cannot read '{}'", image.display()))?;
     println!(
-        "{} ({iw}×{ih}), CPU backend ({} threads), whole processes, median of {reps}; \
+        "{} ({iw}×{ih}), {} ({} CPU threads), whole processes, median of {reps}; \
          uniform: the same domain and count, one run\n",
         image.display(),
+        backend_name(backend),
         rayon::current_num_threads()
     );
     println!(
@@ -123,7 +156,7 @@ pub fn run(image: &Path, counts: &[usize], reps: u32) -> Result<()> {
                 "-o",
                 s(&csv),
                 "--backend",
-                "cpu",
+                choice_arg(backend),
                 "-q",
             ],
         )?;
@@ -138,7 +171,7 @@ pub fn run(image: &Path, counts: &[usize], reps: u32) -> Result<()> {
                     "--points",
                     &points,
                     "--backend",
-                    "cpu",
+                    choice_arg(backend),
                     "-q",
                 ],
             )
@@ -149,11 +182,7 @@ pub fn run(image: &Path, counts: &[usize], reps: u32) -> Result<()> {
         let mut job = Job::default();
         job.points = Some(n);
         let t = Instant::now();
-        let drawing = job.run(
-            image,
-            |p| Ok(pixelpie::sampler::cpu::sample(p, Default::default())?),
-            |_| true,
-        )?;
+        let drawing = job.run(image, |p| sample(p, backend), |_| true)?;
         let t_run = t.elapsed().as_secs_f64();
         job.write(&drawing, &svg)?;
         let t_write = t.elapsed().as_secs_f64() - t_run;
@@ -184,12 +213,13 @@ pub fn run(image: &Path, counts: &[usize], reps: u32) -> Result<()> {
 /// drawing (`--pens cmyk`) and the grey one of the same count to SVG, whole
 /// processes run in turn `reps` times (the median of the pairs' ratios,
 /// the largest peaks), and the colour run's stages timed in this process.
-pub fn run_colour(image: &Path, counts: &[usize], reps: u32) -> Result<()> {
+pub fn run_colour(image: &Path, counts: &[usize], reps: u32, backend: BackendChoice) -> Result<()> {
     let dir = tempfile::tempdir()?;
     let svg = dir.path().join("d.svg");
     println!(
-        "{}, CPU backend ({} threads), whole processes to SVG, run in turn, median of {reps}\n",
+        "{}, {} ({} CPU threads), whole processes to SVG, run in turn, median of {reps}\n",
         image.display(),
+        backend_name(backend),
         rayon::current_num_threads()
     );
     println!(
@@ -207,7 +237,7 @@ pub fn run_colour(image: &Path, counts: &[usize], reps: u32) -> Result<()> {
                 "--points",
                 &points,
                 "--backend",
-                "cpu",
+                choice_arg(backend),
                 "-q",
             ];
             if pens {
@@ -231,13 +261,9 @@ pub fn run_colour(image: &Path, counts: &[usize], reps: u32) -> Result<()> {
         let mut job = Job::default();
         job.points = Some(n);
         job.pens = Some(pixelpie::colour::PenSet::cmyk());
-        let drawing = job.run(
-            image,
-            |p| Ok(pixelpie::sampler::cpu::sample(p, Default::default())?),
-            |_| true,
-        )?;
+        let drawing = job.run(image, |p| sample(p, backend), |_| true)?;
         println!(
-            "| {:.0}K | {:.2} | {:.2} | **{:.1}** | {:.0} / {:.0} | {:.2}, {:.2}, {:.2}, {:.2} |",
+            "| {:.0}K | {:.2} | {:.2} | **{:.2}** | {:.0} / {:.0} | {:.2}, {:.2}, {:.2}, {:.2} |",
             drawing.dots.len() as f64 / 1e3,
             median(grey.iter().map(|r| r.0).collect()),
             median(colour.iter().map(|r| r.0).collect()),

@@ -249,19 +249,52 @@ fn relax_pens(
             ..options
         },
     };
-    let step = |c: usize, idx: &Vec<usize>, now: &[[f32; 2]]| -> Result<Vec<[f32; 2]>> {
-        let own: Vec<[f32; 2]> = idx.iter().map(|&i| now[i]).collect();
-        if own.len() < 3 {
-            return Ok(own);
-        }
-        relax_weighted(&own, (w, h), options_of(own.len()), &mut |_| true, |i| {
+    let weight = |c: usize| {
+        let radius = &radius;
+        move |i: usize| {
             let r = f64::from(radius(c, i));
             if r.is_finite() && r > 0.0 {
                 r.powi(-4)
             } else {
                 0.0
             }
-        })
+        }
+    };
+    let step = |c: usize, idx: &Vec<usize>, now: &[[f32; 2]]| -> Result<Vec<[f32; 2]>> {
+        let own: Vec<[f32; 2]> = idx.iter().map(|&i| now[i]).collect();
+        if own.len() < 3 {
+            return Ok(own);
+        }
+        relax_weighted(
+            &own,
+            (w, h),
+            options_of(own.len()),
+            &mut |_| true,
+            weight(c),
+        )
+    };
+    // On polygon cells each pen's weights are asked once for every step.
+    let polygons: Option<Vec<Option<relax::Polygons>>> = match options.cells {
+        relax::Cells::Polygons { .. } if !options.periodic => Some(
+            groups
+                .par_iter()
+                .enumerate()
+                .map(|(c, idx)| {
+                    let relax::Cells::Polygons { edge } = options_of(idx.len()).cells else {
+                        return None;
+                    };
+                    let weights = relax::Weights {
+                        width: w,
+                        height: h,
+                        weight: weight(c),
+                    };
+                    (idx.len() >= 3)
+                        .then(|| relax::Polygons::new(&weights, edge, options.over))
+                        .flatten()
+                })
+                .collect(),
+        ),
+        _ => None,
     };
     let mut now = xy.to_vec();
     for done in 1..=options.iterations {
@@ -270,20 +303,25 @@ fn relax_pens(
         }
         // The pens in parallel on polygon cells; one after another on
         // pixel cells, whose weights span the whole domain per pen.
-        let moved: Vec<Vec<[f32; 2]>> =
-            if matches!(options.cells, relax::Cells::Polygons { .. }) && !options.periodic {
-                groups
-                    .par_iter()
-                    .enumerate()
-                    .map(|(c, idx)| step(c, idx, &now))
-                    .collect::<Result<_>>()?
-            } else {
-                groups
-                    .iter()
-                    .enumerate()
-                    .map(|(c, idx)| step(c, idx, &now))
-                    .collect::<Result<_>>()?
-            };
+        let moved: Vec<Vec<[f32; 2]>> = if let Some(polygons) = &polygons {
+            groups
+                .par_iter()
+                .zip(polygons)
+                .map(|(idx, cells)| {
+                    let own: Vec<[f32; 2]> = idx.iter().map(|&i| now[i]).collect();
+                    Ok(match cells {
+                        Some(c) => c.step(&own),
+                        None => own,
+                    })
+                })
+                .collect::<Result<_>>()?
+        } else {
+            groups
+                .iter()
+                .enumerate()
+                .map(|(c, idx)| step(c, idx, &now))
+                .collect::<Result<_>>()?
+        };
         for (idx, own) in groups.iter().zip(moved) {
             for (&i, p) in idx.iter().zip(own) {
                 now[i] = p;

@@ -267,26 +267,60 @@ pub fn relax_polygons_until<F: Fn(usize) -> f64 + Sync>(
     progress: &mut dyn FnMut(Option<u32>) -> bool,
 ) -> Vec<[f32; 2]> {
     let mut current = points.to_vec();
-    if weights.width == 0 || weights.height == 0 || edge.is_nan() || edge <= 0.0 {
+    let Some(polygons) = Polygons::new(weights, edge, over) else {
         return current;
-    }
-    // Finer than half a pixel reads no more of the weights, only slower.
-    let edge = edge.max(MIN_EDGE);
-    // The weights asked once, at a third of the finest side: astronaut
-    // and rocket at 10K, 100K and 200K dots measure the same as with
-    // every pixel's weight (docs/drawing.md), and the cells read a
-    // ninth of the memory.
-    let grid = cells::Grid::new(weights, (edge / 3.0).floor().max(1.0) as u32);
+    };
     for done in 1..=iterations {
         if !progress(None) {
             break;
         }
-        current = cells::polygon_step(&current, &grid, f64::from(edge), over_factor(over));
+        current = polygons.step(&current);
         if !progress(Some(done)) {
             break;
         }
     }
     current
+}
+
+/// The Lloyd step of [`relax_polygons_until`] with its weights asked once,
+/// for callers that step one set several times or several sets apart.
+pub struct Polygons {
+    grid: cells::Grid,
+    edge: f64,
+    over: f64,
+}
+
+impl Polygons {
+    /// The steps of [`relax_polygons_until`] on `weights`; `None` where it
+    /// leaves the points where they are (an empty domain, a side that is
+    /// not a positive number).
+    pub fn new<F: Fn(usize) -> f64 + Sync>(
+        weights: &Weights<F>,
+        edge: f32,
+        over: f32,
+    ) -> Option<Self> {
+        if weights.width == 0 || weights.height == 0 || edge.is_nan() || edge <= 0.0 {
+            return None;
+        }
+        // Finer than half a pixel reads no more of the weights, only slower.
+        let edge = edge.max(MIN_EDGE);
+        // The weights asked once, at a third of the finest side: astronaut
+        // and rocket at 10K, 100K and 200K dots measure the same as with
+        // every pixel's weight (docs/drawing.md), and the cells read a
+        // ninth of the memory.
+        let grid = cells::Grid::new(weights, (edge / 3.0).floor().max(1.0) as u32);
+        Some(Self {
+            grid,
+            edge: f64::from(edge),
+            over: over_factor(over),
+        })
+    }
+
+    /// One step of `points`.
+    #[must_use]
+    pub fn step(&self, points: &[[f32; 2]]) -> Vec<[f32; 2]> {
+        cells::polygon_step(points, &self.grid, self.edge, self.over)
+    }
 }
 
 /// Squared distance.
