@@ -42,15 +42,12 @@ impl ColourMap {
     pub fn open(path: &Path, hdr_white: Option<f32>) -> Result<Self> {
         // The grey loader checks the file (empty, damaged, NaN) and finds
         // the white point; the colours are decoded next to it.
-        let lum = super::load::load_within(path, super::budget::COLOUR_BYTES_PER_PIXEL)?;
-        let exr = path
-            .extension()
-            .and_then(|e| e.to_str())
-            .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
-        let rgb = if exr {
-            exr_rgb(path, &lum)?
-        } else {
-            raster_rgb(super::load::decode_file(path)?, lum.range)
+        // Decoded once: the luminance and the colours from the same image.
+        let (lum, img) =
+            super::load::load_decoded_within(path, super::budget::COLOUR_BYTES_PER_PIXEL, true)?;
+        let rgb = match img {
+            Some(img) => raster_rgb(img, lum.range),
+            None => exr_rgb(path, &lum)?,
         };
         Self::over_white(&lum, rgb, hdr_white)
     }
@@ -241,16 +238,33 @@ impl ImportanceMap {
 /// The linear RGB of a raster image file (not yet divided by the white
 /// point), with its alpha left to the caller.
 fn raster_rgb(img: image::DynamicImage, range: Range) -> Vec<[f32; 3]> {
+    use image::DynamicImage as D;
     if range == Range::Float {
         return img.to_rgb32f().pixels().map(|p| p.0).collect();
     }
-    let lut: Vec<f32> = (0..=u16::MAX)
-        .map(|v| crate::colour::srgb_to_linear(f32::from(v) / 65535.0))
-        .collect();
+    // 8 bits a channel (most photos): the 256 values they widen to (v·257),
+    // not a table of all 65536.
+    if matches!(
+        img,
+        D::ImageLuma8(_) | D::ImageLumaA8(_) | D::ImageRgb8(_) | D::ImageRgba8(_)
+    ) {
+        let lut: [f32; 256] = std::array::from_fn(|v| linear16(v as u16 * 257));
+        return img
+            .to_rgb8()
+            .pixels()
+            .map(|p| p.0.map(|v| lut[usize::from(v)]))
+            .collect();
+    }
+    let lut: Vec<f32> = (0..=u16::MAX).map(linear16).collect();
     img.to_rgb16()
         .pixels()
         .map(|p| p.0.map(|v| lut[usize::from(v)]))
         .collect()
+}
+
+/// The linear light of a 16-bit sRGB value.
+fn linear16(v: u16) -> f32 {
+    crate::colour::srgb_to_linear(f32::from(v) / 65535.0)
 }
 
 /// The linear RGB of an EXR: its R, G and B channels, or its luminance.
@@ -269,4 +283,43 @@ fn exr_rgb(path: &Path, lum: &super::Luminance) -> Result<Vec<[f32; 3]>> {
         (None, Some(r), Some(g), Some(b)) => (0..r.len()).map(|i| [r[i], g[i], b[i]]).collect(),
         _ => lum.values.iter().map(|&v| [v; 3]).collect(),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// 8-bit pictures read through their 256 values give what the 16-bit
+    /// table gives them (each value widened to v·257), with and without
+    /// alpha, grey or colour.
+    #[test]
+    fn eight_bit_colours_are_the_sixteen_bit_tables() {
+        let (w, h) = (256u32, 3u32);
+        let raw: Vec<u8> = (0..w * h * 4).map(|i| (i * 97 % 256) as u8).collect();
+        let rgba = image::RgbaImage::from_raw(w, h, raw).unwrap();
+        let images = [
+            image::DynamicImage::ImageRgba8(rgba.clone()),
+            image::DynamicImage::ImageRgb8(image::DynamicImage::ImageRgba8(rgba.clone()).to_rgb8()),
+            image::DynamicImage::ImageLuma8(
+                image::DynamicImage::ImageRgba8(rgba.clone()).to_luma8(),
+            ),
+            image::DynamicImage::ImageLumaA8(
+                image::DynamicImage::ImageRgba8(rgba).to_luma_alpha8(),
+            ),
+        ];
+        let lut: Vec<f32> = (0..=u16::MAX).map(linear16).collect();
+        for img in images {
+            let want: Vec<[f32; 3]> = img
+                .to_rgb16()
+                .pixels()
+                .map(|p| p.0.map(|v| lut[usize::from(v)]))
+                .collect();
+            assert_eq!(
+                raster_rgb(img.clone(), Range::Unit),
+                want,
+                "{:?}",
+                img.color()
+            );
+        }
+    }
 }

@@ -50,6 +50,17 @@ pub fn load(path: &Path) -> Result<Luminance> {
 /// [`load`], refusing from its header a picture that would need more than
 /// the memory budget at `per_pixel` bytes a pixel ([`super::budget`]).
 pub(crate) fn load_within(path: &Path, per_pixel: u64) -> Result<Luminance> {
+    Ok(load_decoded_within(path, per_pixel, false)?.0)
+}
+
+/// [`load_within`], with `keep`, the decoded raster image it read the
+/// luminance from (`None` for an EXR or without `keep`), for a caller that
+/// needs its colours too.
+pub(crate) fn load_decoded_within(
+    path: &Path,
+    per_pixel: u64,
+    keep: bool,
+) -> Result<(Luminance, Option<image::DynamicImage>)> {
     let io = |error| Error::Io {
         path: path.to_owned(),
         error,
@@ -74,17 +85,20 @@ pub(crate) fn load_within(path: &Path, per_pixel: u64) -> Result<Luminance> {
     if let Some(size) = super::budget::file_size(path, exr) {
         super::budget::check(path, size, per_pixel)?;
     }
-    let lum = if exr {
-        load_exr(path)?
+    let (lum, img) = if exr {
+        (load_exr(path)?, None)
+    } else if keep {
+        let img = decode_file(path)?;
+        (luminance(img.clone(), path)?, Some(img))
     } else {
-        load_image(path)?
+        (luminance(decode_file(path)?, path)?, None)
     };
     if lum.width == 0 || lum.height == 0 {
         return Err(Error::Empty {
             path: path.to_owned(),
         });
     }
-    Ok(lum)
+    Ok((lum, img))
 }
 
 fn non_finite(path: &Path, channel: &str, i: usize, width: u32, value: f32) -> Error {
@@ -133,10 +147,6 @@ pub(crate) fn load_bytes_within(bytes: &[u8], name: &Path, per_pixel: u64) -> Re
         });
     }
     Ok(lum)
-}
-
-fn load_image(path: &Path) -> Result<Luminance> {
-    luminance(decode_file(path)?, path)
 }
 
 /// Decodes a raster image file (PNG, JPEG, TIFF, BMP, WebP), turned upright
