@@ -143,15 +143,26 @@ fn a_larger_domain_and_capped_runs_match_reference_implementation() {
             .with_seed(5),
         "odd sizes, small batch",
     );
-    // A batch above the pixel count: the GPU's room for accepted samples is
-    // the pixel count, too small for another batch once any are held, so
-    // every iteration's survivors are read back apart.
+    // A batch above the pixel count: the GPU's room for accepted samples
+    // (at most the pixel count) holds less than two batches, so every
+    // iteration's survivors are read back apart, from where the gather put
+    // them.
     assert_identical(
         &Params::new(96, 80)
             .with_radius(2.0)
             .with_batch(1 << 20)
             .with_seed(4),
         "batch above the pixel count",
+    );
+    // Room for 2.5 batches (a sixteenth of the pixels) and about eight
+    // batches of samples: held on the GPU and read back several times in
+    // the run.
+    assert_identical(
+        &Params::new(1200, 1000)
+            .with_radius(2.0)
+            .with_batch(30_000)
+            .with_seed(6),
+        "held samples read back mid-run",
     );
 }
 

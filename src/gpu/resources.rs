@@ -80,18 +80,26 @@ pub struct Iteration {
     pub seconds: [f64; 3],
 }
 
-/// Accepted samples the GPU holds between read-backs: four full batches, at
-/// least 64K, and never more than the slots (one sample per slot at most)
-/// or than a buffer of the adapter's (`max_bytes`) holds, but one batch at
-/// least. A run of the paper's batch (N/2) is read back once, at its end.
+/// Accepted samples the GPU holds between read-backs: four full batches,
+/// and never more than a sixteenth of the slots (64K at least; the held
+/// samples and their read-back then take at most 2 bytes a slot), than the
+/// slots (one sample per slot at most) or than a buffer of the adapter's
+/// (`max_bytes`) holds. Where that is less than two batches, one: each
+/// iteration's survivors are read back from where the gather put them, with
+/// no buffer of held samples. A run of the paper's batch (N/2) on a disk of
+/// a few pixels is read back once, at its end.
 fn held_capacity(capacity: u32, slots: u32, max_bytes: u64) -> u32 {
     let fits = u32::try_from(max_bytes.saturating_sub(HEADER) / DART_BYTES).unwrap_or(u32::MAX);
-    capacity
+    let room = capacity
         .saturating_mul(4)
-        .max(1 << 16)
+        .min((slots / 16).max(1 << 16))
         .min(slots)
-        .min(fits)
-        .max(capacity)
+        .min(fits);
+    if room < capacity.saturating_mul(2) {
+        capacity
+    } else {
+        room
+    }
 }
 
 /// How dart throwing (S1) rasterizes the disks.
@@ -242,8 +250,9 @@ pub struct Resources {
     pub config: wgpu::Buffer,
     survivors: wgpu::Buffer,
     /// Accepted samples not yet read back, in acceptance order.
-    held: wgpu::Buffer,
-    /// Room in `held`, in samples.
+    /// `None` where the room is one batch: the survivors themselves.
+    held: Option<wgpu::Buffer>,
+    /// Room for held samples.
     held_capacity: u32,
     /// The coverage bitmap, one bit per pixel.
     pub coverage: wgpu::Buffer,
@@ -296,12 +305,14 @@ impl Resources {
         let survivors = util::buffer_of(device, "survivors", dart_bytes, B::STORAGE | B::COPY_SRC);
         let held_capacity = held_capacity(capacity, plan.slots(), device.limits().max_buffer_size);
         let held_bytes = u64::from(held_capacity) * DART_BYTES;
-        let held = util::buffer_of(
-            device,
-            "held samples",
-            held_bytes,
-            B::COPY_DST | B::COPY_SRC,
-        );
+        let held = (held_capacity > capacity).then(|| {
+            util::buffer_of(
+                device,
+                "held samples",
+                held_bytes,
+                B::COPY_DST | B::COPY_SRC,
+            )
+        });
         let coverage = util::buffer_of(
             device,
             "coverage",
@@ -347,6 +358,8 @@ impl Resources {
             + radius.bytes(plan)
             + radius.near.size()
             + 2 * dart_bytes
+            + held.as_ref().map_or(0, wgpu::Buffer::size)
+            + HEADER
             + held_bytes
             + coverage.size()
             + word_scan.bytes()
@@ -476,14 +489,17 @@ impl Resources {
         laps.lap(&mut encoder, 2);
         let seconds = laps.seconds;
         // The whole batch's room: what lies past this iteration's survivors
-        // is overwritten by the next iteration's or never read.
-        encoder.copy_buffer_to_buffer(
-            &self.survivors,
-            0,
-            &self.held,
-            u64::from(held) * DART_BYTES,
-            u64::from(darts) * DART_BYTES,
-        );
+        // is overwritten by the next iteration's or never read. Without a
+        // buffer of held samples they stay where they are (`held` is 0).
+        if let Some(buffer) = &self.held {
+            encoder.copy_buffer_to_buffer(
+                &self.survivors,
+                0,
+                buffer,
+                u64::from(held) * DART_BYTES,
+                u64::from(darts) * DART_BYTES,
+            );
+        }
         self.read_iteration(device, queue, encoder, darts, seconds)
     }
 
@@ -501,7 +517,8 @@ impl Resources {
         }
         let bytes = u64::from(count.min(self.held_capacity)) * DART_BYTES;
         let mut encoder = device.create_command_encoder(&Default::default());
-        encoder.copy_buffer_to_buffer(&self.held, 0, &self.staging, HEADER, bytes);
+        let from = self.held.as_ref().unwrap_or(&self.survivors);
+        encoder.copy_buffer_to_buffer(from, 0, &self.staging, HEADER, bytes);
         queue.submit([encoder.finish()]);
         util::read_back_with(device, &self.staging, HEADER..HEADER + bytes, |view| {
             let points = |darts: &[Dart]| darts.iter().map(|d| plan.point(d)).collect();
@@ -873,15 +890,20 @@ mod tests {
     #[test]
     fn the_held_samples_take_four_batches_within_the_slots_and_a_buffer() {
         let big = u64::MAX;
-        // Room for four batches, at least 64K.
-        assert_eq!(held_capacity(1000, 1 << 20, big), 1 << 16);
+        // Room for four batches.
         assert_eq!(held_capacity(100_000, 1 << 24, big), 400_000);
-        // Never more than the slots, but one batch at least.
-        assert_eq!(held_capacity(5000, 9000, big), 9000);
-        assert_eq!(held_capacity(9000, 9000, big), 9000);
-        // Never more than a buffer holds after the header, but one batch.
+        // At most a sixteenth of the slots, but 64K where there are more.
+        assert_eq!(held_capacity(100_000, 1 << 22, big), 262_144);
+        assert_eq!(held_capacity(20_000, 1 << 20, big), 65_536);
+        // Never more than the slots.
+        assert_eq!(held_capacity(2000, 9000, big), 8000);
+        assert_eq!(held_capacity(4000, 9000, big), 9000);
+        // Never more than a buffer holds after the header.
         let buffer = HEADER + 300_000 * DART_BYTES;
         assert_eq!(held_capacity(100_000, 1 << 24, buffer), 300_000);
-        assert_eq!(held_capacity(400_000, 1 << 24, buffer), 400_000);
+        // Less than two batches: one, read back from the survivors.
+        assert_eq!(held_capacity(5000, 9000, big), 5000);
+        assert_eq!(held_capacity(200_000, 1 << 24, buffer), 200_000);
+        assert_eq!(held_capacity(10_000_000, 1 << 28, big), 10_000_000);
     }
 }

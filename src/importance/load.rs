@@ -89,9 +89,9 @@ pub(crate) fn load_decoded_within(
         (load_exr(path)?, None)
     } else if keep {
         let img = decode_file(path)?;
-        (luminance(img.clone(), path)?, Some(img))
+        (luminance(&img, path)?, Some(img))
     } else {
-        (luminance(decode_file(path)?, path)?, None)
+        (luminance(&decode_file(path)?, path)?, None)
     };
     if lum.width == 0 || lum.height == 0 {
         return Err(Error::Empty {
@@ -140,7 +140,7 @@ pub(crate) fn load_bytes_within(bytes: &[u8], name: &Path, per_pixel: u64) -> Re
         .with_guessed_format()
         .map_err(|e| decode(&e))?;
     let img = upright(reader).map_err(|e| decode(&e))?;
-    let lum = luminance(img, name)?;
+    let lum = luminance(&img, name)?;
     if lum.width == 0 || lum.height == 0 {
         return Err(Error::Empty {
             path: name.to_owned(),
@@ -225,7 +225,7 @@ pub(super) fn upright<R: std::io::BufRead + std::io::Seek>(
 }
 
 /// A decoded raster image's linear luminance (and alpha).
-fn luminance(img: image::DynamicImage, path: &Path) -> Result<Luminance> {
+fn luminance(img: &image::DynamicImage, path: &Path) -> Result<Luminance> {
     let (width, height) = (img.width(), img.height());
     let color = img.color();
     let has_alpha = color.has_alpha();

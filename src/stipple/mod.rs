@@ -273,33 +273,36 @@ fn relax_pens(
             weight(c),
         )
     };
-    // On polygon cells each pen's weights are asked once for every step.
-    let polygons: Option<Vec<Option<relax::Polygons>>> = match options.cells {
-        relax::Cells::Polygons { .. } if !options.periodic => Some(
-            groups
-                .par_iter()
-                .enumerate()
-                .map(|(c, idx)| {
-                    let relax::Cells::Polygons { edge } = options_of(idx.len()).cells else {
-                        return None;
-                    };
-                    let weights = relax::Weights {
-                        width: w,
-                        height: h,
-                        weight: weight(c),
-                    };
-                    (idx.len() >= 3)
-                        .then(|| relax::Polygons::new(&weights, edge, options.over))
-                        .flatten()
-                })
-                .collect(),
-        ),
-        _ => None,
+    // On polygon cells each pen's weights are asked once for every step
+    // (on the first).
+    let on_polygons = matches!(options.cells, relax::Cells::Polygons { .. }) && !options.periodic;
+    let make_polygons = || -> Vec<Option<relax::Polygons>> {
+        groups
+            .par_iter()
+            .enumerate()
+            .map(|(c, idx)| {
+                let relax::Cells::Polygons { edge } = options_of(idx.len()).cells else {
+                    return None;
+                };
+                let weights = relax::Weights {
+                    width: w,
+                    height: h,
+                    weight: weight(c),
+                };
+                (idx.len() >= 3)
+                    .then(|| relax::Polygons::new(&weights, edge, options.over))
+                    .flatten()
+            })
+            .collect()
     };
+    let mut polygons: Option<Vec<Option<relax::Polygons>>> = None;
     let mut now = xy.to_vec();
     for done in 1..=options.iterations {
         if !progress(None) {
             break;
+        }
+        if on_polygons && polygons.is_none() {
+            polygons = Some(make_polygons());
         }
         // The pens in parallel on polygon cells; one after another on
         // pixel cells, whose weights span the whole domain per pen.
