@@ -295,23 +295,36 @@ impl Separation {
                 .map(|i| encode(i as f64 / STEPS as f64) as f32)
                 .collect()
         });
-        let cell = |p: &[f32; 3]| {
-            p.map(|v| {
-                let t = v.clamp(0.0, 1.0) * STEPS as f32;
-                let i = (t as usize).min(STEPS - 1);
-                let e = enc[i] + (t - i as f32) * (enc[i + 1] - enc[i]);
-                let x = e * step;
-                let i = (x as usize).min(N - 2);
-                (i, x - i as f32)
-            })
+        let axis = |v: f32| {
+            let t = v.clamp(0.0, 1.0) * STEPS as f32;
+            let i = (t as usize).min(STEPS - 1);
+            let e = enc[i] + (t - i as f32) * (enc[i + 1] - enc[i]);
+            let x = e * step;
+            let i = (x as usize).min(N - 2);
+            (i, x - i as f32)
         };
-        let mut need = vec![false; N * N * N];
-        for p in linear_rgb {
-            let [(r, _), (g, _), (b, _)] = cell(p);
-            for c in 0..8 {
-                need[(r + (c & 1)) * N * N + (g + (c >> 1 & 1)) * N + b + (c >> 2)] = true;
-            }
-        }
+        let cell = |p: &[f32; 3]| -> [(usize, f32); 3] { [axis(p[0]), axis(p[1]), axis(p[2])] };
+        // The nodes the pixels' cells need: marked in parallel chunks, then
+        // joined.
+        let need = linear_rgb
+            .par_chunks(1 << 14)
+            .map(|chunk| {
+                let mut need = vec![false; N * N * N];
+                for p in chunk {
+                    let [(r, _), (g, _), (b, _)] = cell(p);
+                    for c in 0..8 {
+                        need[(r + (c & 1)) * N * N + (g + (c >> 1 & 1)) * N + b + (c >> 2)] = true;
+                    }
+                }
+                need
+            })
+            .reduce(
+                || vec![false; N * N * N],
+                |mut a, b| {
+                    a.iter_mut().zip(b).for_each(|(a, b)| *a |= b);
+                    a
+                },
+            );
         let n = self.model.pens;
         let nodes: Vec<usize> = (0..N * N * N)
             .filter(|&i| need[i] && self.table[i].get().is_none())
@@ -336,8 +349,19 @@ impl Separation {
                 // the axes in the order of their fractions, so that a grey
                 // reads grey nodes only.
                 let c = cell(p);
+                // The axes by falling fraction, ties in axis order (the
+                // stable sort of three, by hand).
                 let mut axes = [0usize, 1, 2];
-                axes.sort_by(|&a, &b| c[b].1.total_cmp(&c[a].1));
+                let before = |a: usize, b: usize| c[b].1.total_cmp(&c[a].1).is_lt();
+                if before(axes[1], axes[0]) {
+                    axes.swap(0, 1);
+                }
+                if before(axes[2], axes[1]) {
+                    axes.swap(1, 2);
+                    if before(axes[1], axes[0]) {
+                        axes.swap(0, 1);
+                    }
+                }
                 let mut node = [c[0].0, c[1].0, c[2].0];
                 let f = axes.map(|a| c[a].1);
                 let weights = [1.0 - f[0], f[0] - f[1], f[1] - f[2], f[2]];
@@ -354,11 +378,11 @@ impl Separation {
                 out
             })
             .collect();
-        for (i, a) in per_pixel.iter().enumerate() {
-            for k in 0..n {
-                planes[k][i] = a[k];
+        planes.par_iter_mut().enumerate().for_each(|(k, plane)| {
+            for (o, a) in plane.iter_mut().zip(&per_pixel) {
+                *o = a[k];
             }
-        }
+        });
         planes
     }
 }
