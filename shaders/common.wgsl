@@ -154,9 +154,14 @@ fn sub64(a: vec2<u32>, b: vec2<u32>) -> vec2<u32> {
     return vec2<u32>(a.x - b.x, a.y - b.y - select(0u, 1u, a.x < b.x));
 }
 
+// The flat index of a workgroup in a 2D grid of them.
+fn block_index(wg: vec3<u32>, groups: vec3<u32>) -> u32 {
+    return wg.y * groups.x + wg.x;
+}
+
 // The flat index of a thread in a 2D grid of 256-thread workgroups.
 fn thread_index(wg: vec3<u32>, groups: vec3<u32>, local: u32) -> u32 {
-    return (wg.y * groups.x + wg.x) * 256u + local;
+    return block_index(wg, groups) * 256u + local;
 }
 
 // The largest d with d * d <= m.

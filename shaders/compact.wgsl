@@ -19,10 +19,6 @@ struct ScanInfo {
 
 var<workgroup> partial: array<u32, 256>;
 
-fn block_index(wg: vec3<u32>, groups: vec3<u32>) -> u32 {
-    return wg.y * groups.x + wg.x;
-}
-
 // data = coverage words in, empty counts out (in place).
 @compute @workgroup_size(256)
 fn count_words(

@@ -97,7 +97,7 @@ fn splat_coalesced(
     @builtin(local_invocation_index) local: u32,
 ) {
     let lanes = splat_lanes();
-    let k = (wg.y * groups.x + wg.x) * (256u / lanes) + local / lanes;
+    let k = block_index(wg, groups) * (256u / lanes) + local / lanes;
     if k >= cfg.darts {
         return;
     }

@@ -397,19 +397,24 @@ pub fn write_png_rgb(w: &mut dyn Write, img: &RgbImage, dots: usize) -> Result<(
 mod tests {
     use super::*;
 
-    /// The render's shortcuts (no distance where a pixel is clearly out of
-    /// a dot or clearly inside it) give the bytes of the coverage ramp
-    /// computed at every pixel of every dot's box.
-    #[test]
-    fn the_render_is_the_ramp_at_every_pixel() {
-        let (w, h) = (83u32, 71u32);
-        let mut state = 0x1234_5678_u32;
-        let mut next = || {
+    /// A xorshift32 stream from `seed` (not 0): the tests' random inputs.
+    fn xorshift(mut state: u32) -> impl FnMut() -> u32 {
+        move || {
             state ^= state << 13;
             state ^= state >> 17;
             state ^= state << 5;
-            f64::from(state) / f64::from(u32::MAX)
-        };
+            state
+        }
+    }
+
+    /// The render's shortcuts (no distance where a pixel is clearly out of
+    /// a dot or clearly inside it) give what one pass computing the ramp at
+    /// every pixel gives: many small dots, whose ramps fill their boxes.
+    #[test]
+    fn the_render_is_the_ramp_at_every_pixel() {
+        let (w, h) = (83u32, 71u32);
+        let mut bits = xorshift(0x1234_5678);
+        let mut next = || f64::from(bits()) / f64::from(u32::MAX);
         let dots: Vec<Dot> = (0..400)
             .map(|_| Dot {
                 x: (next() * f64::from(w)) as f32,
@@ -418,28 +423,7 @@ mod tests {
             })
             .collect();
         let img = render(&dots, (w, h), 1.0).unwrap();
-        let mut paper = vec![1.0f32; (w * h) as usize];
-        for d in &dots {
-            let (cx, cy, r) = (d.x, d.y, d.radius);
-            let area = std::f32::consts::PI * r * r;
-            let y0 = (cy - r - 1.0).floor().max(0.0) as u32;
-            let y1 = ((cy + r + 1.0).ceil().max(0.0) as u32).min(h);
-            let x0 = (cx - r - 1.0).floor().max(0.0) as u32;
-            let x1 = ((cx + r + 1.0).ceil().max(0.0) as u32).min(w);
-            for py in y0..y1 {
-                for px in x0..x1 {
-                    let (dx, dy) = (px as f32 + 0.5 - cx, py as f32 + 0.5 - cy);
-                    let a = (r + 0.5 - (dx * dx + dy * dy).sqrt())
-                        .clamp(0.0, 1.0)
-                        .min(area);
-                    if a > 0.0 {
-                        paper[(py * w + px) as usize] *= 1.0 - a;
-                    }
-                }
-            }
-        }
-        let want: Vec<u8> = paper.iter().map(|&p| grey(p)).collect();
-        assert_eq!(img.as_raw(), &want);
+        assert_eq!(img.into_raw(), one_pass(&dots, (w, h), 1.0));
     }
 
     /// The composite's shortcuts (whole coverages made once, a cache of
@@ -449,13 +433,7 @@ mod tests {
     fn the_composite_is_the_model_at_every_pixel() {
         use crate::colour::{PenSet, RenderModel};
         let (w, h) = (97u32, 61u32);
-        let mut state = 0x9e37_79b9_u32;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 17;
-            state ^= state << 5;
-            state
-        };
+        let mut next = xorshift(0x9e37_79b9);
         // Mostly paper or full ink, as a drawing is, with partial edges.
         let layers: Vec<GrayImage> = (0..4)
             .map(|_| {
@@ -495,7 +473,7 @@ mod tests {
 
     #[test]
     fn grey_rounds_as_round_does() {
-        let mut state = 0x2545_f491_u32;
+        let mut next = xorshift(0x2545_f491);
         let mut values = vec![
             0.0,
             1.0,
@@ -516,10 +494,7 @@ mod tests {
             ]);
         }
         for _ in 0..1_000_000 {
-            state ^= state << 13;
-            state ^= state >> 17;
-            state ^= state << 5;
-            values.push((state >> 8) as f32 / (1 << 24) as f32);
+            values.push((next() >> 8) as f32 / (1 << 24) as f32);
         }
         for p in values {
             assert_eq!(grey(p), (255.0 * p.clamp(0.0, 1.0)).round() as u8, "{p:e}");
