@@ -16,7 +16,7 @@ use crate::importance::ink::K_MAX;
 use crate::importance::{Adjust, ColourMap, Mapping, MappingKind, Prepared, RadiusRange, Tones};
 use crate::sampler::Point;
 
-use super::correct::{Correction, Grid};
+use super::correct::Correction;
 
 /// A colour picture prepared for drawing: one map per pen, and what the
 /// size stage's correction compares the drawing with.
@@ -139,7 +139,7 @@ impl Job {
     /// The size stage of a colour drawing: each dot calibrated to its pen's
     /// ink at the spacing its pen's dots have (each pen holds its share of
     /// the union sample's points: its own density, [`super::assign`], up to
-    /// the sampler's packing, measured once over the drawing), then corrected toward the picture's colours ([`Correction`]); with
+    /// the sampler's packing, measured once over the drawing), then corrected toward the picture's colours by `correction` (made while the dots were relaxed); with
     /// `--dot fixed`, one radius per pen (the root mean square of its
     /// calibrated dots'); with `--mapping linear`, the mapping's dots.
     pub(crate) fn colour_sizes(
@@ -147,7 +147,7 @@ impl Job {
         separated: &Separated,
         points: &[Point],
         range: RadiusRange,
-        grid: Option<Grid>,
+        correction: Option<&Correction>,
         stage: &mut dyn FnMut(Stage) -> crate::Result<()>,
     ) -> crate::Result<Vec<f32>> {
         let maps = &separated.maps;
@@ -191,15 +191,8 @@ impl Job {
                     * ratios.factor(ink, f64::from(p.radius), r_eff)
             })
             .collect();
-        if let Some(grid) = grid {
-            Correction::new(&separated.picture, &separated.separation, grid)?.apply(
-                points,
-                &inks,
-                &spacing,
-                &mut calibrated,
-                maps.len(),
-                stage,
-            )?;
+        if let Some(correction) = correction {
+            correction.apply(points, &inks, &spacing, &mut calibrated, maps.len(), stage)?;
         }
         if self.dot_mode() == super::DotMode::Fixed {
             let mut sums = vec![(0f64, 0usize); maps.len()];

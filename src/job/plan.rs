@@ -96,6 +96,60 @@ impl Maps {
     }
 }
 
+/// A correction's set-up, made from the maps and the grid alone.
+enum Setup<'a> {
+    Grey(correct::GreyCorrection<'a>),
+    Colour(correct::Correction),
+}
+
+impl<'a> Setup<'a> {
+    fn new(maps: &'a Maps, grid: correct::Grid) -> crate::Result<Self> {
+        Ok(match maps {
+            Maps::Grey(map) => Self::Grey(correct::GreyCorrection::new(grid, map)),
+            Maps::Colour(s) => {
+                Self::Colour(correct::Correction::new(&s.picture, &s.separation, grid)?)
+            }
+        })
+    }
+}
+
+/// The relaxation stage of [`Planned::run`]: `plan.relax` weighted Lloyd
+/// steps of `set`'s points on the maps `all` (none when it is 0).
+fn relax_stage(
+    job: &Job,
+    plan: &Plan,
+    all: &[Prepared],
+    range: crate::importance::RadiusRange,
+    set: &mut SampleSet,
+    progress: &mut impl FnMut(Step) -> bool,
+) -> crate::Result<()> {
+    if plan.relax == 0 {
+        return Ok(());
+    }
+    let domain = plan.domain;
+    stage(progress, Stage::Relax)?;
+    let steps = plan.relax;
+    // Cells as polygons, integrated at the mean spacing: as good as pixel
+    // cells (docs/drawing.md) at a cost that follows the dots; a periodic
+    // domain takes pixel cells.
+    let spacing = f64::from(domain.0) * f64::from(domain.1) / set.points.len().max(1) as f64;
+    let options = relax::RelaxOptions {
+        iterations: steps,
+        periodic: job.sampler.periodic,
+        cells: relax::Cells::Polygons {
+            edge: spacing.sqrt() as f32,
+        },
+        over: relax::OVER_RELAX,
+    };
+    let moved =
+        crate::stipple::relax_points(all, range, &set.points, options, &mut |done| match done {
+            Some(n) => progress(Step::Relaxed(n, steps)),
+            None => progress(Step::Busy(Stage::Relax)),
+        })?;
+    *set = std::mem::take(set).with_points(moved);
+    Ok(())
+}
+
 /// A plan and what its run needs: the job, the prepared maps and the
 /// correction's grid. Made by [`Job::plan`]; [`Self::run`] draws it.
 pub struct Planned {
@@ -145,31 +199,18 @@ impl Planned {
         };
         let (mut set, range) = (fitted.set, fitted.range);
         let t_sample = lap();
-        if plan.relax > 0 {
-            stage(&mut progress, Stage::Relax)?;
-            let steps = plan.relax;
-            // Cells as polygons, integrated at the mean spacing: as good
-            // as pixel cells (docs/drawing.md) at a cost that follows
-            // the dots; a periodic domain takes pixel cells.
-            let spacing =
-                f64::from(domain.0) * f64::from(domain.1) / set.points.len().max(1) as f64;
-            let options = relax::RelaxOptions {
-                iterations: steps,
-                periodic: job.sampler.periodic,
-                cells: relax::Cells::Polygons {
-                    edge: spacing.sqrt() as f32,
-                },
-                over: relax::OVER_RELAX,
-            };
-            let moved =
-                crate::stipple::relax_points(all, range, &set.points, options, &mut |done| {
-                    match done {
-                        Some(n) => progress(Step::Relaxed(n, steps)),
-                        None => progress(Step::Busy(Stage::Relax)),
-                    }
-                })?;
-            set = set.with_points(moved);
-        }
+        // The correction's set-up needs the maps and the grid, no dot: it
+        // is made while the dots are relaxed, on the core the
+        // triangulation leaves idle (the same values either way).
+        let count = set.points.len();
+        let mut setup = None;
+        rayon::in_place_scope(|scope| -> crate::Result<()> {
+            if let Some(g) = grid {
+                let (maps, setup) = (&maps, &mut setup);
+                scope.spawn(move |_| *setup = Some(Setup::new(maps, g.grid(domain, count))));
+            }
+            self::relax_stage(&job, &plan, all, range, &mut set, &mut progress)
+        })?;
         let t_relax = lap();
         stage(&mut progress, Stage::Order)?;
         let (points, tour) = job.ordered(&set.points, all.len(), &mut || {
@@ -177,10 +218,22 @@ impl Planned {
         });
         let t_order = lap();
         stage(&mut progress, Stage::Size)?;
-        let grid = grid.map(|g| g.grid(domain, points.len()));
+        // Ordering keeps every dot; were one dropped, the grid would follow
+        // the count and the set-up be made again.
+        let setup = match (grid, setup) {
+            (Some(_), Some(made)) if points.len() == count => Some(made?),
+            (Some(g), _) => Some(Setup::new(&maps, g.grid(domain, points.len()))?),
+            (None, _) => None,
+        };
         let mut report = |s| stage(&mut progress, s);
         let calibrated = match &maps {
-            Maps::Colour(s) => job.colour_sizes(s, &points, range, grid, &mut report)?,
+            Maps::Colour(s) => {
+                let correction = match &setup {
+                    Some(Setup::Colour(c)) => Some(c),
+                    _ => None,
+                };
+                job.colour_sizes(s, &points, range, correction, &mut report)?
+            }
             Maps::Grey(map) => {
                 let mut radii = map.dot_radii(&points, range);
                 // Sized dots for the spacing they have ([`Spacing::Local`]).
@@ -189,20 +242,12 @@ impl Planned {
                 {
                     super::density::local_spacing(map, &points, range, domain, &mut radii);
                 }
-                if let Some(grid) = &grid {
+                if let Some(Setup::Grey(correction)) = &setup {
                     let limits = (
                         map.mapping.dot_radius(1.0, range),
                         map.mapping.dot_radius(0.0, range),
                     );
-                    correct::correct_grey(
-                        grid,
-                        map,
-                        &points,
-                        range,
-                        &mut radii,
-                        limits,
-                        &mut report,
-                    )?;
+                    correction.apply(&points, range, &mut radii, limits, &mut report)?;
                 }
                 radii
             }

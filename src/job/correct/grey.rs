@@ -4,90 +4,114 @@
 use rayon::prelude::*;
 
 use super::{ERROR_BLUR, Grid, MAX_INK, blur_sigmas, damping, rounds};
+use crate::analyze::fidelity::Grey;
 use crate::importance::{Prepared, ink};
 use crate::sampler::Point;
 
 use super::super::Stage;
 
-/// Corrects `radii`, the sized dots of `points` sampled on `map` at radius
-/// range `range` (a grey drawing), toward the map's ink, each kept within
-/// `limits` (the mapping's lightest and darkest dots: `--dot-mm` holds).
-/// The plan decides whether it runs and on which `grid`.
-pub(crate) fn correct_grey(
-    grid: &Grid,
-    map: &Prepared,
-    points: &[Point],
-    range: crate::importance::RadiusRange,
-    radii: &mut [f32],
-    limits: (f32, f32),
-    stage: &mut dyn FnMut(Stage) -> crate::Result<()>,
-) -> crate::Result<()> {
-    // The ink the map asks for (none past the white cutoff, where no dot
-    // is drawn).
-    let ink = |x: f32, y: f32| {
-        let v = map.value_at(x, y).clamp(0.0, 1.0);
-        if map.cutoff.is_some_and(|c| v > c) {
-            0.0
-        } else {
-            f64::from(1.0 - v)
-        }
-    };
-    // The target: the ink at each render pixel's centre.
-    let (w, _) = grid.size;
-    let inv = 1.0 / grid.scale;
-    let target = grid.cell_means(|i| {
-        let (x, y) = ((i as u32 % w) as f32 + 0.5, (i as u32 / w) as f32 + 0.5);
-        [ink(x * inv, y * inv)]
-    });
-    let sigmas = blur_sigmas(grid.px_per_spacing());
-    let target = grid.blurred(target.into_iter().map(|[v]| v).collect(), sigmas);
-    let damping = damping(grid.sigma);
-    let ratios =
-        super::super::density::Ratios::new(f64::from(range.min) * 0.5, f64::from(range.max) * 3.2);
-    // The ink each dot was sized for (the calibration's, at most K_MAX).
-    let mut assumed: Vec<f64> = points
-        .par_iter()
-        .map(|p| ink(p.x, p.y).min(ink::K_MAX))
-        .collect();
-    let of = rounds(grid.sigma);
-    for round in 1..=of {
-        stage(Stage::Correct { round, of })?;
-        let paper = grid.render(points, radii, |_| true)?;
-        let raw = paper.as_raw();
-        let shown = grid.cell_means(|i| [1.0 - f64::from(raw[i]) / 255.0]);
-        let drawn = grid.blurred(shown.into_iter().map(|[v]| v).collect(), sigmas);
-        let error = grid.blurred(
-            target
-                .values
-                .iter()
-                .zip(&drawn.values)
-                .map(|(t, d)| t - d)
-                .collect(),
-            ERROR_BLUR * sigmas,
-        );
-        // Each dot's own update: in parallel, the same values.
-        points
-            .par_iter()
-            .zip(radii.par_iter_mut())
-            .zip(assumed.par_iter_mut())
-            .for_each(|((p, r), assumed)| {
-                let before = *assumed;
-                if before < 1e-3 {
-                    return;
-                }
-                let e = f64::from(error.values[grid.cell(p)]);
-                let after = (before + damping * e).clamp(0.5 * before, MAX_INK);
-                let radius = f64::from(p.radius);
-                let had = ratios.at(before, radius);
-                if had <= 0.0 {
-                    return;
-                }
-                let factor = (ratios.at(after, radius) / had).clamp(0.6, 1.6) as f32;
-                *r = (*r * factor).clamp(limits.0.min(*r), limits.1.max(*r));
-                *assumed = after;
-            });
+/// The ink the map asks for at (`x`, `y`) (none past the white cutoff,
+/// where no dot is drawn).
+fn ink_at(map: &Prepared, x: f32, y: f32) -> f64 {
+    let v = map.value_at(x, y).clamp(0.0, 1.0);
+    if map.cutoff.is_some_and(|c| v > c) {
+        0.0
+    } else {
+        f64::from(1.0 - v)
     }
-    Ok(())
+}
+
+/// The grey drawing's correction on a grid: its target made once
+/// ([`Self::new`], no dot needed, so the run makes it while the dots are
+/// relaxed), then applied to the dots ([`Self::apply`]).
+pub(crate) struct GreyCorrection<'a> {
+    grid: Grid,
+    map: &'a Prepared,
+    /// The ink the map asks for at each render pixel's centre, averaged
+    /// over the work grid's cells and blurred as the drawing is.
+    target: Grey,
+}
+
+impl<'a> GreyCorrection<'a> {
+    /// The correction toward `map`'s ink on `grid`.
+    pub(crate) fn new(grid: Grid, map: &'a Prepared) -> Self {
+        let (w, _) = grid.size;
+        let inv = 1.0 / grid.scale;
+        let target = grid.cell_means(|i| {
+            let (x, y) = ((i as u32 % w) as f32 + 0.5, (i as u32 / w) as f32 + 0.5);
+            [ink_at(map, x * inv, y * inv)]
+        });
+        let sigmas = blur_sigmas(grid.px_per_spacing());
+        let target = grid.blurred(target.into_iter().map(|[v]| v).collect(), sigmas);
+        Self { grid, map, target }
+    }
+
+    /// Corrects `radii`, the sized dots of `points` sampled on the map at
+    /// radius range `range` (a grey drawing), toward the map's ink, each
+    /// kept within `limits` (the mapping's lightest and darkest dots:
+    /// `--dot-mm` holds). The plan decides whether it runs and on which
+    /// grid.
+    pub(crate) fn apply(
+        &self,
+        points: &[Point],
+        range: crate::importance::RadiusRange,
+        radii: &mut [f32],
+        limits: (f32, f32),
+        stage: &mut dyn FnMut(Stage) -> crate::Result<()>,
+    ) -> crate::Result<()> {
+        let Self { grid, map, target } = self;
+        let ink = |x: f32, y: f32| ink_at(map, x, y);
+        let sigmas = blur_sigmas(grid.px_per_spacing());
+        let damping = damping(grid.sigma);
+        let ratios = super::super::density::Ratios::new(
+            f64::from(range.min) * 0.5,
+            f64::from(range.max) * 3.2,
+        );
+        // The ink each dot was sized for (the calibration's, at most K_MAX).
+        let mut assumed: Vec<f64> = points
+            .par_iter()
+            .map(|p| ink(p.x, p.y).min(ink::K_MAX))
+            .collect();
+        let of = rounds(grid.sigma);
+        for round in 1..=of {
+            stage(Stage::Correct { round, of })?;
+            let paper = grid.render(points, radii, |_| true)?;
+            let raw = paper.as_raw();
+            let shown = grid.cell_means(|i| [1.0 - f64::from(raw[i]) / 255.0]);
+            let drawn = grid.blurred(shown.into_iter().map(|[v]| v).collect(), sigmas);
+            let error = grid.blurred(
+                target
+                    .values
+                    .iter()
+                    .zip(&drawn.values)
+                    .map(|(t, d)| t - d)
+                    .collect(),
+                ERROR_BLUR * sigmas,
+            );
+            // Each dot's own update: in parallel, the same values.
+            points
+                .par_iter()
+                .zip(radii.par_iter_mut())
+                .zip(assumed.par_iter_mut())
+                .for_each(|((p, r), assumed)| {
+                    let before = *assumed;
+                    if before < 1e-3 {
+                        return;
+                    }
+                    let e = f64::from(error.values[grid.cell(p)]);
+                    let after = (before + damping * e).clamp(0.5 * before, MAX_INK);
+                    let radius = f64::from(p.radius);
+                    let had = ratios.at(before, radius);
+                    if had <= 0.0 {
+                        return;
+                    }
+                    let factor = (ratios.at(after, radius) / had).clamp(0.6, 1.6) as f32;
+                    *r = (*r * factor).clamp(limits.0.min(*r), limits.1.max(*r));
+                    *assumed = after;
+                });
+        }
+        Ok(())
+    }
 }
 
 #[cfg(test)]
@@ -144,19 +168,12 @@ mod tests {
                 ..GridSpec::grey(0.0)
             };
             let grid = spec.grid((w, h), points.len());
-            correct_grey(
-                &grid,
-                &prepared,
-                &points,
-                range,
-                &mut radii,
-                (0.5, 8.0),
-                &mut |s| {
+            GreyCorrection::new(grid, &prepared)
+                .apply(&points, range, &mut radii, (0.5, 8.0), &mut |s| {
                     stages.push(s);
                     Ok(())
-                },
-            )
-            .unwrap();
+                })
+                .unwrap();
             let after = drawn(&radii);
             println!("from radius {start}: ink {before:.3} before, {after:.3} after");
             assert!(

@@ -13,7 +13,7 @@ mod grey;
 mod grid;
 
 pub(crate) use colour::Correction;
-pub(crate) use grey::correct_grey;
+pub(crate) use grey::GreyCorrection;
 pub(crate) use grid::{Grid, GridSpec};
 
 /// The error's own blur, in σ: corrections follow the local bias, not each
