@@ -482,7 +482,7 @@ impl ImportanceMap {
     #[must_use]
     pub fn cut(&self, points: &[Point], cutoff: Option<f32>) -> Vec<Point> {
         points
-            .iter()
+            .par_iter()
             .filter(|p| self.keeps(p.x, p.y, cutoff))
             .copied()
             .collect()

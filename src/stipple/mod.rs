@@ -176,8 +176,9 @@ pub fn relax_points(
         .iter()
         .map(|m| crate::importance::ImportanceMap::radius_fn(m.mapping, range))
         .collect();
+    use rayon::prelude::*;
     Ok(moved
-        .iter()
+        .par_iter()
         .zip(points)
         .map(|(&[x, y], p)| {
             let px = (x.max(0.0) as u32).min(w - 1);
