@@ -59,10 +59,6 @@ fn child(args: &[&str]) -> Result<(f64, f64)> {
     Ok((secs, peak))
 }
 
-/// One turn of the grey benchmark: the uniform sampling's, the SVG's and
-/// the PNG's (seconds, peak MB).
-type Turn = [(f64, f64); 3];
-
 /// The uniform radius whose maximal set on `domain` holds about `n` points
 /// (the RSA density corrected by the pixel-mode density, as the count fit).
 fn uniform_radius(domain: (u32, u32), n: usize) -> f64 {
@@ -172,7 +168,7 @@ pub fn run(image: &Path, counts: &[usize], reps: u32, backend: BackendChoice) ->
             let p = stipple(&png)?;
             turns.push([u, v, p]);
         }
-        let median = |f: &dyn Fn(&Turn) -> f64| {
+        let median = |f: &dyn Fn(&[(f64, f64); 3]) -> f64| {
             let mut v: Vec<f64> = turns.iter().map(f).collect();
             v.sort_by(f64::total_cmp);
             v[v.len() / 2]
