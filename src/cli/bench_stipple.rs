@@ -1,11 +1,9 @@
 //! `pixelpie bench --stipple`: what a drawing costs beside the sampling of
 //! as many uniform points, in the same run. For each dot count: the whole
 //! `stipple` process to SVG and to PNG, and `sample` of uniform points on
-//! the same domain (a radius predicted to give the count) to CSV, each a
-//! child process, the three run in turn `reps` times (median wall times,
-//! the median of each turn's ratios, largest peak memory: a machine whose
-//! speed drifts moves a turn's three alike), and the SVG drawing's stages
-//! timed in this process.
+//! the same domain (a radius predicted to give the count, one run) to CSV,
+//! each run as a child process `reps` times (median wall time, largest
+//! peak memory), and the SVG drawing's stages timed in this process.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -57,6 +55,18 @@ fn child(args: &[&str]) -> Result<(f64, f64)> {
         .and_then(|v| v.trim().parse::<f64>().ok())
         .map_or(0.0, |kb| kb / 1024.0);
     Ok((secs, peak))
+}
+
+/// Median seconds and largest peak over `reps` runs of `args`.
+fn measure(reps: u32, args: &[&str]) -> Result<(f64, f64)> {
+    let mut runs = Vec::new();
+    for _ in 0..reps.max(1) {
+        runs.push(child(args)?);
+    }
+    let mut secs: Vec<f64> = runs.iter().map(|r| r.0).collect();
+    secs.sort_by(f64::total_cmp);
+    let peak = runs.iter().map(|r| r.1).fold(0.0, f64::max);
+    Ok((secs[secs.len() / 2], peak))
 }
 
 /// The uniform radius whose maximal set on `domain` holds about `n` points
@@ -117,8 +127,8 @@ pub fn run(image: &Path, counts: &[usize], reps: u32, backend: BackendChoice) ->
     let (iw, ih) = image::image_dimensions(image)
         .with_context(|| format!("cannot read '{}'", image.display()))?;
     println!(
-        "{} ({iw}×{ih}), {} ({} CPU threads), whole processes run in turn, median of {reps} \
-         (times and each turn's ratios); uniform: the same domain and count\n",
+        "{} ({iw}×{ih}), {} ({} CPU threads), whole processes, median of {reps}; \
+         uniform: the same domain and count, one run\n",
         image.display(),
         backend_name(backend),
         rayon::current_num_threads()
@@ -133,53 +143,41 @@ pub fn run(image: &Path, counts: &[usize], reps: u32, backend: BackendChoice) ->
         let (w, h) = (domain.0.to_string(), domain.1.to_string());
         let points = n.to_string();
         let img = s(image);
-        let uniform_args = [
-            "sample",
-            "--width",
-            &w,
-            "--height",
-            &h,
-            "--radius",
-            &r,
-            "-o",
-            s(&csv),
-            "--backend",
-            choice_arg(backend),
-            "-q",
-        ];
-        let stipple = |out: &Path| {
-            child(&[
-                "stipple",
-                img,
+        let uniform = measure(
+            reps,
+            &[
+                "sample",
+                "--width",
+                &w,
+                "--height",
+                &h,
+                "--radius",
+                &r,
                 "-o",
-                s(out),
-                "--points",
-                &points,
+                s(&csv),
                 "--backend",
                 choice_arg(backend),
                 "-q",
-            ])
+            ],
+        )?;
+        let stipple = |out: &Path| {
+            measure(
+                reps,
+                &[
+                    "stipple",
+                    img,
+                    "-o",
+                    s(out),
+                    "--points",
+                    &points,
+                    "--backend",
+                    choice_arg(backend),
+                    "-q",
+                ],
+            )
         };
-        // The three in turn, each turn's ratios taken within it.
-        let mut turns = Vec::new();
-        for _ in 0..reps.max(1) {
-            let u = child(&uniform_args)?;
-            let v = stipple(&svg)?;
-            let p = stipple(&png)?;
-            turns.push([u, v, p]);
-        }
-        let median = |f: &dyn Fn(&[(f64, f64); 3]) -> f64| {
-            let mut v: Vec<f64> = turns.iter().map(f).collect();
-            v.sort_by(f64::total_cmp);
-            v[v.len() / 2]
-        };
-        let peak = |k: usize| turns.iter().map(|t| t[k].1).fold(0.0, f64::max);
-        let (uniform, svg_t, png_t) = (
-            (median(&|t| t[0].0), peak(0)),
-            (median(&|t| t[1].0), peak(1)),
-            (median(&|t| t[2].0), peak(2)),
-        );
-        let (svg_ratio, png_ratio) = (median(&|t| t[1].0 / t[0].0), median(&|t| t[2].0 / t[0].0));
+        let svg_t = stipple(&svg)?;
+        let png_t = stipple(&png)?;
         // The stages, in this process.
         let mut job = Job::default();
         job.points = Some(n);
@@ -199,9 +197,9 @@ pub fn run(image: &Path, counts: &[usize], reps: u32, backend: BackendChoice) ->
             domain.1,
             uniform.0,
             svg_t.0,
-            svg_ratio,
+            svg_t.0 / uniform.0,
             png_t.0,
-            png_ratio,
+            png_t.0 / uniform.0,
             uniform.1,
             svg_t.1,
             png_t.1,
