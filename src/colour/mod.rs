@@ -119,6 +119,14 @@ pub struct Lab {
     pub b: f64,
 }
 
+/// The determinant of a 3×3 matrix (rows).
+#[must_use]
+pub(crate) fn det3(m: [[f64; 3]; 3]) -> f64 {
+    m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+        - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+        + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
+}
+
 /// D65 white in XYZ (Y = 1).
 const WHITE: [f64; 3] = [0.950_47, 1.0, 1.088_83];
 

@@ -139,9 +139,11 @@ impl Job {
     /// The size stage of a colour drawing: each dot calibrated to its pen's
     /// ink at the spacing its pen's dots have (each pen holds its share of
     /// the union sample's points: its own density, [`super::assign`], up to
-    /// the sampler's packing, measured once over the drawing), then corrected toward the picture's colours by `correction` (made while the dots were relaxed); with
-    /// `--dot fixed`, one radius per pen (the root mean square of its
-    /// calibrated dots'); with `--mapping linear`, the mapping's dots.
+    /// the sampler's packing, measured once over the drawing), then
+    /// corrected toward the picture's colours by `correction` (made while
+    /// the dots were relaxed); with `--dot fixed`, one radius per pen (the
+    /// root mean square of its calibrated dots'); with `--mapping linear`,
+    /// the mapping's dots.
     pub(crate) fn colour_sizes(
         &self,
         separated: &Separated,

@@ -6,7 +6,7 @@ use rayon::prelude::*;
 
 use super::{ERROR_BLUR, Grid, MAX_INK, blur_sigmas, damping, rounds};
 use crate::colour::pens::MAX_PENS;
-use crate::colour::{RenderModel, Separation};
+use crate::colour::{RenderModel, Separation, det3};
 use crate::importance::ColourMap;
 use crate::sampler::Point;
 
@@ -314,12 +314,7 @@ fn gain(model: &RenderModel, a: &[f64], damping: f64) -> [[f64; 3]; MAX_PENS] {
 /// Solves the 3×3 system `m`·x = `b` (Cramer's rule; `m` is positive
 /// definite here).
 fn solve3(m: [[f64; 3]; 3], b: [f64; 3]) -> [f64; 3] {
-    let det = |m: [[f64; 3]; 3]| {
-        m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
-            - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
-            + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
-    };
-    let d = det(m);
+    let d = det3(m);
     if d.abs() < 1e-12 {
         return [0.0; 3];
     }
@@ -328,6 +323,6 @@ fn solve3(m: [[f64; 3]; 3], b: [f64; 3]) -> [f64; 3] {
         for r in 0..3 {
             mc[r][c] = b[r];
         }
-        det(mc) / d
+        det3(mc) / d
     })
 }
