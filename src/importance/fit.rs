@@ -49,6 +49,21 @@ impl Stretch {
     }
 }
 
+impl Stretch {
+    /// [`Self::read`] of every pixel of domain row `y` into `row`.
+    fn read_row(&self, values: &[f32], width: u32, y: u32, row: &mut [f32]) {
+        let (y0, y1, fy) = self.ys[y as usize];
+        let line = |y: u32| &values[y as usize * width as usize..][..width as usize];
+        let (a, b) = (line(y0), line(y1));
+        for (out, &(x0, x1, fx)) in row.iter_mut().zip(&self.xs) {
+            let (x0, x1) = (x0 as usize, x1 as usize);
+            let top = a[x0] + fx * (a[x1] - a[x0]);
+            let bottom = b[x0] + fx * (b[x1] - b[x0]);
+            *out = top + fy * (bottom - top);
+        }
+    }
+}
+
 /// The two pixels of `from` under each of `to` pixels (centres aligned, as
 /// the triangle filter upsamples) and the weight of the second.
 fn stretch_axis(from: u32, to: u32) -> Vec<(u32, u32, f32)> {
@@ -111,6 +126,18 @@ impl Prepared {
         }
     }
 
+    /// The values of domain row `y` (as [`Self::value`] gives them) into
+    /// `row`, the domain's width long.
+    pub fn row(&self, y: u32, row: &mut [f32]) {
+        match &self.stretch {
+            None => {
+                let w = self.map.width() as usize;
+                row.copy_from_slice(&self.map.values()[y as usize * w..][..w]);
+            }
+            Some(s) => s.read_row(self.map.values(), self.map.width(), y, row),
+        }
+    }
+
     /// The value at domain pixel `i` (row-major).
     #[must_use]
     pub fn value_index(&self, i: usize) -> f32 {
@@ -130,6 +157,17 @@ impl Prepared {
         let px = (x.max(0.0) as u32).min(w - 1);
         let py = (y.max(0.0) as u32).min(h - 1);
         self.value(px, py)
+    }
+
+    /// The points that survive the white cutoff (their pixel's value at
+    /// most the cutoff), in their order.
+    #[must_use]
+    pub fn cut(&self, points: &[crate::sampler::Point]) -> Vec<crate::sampler::Point> {
+        points
+            .par_iter()
+            .filter(|p| self.cutoff.is_none_or(|c| self.value_at(p.x, p.y) <= c))
+            .copied()
+            .collect()
     }
 
     /// The calibrated dot radius at `p` for the radius range `range`
@@ -155,7 +193,12 @@ impl Prepared {
         // The radii of `map.radii(..)`, quantized as they are made.
         let radius = ImportanceMap::radius_fn(self.mapping, self.range.scaled(scale));
         let (w, h) = self.domain();
-        let m = RadiusMap::from_fn(w, h, |i| radius(self.value_index(i)))?;
+        let m = RadiusMap::from_rows(w, h, |y, row| {
+            self.row(y, row);
+            for r in row.iter_mut() {
+                *r = radius(*r);
+            }
+        })?;
         Ok(base.clone().with_radius_map(Arc::new(m)))
     }
 
@@ -542,5 +585,15 @@ mod tests {
         // A map of the domain's own size is read as it is.
         let own = Prepared::new(resized.clone(), Mapping::Tone, range, None).stretched(domain);
         assert_eq!(own.value(3, 4), resized.value(3, 4));
+        // Rows read as their pixels do, stretched or not.
+        let mut row = vec![0.0; domain.0 as usize];
+        for map in [&stretched, &own] {
+            for y in 0..domain.1 {
+                map.row(y, &mut row);
+                for (x, &v) in row.iter().enumerate() {
+                    assert_eq!(v, map.value(x as u32, y), "({x}, {y})");
+                }
+            }
+        }
     }
 }

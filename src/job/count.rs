@@ -100,7 +100,7 @@ pub fn sample_map<E: From<Error> + From<ImportanceError>>(
 ) -> Result<Fitted, E> {
     let mut cut_run = move |scale: f64| -> Result<SampleSet, E> {
         let set = run(&map.params(base, scale)?)?;
-        let kept = map.map.cut(&set.points, map.cutoff);
+        let kept = map.cut(&set.points);
         Ok(set.with_points(kept))
     };
     let Some(n) = points else {

@@ -43,40 +43,62 @@ impl RadiusMap {
     /// without a buffer of them: computed in parallel, quantized as they are
     /// made. The first bad pixel is the one reported.
     pub fn from_fn(width: u32, height: u32, radius: impl Fn(usize) -> f32 + Sync) -> Result<Self> {
+        let w = width as usize;
+        Self::from_rows(width, height, |y, row| {
+            for (r, i) in row.iter_mut().zip(y as usize * w..) {
+                *r = radius(i);
+            }
+        })
+    }
+
+    /// [`Self::from_fn`] a row at a time: `fill(y, row)` writes the radii
+    /// of row `y` (`width` of them) into `row`, so that a map read across
+    /// a row (a picture enlarged to the domain) finds its place once per
+    /// row, not once per pixel.
+    pub fn from_rows(
+        width: u32,
+        height: u32,
+        fill: impl Fn(u32, &mut [f32]) + Sync,
+    ) -> Result<Self> {
         check_size(width, height)?;
-        let n = width as usize * height as usize;
+        let w = width as usize;
+        let n = w * height as usize;
         // u32::MAX stands for a radius that is not finite (or that large).
         // The smallest and largest are found as the radii are made.
-        const CHUNK: usize = 1 << 14;
         let mut radii = vec![0u32; n];
         let (min, max) = radii
-            .par_chunks_mut(CHUNK)
+            .par_chunks_mut(w)
             .enumerate()
-            .map(|(c, out)| {
-                let (mut lo, mut hi) = (u32::MAX, 0);
-                for (r_out, i) in out.iter_mut().zip(c * CHUNK..) {
-                    let r = radius(i);
-                    let fx = if r.is_finite() {
-                        radius_to_fx(r.max(0.0))
-                    } else {
-                        u32::MAX
-                    };
-                    (lo, hi) = (lo.min(fx), hi.max(fx));
-                    *r_out = fx;
-                }
-                (lo, hi)
-            })
+            .map_init(
+                || vec![0.0f32; w],
+                |row, (y, out)| {
+                    fill(y as u32, row);
+                    let (mut lo, mut hi) = (u32::MAX, 0);
+                    for (r_out, &r) in out.iter_mut().zip(row.iter()) {
+                        let fx = if r.is_finite() {
+                            radius_to_fx(r.max(0.0))
+                        } else {
+                            u32::MAX
+                        };
+                        (lo, hi) = (lo.min(fx), hi.max(fx));
+                        *r_out = fx;
+                    }
+                    (lo, hi)
+                },
+            )
             .reduce(|| (u32::MAX, 0), |a, b| (a.0.min(b.0), a.1.max(b.1)));
+        let at = |i: usize| (i as u32 % width, i as u32 / width);
         if max == u32::MAX
-            && let Some(i) = (0..n)
-                .into_par_iter()
-                .position_first(|i| !radius(i).is_finite())
+            && let Some((i, r)) = (0..height).into_par_iter().find_map_first(|y| {
+                let mut row = vec![0.0f32; w];
+                fill(y, &mut row);
+                let x = row.iter().position(|r| !r.is_finite())?;
+                Some((y as usize * w + x, row[x]))
+            })
         {
+            let (x, y) = at(i);
             return Err(Error::InvalidRadius(format!(
-                "radius map holds {} at pixel ({}, {})",
-                radius(i),
-                i as u32 % width,
-                i as u32 / width
+                "radius map holds {r} at pixel ({x}, {y})"
             )));
         }
         if min < MIN_RADIUS_FX {
@@ -84,11 +106,10 @@ impl RadiusMap {
                 .par_iter()
                 .position_first(|&r| r < MIN_RADIUS_FX)
                 .unwrap_or(0);
+            let (x, y) = at(i);
             return Err(Error::InvalidRadius(format!(
-                "radius map holds {} px at pixel ({}, {}); radii must be at least 1 px",
+                "radius map holds {} px at pixel ({x}, {y}); radii must be at least 1 px",
                 fixed::fx_to_radius(radii[i]),
-                i as u32 % width,
-                i as u32 / width
             )));
         }
         Ok(Self {

@@ -151,16 +151,14 @@ pub fn relax_points(
             maps.len()
         )));
     }
-    let own = (first.map.width(), first.map.height());
     let (w, h) = first.domain();
     let xy: Vec<[f32; 2]> = points.iter().map(|p| [p.x, p.y]).collect();
-    let moved = if let ([prepared], true) = (maps, first.domain() == own) {
+    let moved = if let [prepared] = maps {
         // Each pixel's radius (as the map's `radii` gives it) and its
         // weight.
         let radius = crate::importance::ImportanceMap::radius_fn(prepared.mapping, range);
-        let values = prepared.map.values();
         relax_weighted(&xy, (w, h), options, progress, |i| {
-            let v = values[i];
+            let v = prepared.value_index(i);
             if prepared.cutoff.is_some_and(|c| v > c) {
                 0.0
             } else {
