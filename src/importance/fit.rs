@@ -138,6 +138,44 @@ impl Prepared {
         }
     }
 
+    /// The values of domain row `y` at the domain columns `columns` (as
+    /// [`Self::value`] gives them) into `out`, as long as `columns`: a
+    /// row read once for many columns.
+    pub fn row_at(&self, y: u32, columns: &[u32], out: &mut [f32]) {
+        let width = self.map.width() as usize;
+        let values = self.map.values();
+        match &self.stretch {
+            None => {
+                let line = &values[y as usize * width..][..width];
+                for (o, &x) in out.iter_mut().zip(columns) {
+                    *o = line[x as usize];
+                }
+            }
+            Some(s) => {
+                let (y0, y1, fy) = s.ys[y as usize];
+                let line = |y: u32| &values[y as usize * width..][..width];
+                let (a, b) = (line(y0), line(y1));
+                for (o, &x) in out.iter_mut().zip(columns) {
+                    let (x0, x1, fx) = s.xs[x as usize];
+                    let (x0, x1) = (x0 as usize, x1 as usize);
+                    let top = a[x0] + fx * (a[x1] - a[x0]);
+                    let bottom = b[x0] + fx * (b[x1] - b[x0]);
+                    *o = top + fy * (bottom - top);
+                }
+            }
+        }
+    }
+
+    /// The domain pixel under (`x`, `y`), as [`Self::value_at`] reads it.
+    #[must_use]
+    pub fn pixel_at(&self, x: f32, y: f32) -> (u32, u32) {
+        let (w, h) = self.domain();
+        (
+            (x.max(0.0) as u32).min(w - 1),
+            (y.max(0.0) as u32).min(h - 1),
+        )
+    }
+
     /// The value at domain pixel `i` (row-major).
     #[must_use]
     pub fn value_index(&self, i: usize) -> f32 {
@@ -153,9 +191,7 @@ impl Prepared {
     /// The value at the domain pixel under (`x`, `y`).
     #[must_use]
     pub fn value_at(&self, x: f32, y: f32) -> f32 {
-        let (w, h) = self.domain();
-        let px = (x.max(0.0) as u32).min(w - 1);
-        let py = (y.max(0.0) as u32).min(h - 1);
+        let (px, py) = self.pixel_at(x, y);
         self.value(px, py)
     }
 
@@ -585,13 +621,20 @@ mod tests {
         // A map of the domain's own size is read as it is.
         let own = Prepared::new(resized.clone(), Mapping::Tone, range, None).stretched(domain);
         assert_eq!(own.value(3, 4), resized.value(3, 4));
-        // Rows read as their pixels do, stretched or not.
+        // Rows read as their pixels do, stretched or not, whole or at
+        // some columns.
         let mut row = vec![0.0; domain.0 as usize];
+        let columns = [0u32, 5, 5, 22, 1];
+        let mut some = vec![0.0; columns.len()];
         for map in [&stretched, &own] {
             for y in 0..domain.1 {
                 map.row(y, &mut row);
                 for (x, &v) in row.iter().enumerate() {
                     assert_eq!(v, map.value(x as u32, y), "({x}, {y})");
+                }
+                map.row_at(y, &columns, &mut some);
+                for (&x, &v) in columns.iter().zip(&some) {
+                    assert_eq!(v, map.value(x, y), "({x}, {y})");
                 }
             }
         }

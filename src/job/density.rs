@@ -78,15 +78,15 @@ impl Density {
         // Cell rows in parallel, each summing in order every other pixel
         // of every other row, which stands for its 2×2 block (the pixels
         // of it in the domain): the windows hold hundreds of cells.
+        let columns: Vec<u32> = (0..w as u32).step_by(SUBSAMPLE).collect();
         let mut per_cell = vec![0f64; cols * rows];
-        per_cell
-            .par_chunks_mut(cols)
-            .enumerate()
-            .for_each(|(cy, row)| {
+        per_cell.par_chunks_mut(cols).enumerate().for_each_init(
+            || vec![0.0f32; columns.len()],
+            |values, (cy, row)| {
                 for y in (cy * CELL..((cy + 1) * CELL).min(h)).step_by(SUBSAMPLE) {
                     let tall = (h - y).min(SUBSAMPLE);
-                    for x in (0..w).step_by(SUBSAMPLE) {
-                        let v = map.value(x as u32, y as u32);
+                    map.row_at(y as u32, &columns, values);
+                    for (x, &v) in (0..w).step_by(SUBSAMPLE).zip(values.iter()) {
                         let t = v.clamp(0.0, 1.0) * DENSITY_STEPS as f32;
                         let j = (t as usize).min(DENSITY_STEPS - 1);
                         let f = f64::from(t - j as f32);
@@ -94,7 +94,8 @@ impl Density {
                         row[x / CELL] += block * (per_px[j] + f * (per_px[j + 1] - per_px[j]));
                     }
                 }
-            });
+            },
+        );
         let mut n = vec![0u32; cols * rows];
         for p in points {
             let (x, y) = ((p.x as usize).min(w - 1), (p.y as usize).min(h - 1));

@@ -13,7 +13,12 @@ use super::super::Stage;
 /// The ink the map asks for at (`x`, `y`) (none past the white cutoff,
 /// where no dot is drawn).
 fn ink_at(map: &Prepared, x: f32, y: f32) -> f64 {
-    let v = map.value_at(x, y).clamp(0.0, 1.0);
+    ink_of(map, map.value_at(x, y))
+}
+
+/// The ink the map asks for where its value is `v`.
+fn ink_of(map: &Prepared, v: f32) -> f64 {
+    let v = v.clamp(0.0, 1.0);
     if map.cutoff.is_some_and(|c| v > c) {
         0.0
     } else {
@@ -37,12 +42,21 @@ impl<'a> GreyCorrection<'a> {
     pub(crate) fn new(grid: Grid, map: &'a Prepared) -> Self {
         let (w, _) = grid.size;
         let inv = 1.0 / grid.scale;
-        let target = grid.cell_means(|i| {
-            let (x, y) = ((i as u32 % w) as f32 + 0.5, (i as u32 / w) as f32 + 0.5);
-            [ink_at(map, x * inv, y * inv)]
+        // The ink at each render pixel's centre: its domain pixel's, read
+        // a row at a time ([`ink_at`]'s values).
+        let columns: Vec<u32> = (0..w)
+            .map(|x| map.pixel_at((x as f32 + 0.5) * inv, 0.0).0)
+            .collect();
+        let target = grid.cell_means_of_rows(|y, out| {
+            let mut values = vec![0.0f32; columns.len()];
+            let (_, py) = map.pixel_at(0.0, (y as f32 + 0.5) * inv);
+            map.row_at(py, &columns, &mut values);
+            for (o, &v) in out.iter_mut().zip(&values) {
+                *o = ink_of(map, v);
+            }
         });
         let sigmas = blur_sigmas(grid.px_per_spacing());
-        let target = grid.blurred(target.into_iter().map(|[v]| v).collect(), sigmas);
+        let target = grid.blurred(target, sigmas);
         Self { grid, map, target }
     }
 

@@ -179,6 +179,40 @@ impl Grid {
             .collect()
     }
 
+    /// [`Self::cell_means`] of one value a render pixel, made a render
+    /// row at a time: `row(y, out)` writes the values of render row `y`
+    /// (the render's width of them) into `out`. The same sums in the same
+    /// order, so the same means.
+    pub(crate) fn cell_means_of_rows(&self, row: impl Fn(u32, &mut [f64]) + Sync) -> Vec<f32> {
+        let (w, h) = self.size;
+        let (ww, wh) = self.work;
+        let block = self.block as usize;
+        let mut means = vec![0f32; ww as usize * wh as usize];
+        means.par_chunks_mut(ww as usize).enumerate().for_each_init(
+            || (vec![0f64; w as usize], vec![0f64; ww as usize]),
+            |(values, sums), (cy, out)| {
+                sums.iter_mut().for_each(|s| *s = 0.0);
+                let (y0, y1) = (cy * block, ((cy + 1) * block).min(h as usize));
+                for y in y0..y1 {
+                    row(y as u32, values);
+                    for (cx, s) in sums.iter_mut().enumerate() {
+                        let x1 = ((cx + 1) * block).min(w as usize);
+                        for &v in &values[cx * block..x1] {
+                            *s += v;
+                        }
+                    }
+                }
+                for (cx, (o, s)) in out.iter_mut().zip(sums.iter()).enumerate() {
+                    let cols = ((cx + 1) * block).min(w as usize) - cx * block;
+                    // The count as `cell_means` makes it: 1.0 added once a pixel.
+                    let n = (0..(y1 - y0) * cols).fold(0.0f64, |n, _| n + 1.0);
+                    *o = (s / n) as f32;
+                }
+            },
+        );
+        means
+    }
+
     /// `values` (one per work cell) blurred by `sigmas` σ.
     pub(crate) fn blurred(&self, values: Vec<f32>, sigmas: f64) -> Grey {
         blur(
@@ -189,5 +223,30 @@ impl Grid {
             },
             sigmas * self.sigma,
         )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Means made a row at a time are the means made a pixel at a time,
+    /// bit for bit, on a render whose sides are not whole blocks.
+    #[test]
+    fn cell_means_by_rows_are_the_cell_means() {
+        let grid = Grid::new((301, 197), 400, &GridSpec::grey(0.0));
+        assert!(grid.block > 1 && grid.size.0 % grid.block != 0, "{grid:?}");
+        let w = grid.size.0;
+        let f = |x: u32, y: u32| ((x * 7919 + y * 104_729) % 1000) as f64 / 999.0;
+        let whole = grid.cell_means(|i| [f(i as u32 % w, i as u32 / w)]);
+        let by_rows = grid.cell_means_of_rows(|y, out| {
+            for (x, o) in out.iter_mut().enumerate() {
+                *o = f(x as u32, y);
+            }
+        });
+        assert_eq!(whole.len(), by_rows.len());
+        for (a, b) in whole.iter().zip(&by_rows) {
+            assert_eq!(a[0].to_bits(), b.to_bits());
+        }
     }
 }
