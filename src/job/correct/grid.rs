@@ -235,7 +235,10 @@ mod tests {
     #[test]
     fn cell_means_by_rows_are_the_cell_means() {
         let grid = Grid::new((301, 197), 400, &GridSpec::grey(0.0));
-        assert!(grid.block > 1 && grid.size.0 % grid.block != 0, "{grid:?}");
+        assert!(
+            grid.block > 1 && !grid.size.0.is_multiple_of(grid.block),
+            "{grid:?}"
+        );
         let w = grid.size.0;
         let f = |x: u32, y: u32| ((x * 7919 + y * 104_729) % 1000) as f64 / 999.0;
         let whole = grid.cell_means(|i| [f(i as u32 % w, i as u32 / w)]);
