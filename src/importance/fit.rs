@@ -182,8 +182,9 @@ impl Prepared {
         match &self.stretch {
             None => self.map.values()[i],
             Some(s) => {
-                let w = s.domain.0 as usize;
-                self.value((i % w) as u32, (i / w) as u32)
+                // A domain holds at most 2^30 pixels: 32-bit division.
+                let (i, w) = (i as u32, s.domain.0);
+                self.value(i % w, i / w)
             }
         }
     }
@@ -443,30 +444,32 @@ impl Classes<'_> {
     pub fn union_params(&self, base: &Params, scale: f64) -> crate::sampler::Result<Params> {
         let range = self.maps[0].range.scaled(scale);
         let (w, h) = self.maps[0].domain();
-        let inv = self.union_density_at(range);
-        let m = RadiusMap::from_fn(w, h, |i| {
-            let inv = inv(i);
-            if inv > 0.0 {
-                // At most the lightest dots' radius (where a stretched
-                // map's sum fades out between pixels with and without ink).
-                (1.0 / inv.sqrt()).clamp(1.0, range.max)
-            } else {
-                range.max
+        let inv = self.union_density_rows(range);
+        let m = RadiusMap::from_rows(w, h, |y, row| {
+            inv(y, row);
+            for r in row.iter_mut() {
+                let inv = *r;
+                *r = if inv > 0.0 {
+                    // At most the lightest dots' radius (where a stretched
+                    // map's sum fades out between pixels with and without ink).
+                    (1.0 / inv.sqrt()).clamp(1.0, range.max)
+                } else {
+                    range.max
+                };
             }
         })?;
         Ok(base.clone().with_radius_map(Arc::new(m)))
     }
 
-    /// Σ 1/r_c² over the classes that have samples, at a domain pixel's
-    /// index, for the radius range `range`: the union's density (its
-    /// radius map's 1/R²), made where it is
-    /// asked. Summed over the pens at the maps' own pixels once and read at
-    /// the domain's (one map read, not one per pen, where the maps are
-    /// stretched).
-    pub(crate) fn union_density_at(&self, range: RadiusRange) -> impl Fn(usize) -> f32 + Sync {
+    /// Σ 1/r_c² over the classes that have samples, at each pixel of a
+    /// domain row, for the radius range `range`: the union's density (its
+    /// radius map's 1/R²), made where it is asked (`rows(y, out)` writes
+    /// row `y`'s). Summed over the pens at the maps' own pixels once and
+    /// read at the domain's (one map read, not one per pen, where the maps
+    /// are stretched).
+    pub(crate) fn union_density_rows(&self, range: RadiusRange) -> impl Fn(u32, &mut [f32]) + Sync {
         let first = &self.maps[0];
         let density = self.densities(range);
-        let w = first.domain().0 as usize;
         let own = (first.map.width(), first.map.height());
         let summed: Vec<f32> = (0..own.0 as usize * own.1 as usize)
             .into_par_iter()
@@ -479,9 +482,12 @@ impl Classes<'_> {
             })
             .collect();
         let stretch = first.stretch.clone();
-        move |i| match &stretch {
-            None => summed[i],
-            Some(s) => s.read(&summed, own.0, (i % w) as u32, (i / w) as u32),
+        move |y, out| match &stretch {
+            None => {
+                let w = own.0 as usize;
+                out.copy_from_slice(&summed[y as usize * w..][..w]);
+            }
+            Some(s) => s.read_row(&summed, own.0, y, out),
         }
     }
 
