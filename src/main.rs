@@ -7,8 +7,8 @@ use std::process::ExitCode;
 use clap::{CommandFactory, FromArgMatches};
 
 /// mimalloc keeps the pages of freed buffers for the next: a drawing makes
-/// and drops maps of the domain's size (the enlarged photo's passes, the
-/// radius map, the blocks, the SVG's chunks), and with the system
+/// and drops maps of the domain's size (the radius map, the blocks, the
+/// renders, the SVG's chunks), and with the system
 /// allocator each is a fresh mapping whose every page faults in (12% of a
 /// 100K-dot run's CPU). 0.85–0.97× the time of a 100K-dot SVG, 0.88–1.05×
 /// at 1M, peak 241 → 290 MB there (`docs/benchmarks.md`).

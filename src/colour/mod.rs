@@ -29,8 +29,8 @@ pub fn srgb_to_linear(c: f32) -> f32 {
 
 /// The sRGB transfer function: linear value in [0, 1] to encoded.
 ///
-/// Every drawing's default tones pass each pixel of the enlarged photo
-/// through it, so above the linear toe it is read off a table, interpolated
+/// Every drawing's default tones pass each pixel of the photo (or of the
+/// photo made smaller) through it, so above the linear toe it is read off a table, interpolated
 /// linearly within segments of 1/1024 octave: within 1.5e-7 of the curve
 /// (about one `f32` step), cheaper than `powf` (a 100K-dot drawing takes
 /// 0.92× the time, `docs/benchmarks.md`), and the same on every platform

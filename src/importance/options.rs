@@ -99,8 +99,9 @@ impl Default for ImportanceOptions {
 }
 
 impl ImportanceOptions {
-    /// Loads `path`, resizes it to `size` (given the image's own size) and
-    /// applies the adjustments. `count_target`: a point count will scale
+    /// Loads `path`, applies the adjustments and reads it at `size` (given
+    /// the image's own size: resized when smaller, read bilinearly when
+    /// larger, [`Self::prepare_map_on`]). `count_target`: a point count will scale
     /// the radii, so a missing radius range may default.
     pub fn prepare(
         &self,
@@ -159,7 +160,7 @@ impl ImportanceOptions {
     }
 
     /// [`Self::prepare`] for a map already in memory (borrowed: the
-    /// prepared map is a resized copy anyway).
+    /// prepared map is a toned copy anyway).
     pub fn prepare_map(
         &self,
         map: &ImportanceMap,
@@ -191,9 +192,11 @@ impl ImportanceOptions {
         // bilinearly at the domain's pixels ([`Prepared::stretched`]): it is
         // enlarged in display grey, as a viewer enlarges it, and no map of
         // the domain's size is made (100K dots on a 512² photo: 0.92× the
-        // time; at LBG's count on five photos, 4 seeds each, 0.15 to 2.8
-        // dB closer; docs/benchmarks.md). One made smaller is resized to
-        // the domain, averaged in linear light.
+        // time; at LBG's count on five photos the mean of 4 seeds 0.15 to
+        // 2.8 dB closer, though single seeds vary by 1–2 dB;
+        // docs/benchmarks.md). One made smaller is resized to the domain,
+        // averaged in linear light. Point sets (`sample` with a map) are
+        // prepared alike.
         let tones = self.tones;
         let own = (map.width(), map.height());
         let enlarged = (w, h) != own && w >= own.0 && h >= own.1;

@@ -21,7 +21,7 @@ use super::correct::Correction;
 /// A colour picture prepared for drawing: one map per pen, and what the
 /// size stage's correction compares the drawing with.
 pub(crate) struct Separated {
-    /// One prepared map per pen, at the domain's size.
+    /// One prepared map per pen, read at the domain's pixels.
     pub maps: Vec<Prepared>,
     /// The picture, tones adjusted, at the size it was separated at.
     pub picture: ColourMap,

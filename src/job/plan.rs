@@ -200,8 +200,8 @@ impl Planned {
         let (mut set, range) = (fitted.set, fitted.range);
         let t_sample = lap();
         // The correction's set-up needs the maps and the grid, no dot: it
-        // is made while the dots are relaxed, on the core the
-        // triangulation leaves idle (the same values either way).
+        // is made while the dots are relaxed, as a task beside the
+        // relaxation's (the same values either way).
         let count = set.points.len();
         let mut setup = None;
         rayon::in_place_scope(|scope| -> crate::Result<()> {

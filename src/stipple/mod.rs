@@ -192,8 +192,7 @@ pub fn relax_points(
         .collect())
 }
 
-/// The points `xy` of `points` (several pens, or one map stretched to its
-/// domain) after `options.iterations` weighted Lloyd steps, each pen's
+/// The points `xy` of `points` (several pens) after `options.iterations` weighted Lloyd steps, each pen's
 /// points relaxed on their own, toward their own density: a pixel weighs
 /// 1/r_c⁴ for pen c's sample radius r_c there, zero where the pen has no
 /// samples ([`crate::importance::Classes`]). Each pen's dots are then as
@@ -203,9 +202,8 @@ pub fn relax_points(
 /// ΔE00 of 1.08–1.73 at the mean spacing σ and 6.2–9.6 at σ/2, against
 /// 2.1–2.7 and 8.8–12.6 spread but not relaxed, and 2.5–3.0 and 9.5–13.3
 /// with all pens relaxed together toward the union's density, as before
-/// (docs/colour.md). The pens take each step in parallel (each one's
-/// triangulation is one thread's work), and each step is reported; the
-/// result does not depend on the thread count.
+/// (docs/colour.md). The pens take each step in parallel, and each step
+/// is reported; the result does not depend on the thread count.
 fn relax_pens(
     maps: &[Prepared],
     range: RadiusRange,
