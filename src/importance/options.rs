@@ -229,6 +229,52 @@ impl ImportanceOptions {
 mod tests {
     use super::*;
 
+    /// A picture enlarged to its domain is toned and levelled at its own
+    /// size and read bilinearly there; one made smaller is resized; the
+    /// white cutoff reads the domain's pixels either way.
+    #[test]
+    fn an_enlarged_picture_is_toned_at_its_own_size() {
+        let values: Vec<f32> = (0..12).map(|i| i as f32 / 11.0).collect();
+        let map = ImportanceMap::from_values(4, 3, values).unwrap();
+        let opts = ImportanceOptions {
+            gamma: 2.0,
+            white_cutoff: Some(0.5),
+            ..ImportanceOptions::default()
+        };
+        let big = opts
+            .prepare_map(&map, |_, _| (40, 30), Mapping::Tone, true)
+            .unwrap();
+        assert_eq!(big.domain(), (40, 30));
+        assert_eq!((big.map.width(), big.map.height()), (4, 3));
+        let toned = map
+            .resized_with(4, 3, |v| opts.adjust().apply(opts.tones.tone(v)))
+            .unwrap();
+        let expected =
+            Prepared::new(toned, Mapping::Tone, big.range, Some(0.5)).stretched((40, 30));
+        for (x, y) in [(0, 0), (13, 7), (39, 29), (21, 15)] {
+            assert_eq!(big.value(x, y), expected.value(x, y), "({x}, {y})");
+        }
+        // The cutoff drops the points whose domain pixel is past it.
+        let points: Vec<crate::sampler::Point> = (0..40)
+            .map(|i| crate::sampler::Point {
+                x: i as f32 + 0.5,
+                y: 15.5,
+                radius: 1.0,
+                class: 0,
+            })
+            .collect();
+        let kept = big.cut(&points);
+        assert!(!kept.is_empty() && kept.len() < points.len());
+        for p in &points {
+            assert_eq!(kept.contains(p), big.value_at(p.x, p.y) <= 0.5, "{p:?}");
+        }
+        // Made smaller, it is resized to the domain.
+        let small = opts
+            .prepare_map(&map, |_, _| (2, 2), Mapping::Tone, true)
+            .unwrap();
+        assert_eq!((small.map.width(), small.map.height()), (2, 2));
+    }
+
     #[test]
     fn tone_means_calibrated_for_the_dots_drawn() {
         let map = || ImportanceMap::from_values(4, 4, vec![0.5; 16]).unwrap();

@@ -142,6 +142,41 @@ mod tests {
         grey.iter().map(|&g| 1.0 - f64::from(g)).sum::<f64>() / grey.len() as f64
     }
 
+    /// The target made a row at a time is the one made a render pixel at a
+    /// time (each pixel's ink read where it lies), bit for bit, on a map
+    /// stretched to a larger domain with a white cutoff.
+    #[test]
+    fn the_target_by_rows_is_the_target_by_pixels() {
+        let (w, h) = (23u32, 17u32);
+        let values = (0..w * h)
+            .map(|i| ((i * 37) % 101) as f32 / 100.0)
+            .collect();
+        let map = ImportanceMap::from_values(w, h, values).unwrap();
+        let range = RadiusRange::new(2.0, 8.0).unwrap();
+        let domain = (157, 101);
+        let prepared =
+            Prepared::new(map, Mapping::ToneSized(0.3), range, Some(0.8)).stretched(domain);
+        let grid = GridSpec {
+            pixels: u64::MAX,
+            ..GridSpec::grey(0.0)
+        }
+        .grid(domain, 100);
+        assert!(grid.scale < 0.9, "{grid:?}");
+        let made = GreyCorrection::new(grid, &prepared).target;
+        let (rw, _) = grid.size;
+        let inv = 1.0 / grid.scale;
+        let by_pixels = grid.cell_means(|i| {
+            let (x, y) = ((i as u32 % rw) as f32 + 0.5, (i as u32 / rw) as f32 + 0.5);
+            [ink_at(&prepared, x * inv, y * inv)]
+        });
+        let sigmas = blur_sigmas(grid.px_per_spacing());
+        let expected = grid.blurred(by_pixels.into_iter().map(|[v]| v).collect(), sigmas);
+        assert_eq!(made.values.len(), expected.values.len());
+        for (a, b) in made.values.iter().zip(&expected.values) {
+            assert_eq!(a.to_bits(), b.to_bits());
+        }
+    }
+
     /// On a flat grey, dots drawn far too large (or too small) are brought
     /// most of the way to the grey's ink, as a fine render measures it (the
     /// rounds' steps are scaled for calibrated dots, near their ink: from
