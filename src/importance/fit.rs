@@ -40,28 +40,44 @@ impl Stretch {
     /// The value at domain pixel (`x`, `y`) of `values`, a map `width`
     /// pixels wide.
     fn read(&self, values: &[f32], width: u32, x: u32, y: u32) -> f32 {
-        let (x0, x1, fx) = self.xs[x as usize];
+        let (a, b, fy) = self.rows(values, width, y);
+        mix(a, b, self.xs[x as usize], fy)
+    }
+
+    /// [`Self::read`] of every pixel of domain row `y` into `row`.
+    fn read_row(&self, values: &[f32], width: u32, y: u32, row: &mut [f32]) {
+        let (a, b, fy) = self.rows(values, width, y);
+        for (out, &x) in row.iter_mut().zip(&self.xs) {
+            *out = mix(a, b, x, fy);
+        }
+    }
+
+    /// [`Self::read`] of the pixels of domain row `y` at `columns` into
+    /// `out`.
+    fn read_at(&self, values: &[f32], width: u32, y: u32, columns: &[u32], out: &mut [f32]) {
+        let (a, b, fy) = self.rows(values, width, y);
+        for (o, &x) in out.iter_mut().zip(columns) {
+            *o = mix(a, b, self.xs[x as usize], fy);
+        }
+    }
+
+    /// The two map rows under domain row `y` and the weight of the second.
+    fn rows<'v>(&self, values: &'v [f32], width: u32, y: u32) -> (&'v [f32], &'v [f32], f32) {
         let (y0, y1, fy) = self.ys[y as usize];
-        let v = |x: u32, y: u32| values[y as usize * width as usize + x as usize];
-        let top = v(x0, y0) + fx * (v(x1, y0) - v(x0, y0));
-        let bottom = v(x0, y1) + fx * (v(x1, y1) - v(x0, y1));
-        top + fy * (bottom - top)
+        let line = |y: u32| &values[y as usize * width as usize..][..width as usize];
+        (line(y0), line(y1), fy)
     }
 }
 
-impl Stretch {
-    /// [`Self::read`] of every pixel of domain row `y` into `row`.
-    fn read_row(&self, values: &[f32], width: u32, y: u32, row: &mut [f32]) {
-        let (y0, y1, fy) = self.ys[y as usize];
-        let line = |y: u32| &values[y as usize * width as usize..][..width as usize];
-        let (a, b) = (line(y0), line(y1));
-        for (out, &(x0, x1, fx)) in row.iter_mut().zip(&self.xs) {
-            let (x0, x1) = (x0 as usize, x1 as usize);
-            let top = a[x0] + fx * (a[x1] - a[x0]);
-            let bottom = b[x0] + fx * (b[x1] - b[x0]);
-            *out = top + fy * (bottom - top);
-        }
-    }
+/// The bilinear value between map rows `a` and `b` (weight `fy` on `b`) at
+/// the columns `x0`, `x1` (weight `fx` on `x1`): every read of a stretched
+/// map, the same operations in the same order.
+#[inline]
+fn mix(a: &[f32], b: &[f32], (x0, x1, fx): (u32, u32, f32), fy: f32) -> f32 {
+    let (x0, x1) = (x0 as usize, x1 as usize);
+    let top = a[x0] + fx * (a[x1] - a[x0]);
+    let bottom = b[x0] + fx * (b[x1] - b[x0]);
+    top + fy * (bottom - top)
 }
 
 /// The two pixels of `from` under each of `to` pixels (centres aligned, as
@@ -151,18 +167,7 @@ impl Prepared {
                     *o = line[x as usize];
                 }
             }
-            Some(s) => {
-                let (y0, y1, fy) = s.ys[y as usize];
-                let line = |y: u32| &values[y as usize * width..][..width];
-                let (a, b) = (line(y0), line(y1));
-                for (o, &x) in out.iter_mut().zip(columns) {
-                    let (x0, x1, fx) = s.xs[x as usize];
-                    let (x0, x1) = (x0 as usize, x1 as usize);
-                    let top = a[x0] + fx * (a[x1] - a[x0]);
-                    let bottom = b[x0] + fx * (b[x1] - b[x0]);
-                    *o = top + fy * (bottom - top);
-                }
-            }
+            Some(s) => s.read_at(values, width as u32, y, columns, out),
         }
     }
 

@@ -309,6 +309,15 @@ mod tests {
         (a / 2.0, [cx / (3.0 * a), cy / (3.0 * a)])
     }
 
+    /// A stream of numbers in [0, 1) from `seed` (an LCG).
+    fn stream(seed: u32) -> impl FnMut() -> f32 {
+        let mut state = seed;
+        move || {
+            state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (state >> 8) as f32 / (1u32 << 24) as f32
+        }
+    }
+
     /// The cell of `i` cut by every other point's bisector, one by one.
     fn brute_force(points: &[[f32; 2]], i: usize, size: [f64; 2]) -> Vec<P> {
         let p = points[i].map(f64::from);
@@ -340,11 +349,7 @@ mod tests {
     #[test]
     fn the_cells_found_ring_by_ring_are_the_voronoi_cells() {
         let size = [300.0, 200.0];
-        let mut state = 11u32;
-        let mut next = || {
-            state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
-            (state >> 8) as f32 / (1u32 << 24) as f32
-        };
+        let mut next = stream(11);
         let mut points: Vec<[f32; 2]> =
             (0..400).map(|_| [next() * 300.0, next() * 200.0]).collect();
         // A dense cluster, where buckets hold many points.
@@ -359,11 +364,7 @@ mod tests {
     #[test]
     fn cells_are_right_where_the_points_crowd_a_corner() {
         let size = [400.0, 300.0];
-        let mut state = 5u32;
-        let mut next = || {
-            state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
-            (state >> 8) as f32 / (1u32 << 24) as f32
-        };
+        let mut next = stream(5);
         let mut points: Vec<[f32; 2]> = (0..500)
             .map(|_| [next() * 40.0, 270.0 + next() * 30.0])
             .collect();
