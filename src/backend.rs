@@ -44,6 +44,43 @@ impl Params {
     }
 }
 
+/// The process's GPU being opened on a thread of its own while the caller
+/// goes on (decoding the picture, preparing its maps): made by
+/// [`open_early`]. Dropping it waits for the thread, so that no driver is
+/// left starting while the process exits.
+#[must_use = "dropping it at once waits for the GPU"]
+pub struct Opening(Option<std::thread::JoinHandle<()>>);
+
+impl Drop for Opening {
+    fn drop(&mut self) {
+        if let Some(thread) = self.0.take() {
+            // A panic in the driver's start is the run's to report: the
+            // run opens the GPU again and hears why.
+            let _ = thread.join();
+        }
+    }
+}
+
+/// Starts opening the process's GPU ([`SharedGpu::get`]) when `choice` may
+/// use it, so that the first run finds it open (or known absent) instead of
+/// waiting for the driver: probing takes 30–100 ms where Mesa's drivers are
+/// installed, as long as sampling 10K dots.
+pub fn open_early(choice: BackendChoice) -> Opening {
+    #[cfg(feature = "gpu")]
+    if choice != BackendChoice::Cpu {
+        return Opening(
+            std::thread::Builder::new()
+                .name("pixelpie-gpu-open".into())
+                .spawn(|| {
+                    let _ = SharedGpu::get();
+                })
+                .ok(),
+        );
+    }
+    let _ = choice;
+    Opening(None)
+}
+
 /// A process-wide headless GPU: opened on first use, kept for later runs so
 /// that pipelines and buffers are reused.
 #[cfg(feature = "gpu")]
@@ -257,5 +294,26 @@ pub fn sample_with(
                 sampler::cpu::sample(params, ctl)
             }
         },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The CPU backend opens nothing; `auto` and `gpu` open the GPU on a
+    /// thread that the guard waits for, after which the process's GPU is
+    /// settled: opened, or known absent.
+    #[test]
+    fn the_gpu_opens_early_only_when_it_may_be_used() {
+        assert!(open_early(BackendChoice::Cpu).0.is_none());
+        #[cfg(feature = "gpu")]
+        for choice in [BackendChoice::Auto, BackendChoice::Gpu] {
+            let opening = open_early(choice);
+            assert!(opening.0.is_some());
+            drop(opening);
+            let first = SharedGpu::get().map(std::ptr::from_ref);
+            assert_eq!(first, SharedGpu::get().map(std::ptr::from_ref));
+        }
     }
 }

@@ -165,6 +165,7 @@ pub fn run(a: &SampleArgs) -> Result<()> {
     if let Some(s) = &a.stats {
         check_json_path(s)?;
     }
+    let _gpu = backend::open_early(a.run.backend);
     a.run.apply_gpu_path();
     let job = &a.job;
     let radii = match job.radii() {

@@ -272,6 +272,7 @@ fn draw(
     output: &Path,
     mut decoded: Option<(Decoded, f64)>,
 ) -> Result<()> {
+    let _gpu = pixelpie::backend::open_early(a.run.backend);
     let resolved;
     let o = if o.choose.is_some() {
         (resolved, decoded) = chosen(a, o, image)?;

@@ -340,11 +340,27 @@ impl Separation {
                 out
             });
         });
-        let table = |node: usize, k: usize| self.table[node].get().map_or(0.0, |t| t[k]);
+        // The solved nodes as a plain table (unneeded nodes stay unread).
+        let table: Vec<[f32; super::pens::MAX_PENS]> = self
+            .table
+            .iter()
+            .map(|t| t.get().copied().unwrap_or_default())
+            .collect();
         let mut planes = vec![vec![0f32; linear_rgb.len()]; n];
-        let per_pixel: Vec<[f32; super::pens::MAX_PENS]> = linear_rgb
-            .par_iter()
-            .map(|p| {
+        // Each chunk of pixels writes its part of every plane.
+        const CHUNK: usize = 1 << 12;
+        let mut parts: Vec<Vec<&mut [f32]>> = Vec::new();
+        for plane in &mut planes {
+            for (c, part) in plane.chunks_mut(CHUNK).enumerate() {
+                if parts.len() <= c {
+                    parts.push(Vec::with_capacity(n));
+                }
+                parts[c].push(part);
+            }
+        }
+        parts.into_par_iter().enumerate().for_each(|(c, mut out)| {
+            let pixels = &linear_rgb[c * CHUNK..(c * CHUNK + CHUNK).min(linear_rgb.len())];
+            for (j, p) in pixels.iter().enumerate() {
                 // Tetrahedral: the cell's corners along the path that adds
                 // the axes in the order of their fractions, so that a grey
                 // reads grey nodes only.
@@ -365,22 +381,19 @@ impl Separation {
                 let mut node = [c[0].0, c[1].0, c[2].0];
                 let f = axes.map(|a| c[a].1);
                 let weights = [1.0 - f[0], f[0] - f[1], f[1] - f[2], f[2]];
-                let mut out = [0f32; super::pens::MAX_PENS];
+                let mut sum = [0f32; super::pens::MAX_PENS];
                 for (step, w) in weights.into_iter().enumerate() {
                     if step > 0 {
                         node[axes[step - 1]] += 1;
                     }
-                    let i = node[0] * N * N + node[1] * N + node[2];
-                    for (k, o) in out.iter_mut().enumerate().take(n) {
-                        *o += w * table(i, k);
+                    let t = &table[node[0] * N * N + node[1] * N + node[2]];
+                    for (o, v) in sum.iter_mut().zip(t).take(n) {
+                        *o += w * v;
                     }
                 }
-                out
-            })
-            .collect();
-        planes.par_iter_mut().enumerate().for_each(|(k, plane)| {
-            for (o, a) in plane.iter_mut().zip(&per_pixel) {
-                *o = a[k];
+                for (plane, v) in out.iter_mut().zip(sum) {
+                    plane[j] = v;
+                }
             }
         });
         planes

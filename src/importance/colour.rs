@@ -11,6 +11,7 @@ use std::path::Path;
 
 use super::{Error, ImportanceMap, Range, Result};
 use crate::colour::Separation;
+use rayon::prelude::*;
 
 /// A colour picture: linear RGB in [0, 1] per pixel, row-major.
 #[derive(Clone, Debug, PartialEq)]
@@ -214,7 +215,7 @@ impl ColourMap {
     pub fn separate(&self, separation: &Separation) -> Vec<ImportanceMap> {
         separation
             .image(&self.rgb)
-            .into_iter()
+            .into_par_iter()
             .map(|ink| {
                 let v = ink.iter().map(|a| (1.0 - a).clamp(0.0, 1.0)).collect();
                 ImportanceMap::from_values(self.width, self.height, v).expect("inks are in range")
