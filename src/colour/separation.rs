@@ -303,17 +303,44 @@ impl Separation {
             let i = (x as usize).min(N - 2);
             (i, x - i as f32)
         };
-        let cell = |p: &[f32; 3]| -> [(usize, f32); 3] { [axis(p[0]), axis(p[1]), axis(p[2])] };
-        // The nodes the pixels' cells need: marked in parallel chunks, then
-        // joined.
+        // Tetrahedral: the cell's corners along the path that adds the axes
+        // in the order of their fractions, so that a grey reads grey nodes
+        // only; the four nodes and their weights.
+        let tetrahedron = |p: &[f32; 3]| -> ([usize; 4], [f32; 4]) {
+            let c = [axis(p[0]), axis(p[1]), axis(p[2])];
+            // The axes by falling fraction, ties in axis order (the stable
+            // sort of three, by hand).
+            let mut axes = [0usize, 1, 2];
+            let before = |a: usize, b: usize| c[b].1.total_cmp(&c[a].1).is_lt();
+            if before(axes[1], axes[0]) {
+                axes.swap(0, 1);
+            }
+            if before(axes[2], axes[1]) {
+                axes.swap(1, 2);
+                if before(axes[1], axes[0]) {
+                    axes.swap(0, 1);
+                }
+            }
+            let mut node = [c[0].0, c[1].0, c[2].0];
+            let f = axes.map(|a| c[a].1);
+            let weights = [1.0 - f[0], f[0] - f[1], f[1] - f[2], f[2]];
+            let nodes = std::array::from_fn(|step| {
+                if step > 0 {
+                    node[axes[step - 1]] += 1;
+                }
+                node[0] * N * N + node[1] * N + node[2]
+            });
+            (nodes, weights)
+        };
+        // The nodes the pixels' tetrahedra read (no other node is solved):
+        // marked in parallel chunks, then joined.
         let need = linear_rgb
             .par_chunks(1 << 14)
             .map(|chunk| {
                 let mut need = vec![false; N * N * N];
                 for p in chunk {
-                    let [(r, _), (g, _), (b, _)] = cell(p);
-                    for c in 0..8 {
-                        need[(r + (c & 1)) * N * N + (g + (c >> 1 & 1)) * N + b + (c >> 2)] = true;
+                    for i in tetrahedron(p).0 {
+                        need[i] = true;
                     }
                 }
                 need
@@ -361,33 +388,10 @@ impl Separation {
         parts.into_par_iter().enumerate().for_each(|(c, mut out)| {
             let pixels = &linear_rgb[c * CHUNK..(c * CHUNK + CHUNK).min(linear_rgb.len())];
             for (j, p) in pixels.iter().enumerate() {
-                // Tetrahedral: the cell's corners along the path that adds
-                // the axes in the order of their fractions, so that a grey
-                // reads grey nodes only.
-                let c = cell(p);
-                // The axes by falling fraction, ties in axis order (the
-                // stable sort of three, by hand).
-                let mut axes = [0usize, 1, 2];
-                let before = |a: usize, b: usize| c[b].1.total_cmp(&c[a].1).is_lt();
-                if before(axes[1], axes[0]) {
-                    axes.swap(0, 1);
-                }
-                if before(axes[2], axes[1]) {
-                    axes.swap(1, 2);
-                    if before(axes[1], axes[0]) {
-                        axes.swap(0, 1);
-                    }
-                }
-                let mut node = [c[0].0, c[1].0, c[2].0];
-                let f = axes.map(|a| c[a].1);
-                let weights = [1.0 - f[0], f[0] - f[1], f[1] - f[2], f[2]];
+                let (nodes, weights) = tetrahedron(p);
                 let mut sum = [0f32; super::pens::MAX_PENS];
-                for (step, w) in weights.into_iter().enumerate() {
-                    if step > 0 {
-                        node[axes[step - 1]] += 1;
-                    }
-                    let t = &table[node[0] * N * N + node[1] * N + node[2]];
-                    for (o, v) in sum.iter_mut().zip(t).take(n) {
+                for (i, w) in nodes.into_iter().zip(weights) {
+                    for (o, v) in sum.iter_mut().zip(&table[i]).take(n) {
                         *o += w * v;
                     }
                 }

@@ -25,7 +25,15 @@ pub struct Prepared {
     pub cutoff: Option<f32>,
     /// Where the map is read at a larger domain.
     stretch: Option<Stretch>,
+    /// [`Self::knots`], made on first use, with the map and cutoff it was
+    /// made of ([`KnotsKey`]).
+    knots: std::sync::OnceLock<(KnotsKey, Knots)>,
 }
+
+/// What the knots of a [`Prepared`] depend on: its map's values (where
+/// they lie, and how many) and its cutoff, whose fields are public.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct KnotsKey(usize, usize, Option<u32>);
 
 /// A map read at a larger domain: per domain column and row, the two map
 /// pixels between which it lies and the weight of the second.
@@ -109,6 +117,7 @@ impl Prepared {
             range,
             cutoff,
             stretch: None,
+            knots: std::sync::OnceLock::new(),
         }
     }
 
@@ -251,6 +260,24 @@ impl Prepared {
         move |scale| knots.predicted(self, scale)
     }
 
+    /// [`Self::made_knots`], made once: the plan, the count's fit and a
+    /// colour drawing's sizes each predict from them.
+    fn knots(&self) -> std::borrow::Cow<'_, Knots> {
+        let values = self.map.values();
+        let key = KnotsKey(
+            values.as_ptr() as usize,
+            values.len(),
+            self.cutoff.map(f32::to_bits),
+        );
+        let (made_for, knots) = self.knots.get_or_init(|| (key, self.made_knots()));
+        if *made_for == key {
+            std::borrow::Cow::Borrowed(knots)
+        } else {
+            // A map or cutoff set after the first prediction.
+            std::borrow::Cow::Owned(self.made_knots())
+        }
+    }
+
     /// The count a run at radius `scale` is predicted to give: the RSA
     /// density at each pixel's radius r, times the density of maximal
     /// pixel-mode sets at r over RSA's ([`super::ink::density`]), times
@@ -264,7 +291,7 @@ impl Prepared {
     /// The sampled pixels' values as weights on the knots of the density
     /// table that [`Self::predicted_points`] interpolates: made once, it
     /// predicts the count at any scale in 1025 products.
-    fn knots(&self) -> Knots {
+    fn made_knots(&self) -> Knots {
         let (w, h) = (self.map.width() as usize, self.map.height() as usize);
         let step = ((w * h) as f64 / 250_000.0).sqrt().floor().max(1.0) as usize;
         let values = self.map.values();
@@ -322,6 +349,7 @@ const KNOTS: usize = 1024;
 const KNOT_ONE: f64 = 4_294_967_296.0;
 
 /// The sampled pixels of a map as weights on the density table's knots.
+#[derive(Clone, Debug)]
 struct Knots {
     /// The weight on each knot, in 2^-32 of a pixel.
     weights: Vec<u64>,
@@ -610,6 +638,33 @@ impl Classes<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The count predicted from the knots made once is the count of the
+    /// map and cutoff the prepared map holds now, when either is set after
+    /// the first prediction.
+    #[test]
+    fn predictions_follow_a_map_or_cutoff_set_later() {
+        let (w, h) = (64u32, 48u32);
+        let map = |dark: f32| {
+            let values = (0..w * h)
+                .map(|i| (i % w) as f32 / w as f32 * dark)
+                .collect();
+            ImportanceMap::from_values(w, h, values).unwrap()
+        };
+        let range = RadiusRange::new(2.0, 8.0).unwrap();
+        let fresh = |dark: f32, cutoff| Prepared::new(map(dark), Mapping::Tone, range, cutoff);
+        let mut p = fresh(1.0, None);
+        let first = p.predicted_points(1.0);
+        assert_eq!(first, p.predicted_points(1.0));
+        p.map = map(0.5);
+        let darker = fresh(0.5, None).predicted_points(1.0);
+        assert!(darker > first);
+        assert_eq!(p.predicted_points(1.0), darker);
+        p.cutoff = Some(0.25);
+        let cut = fresh(0.5, Some(0.25)).predicted_points(1.0);
+        assert!(cut < darker);
+        assert_eq!(p.predicted_points(1.0), cut);
+    }
 
     #[test]
     fn a_stretched_map_reads_as_the_map_resized_to_the_domain() {

@@ -41,6 +41,9 @@ pub(crate) struct Correction {
     model: RenderModel,
 }
 
+/// The most pens whose one-partial mixes are tabulated (64 × 6 × 256
+/// colours; 8 pens would take 512K).
+const SINGLE_MAX_PENS: usize = 6;
 /// The ink below which a pen is taken to have no dots in a correction.
 const MIN_INK: f64 = 0.005;
 /// The side, in `src` cells, of the blocks the gains are made on.
@@ -189,6 +192,26 @@ impl Correction {
             .iter()
             .fold((f64::INFINITY, 0f64), |(lo, hi), &r| (lo.min(r), hi.max(r)));
         let ratios = super::super::density::Ratios::new(lo, hi);
+        // The mix where one pen covers a render pixel in part and each
+        // other wholly or not at all (most such pixels), by the mask of the
+        // whole ones, that pen and its byte: made by `mix` itself, so the
+        // same values. Up to [`SINGLE_MAX_PENS`] pens.
+        let single: Vec<[f64; 3]> = if pens <= SINGLE_MAX_PENS {
+            (0..(1usize << pens) * pens * 256)
+                .into_par_iter()
+                .map(|i| {
+                    let (whole, k, v) = (i / (pens * 256), i / 256 % pens, i % 256);
+                    let mut a = [0f64; MAX_PENS];
+                    for (j, a) in a.iter_mut().enumerate().take(pens) {
+                        *a = if whole >> j & 1 == 1 { 1.0 } else { 0.0 };
+                    }
+                    a[k] = 1.0 - v as f64 / 255.0;
+                    self.model.mix(&a[..pens])
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
         let of = rounds(grid.sigma);
         for round in 1..=of {
             stage(Stage::Correct { round, of })?;
@@ -204,15 +227,21 @@ impl Correction {
                 // (most pixels), the mix is that overlap's colour itself,
                 // exactly.
                 let mut whole = 0usize;
-                let mut partial = false;
+                let mut partial = None;
+                let mut several = false;
                 for (k, l) in layers.iter().enumerate() {
                     match l.as_raw()[i] {
                         0 => whole |= 1 << k,
                         255 => {}
-                        _ => partial = true,
+                        v => {
+                            several |= partial.is_some();
+                            partial = Some((k, usize::from(v)));
+                        }
                     }
                 }
-                if partial {
+                if let (Some((k, v)), false, false) = (partial, several, single.is_empty()) {
+                    single[(whole * pens + k) * 256 + v]
+                } else if partial.is_some() {
                     let mut a = [0f64; MAX_PENS];
                     for (k, l) in layers.iter().enumerate() {
                         a[k] = 1.0 - f64::from(l.as_raw()[i]) / 255.0;
