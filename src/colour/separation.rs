@@ -332,31 +332,11 @@ impl Separation {
             });
             (nodes, weights)
         };
-        // The nodes the pixels' tetrahedra read (no other node is solved):
-        // marked in parallel chunks, then joined.
-        let need = linear_rgb
-            .par_chunks(1 << 14)
-            .map(|chunk| {
-                let mut need = vec![false; N * N * N];
-                for p in chunk {
-                    for i in tetrahedron(p).0 {
-                        need[i] = true;
-                    }
-                }
-                need
-            })
-            .reduce(
-                || vec![false; N * N * N],
-                |mut a, b| {
-                    a.iter_mut().zip(b).for_each(|(a, b)| *a |= b);
-                    a
-                },
-            );
+        // A node's inks, solved where a pixel first reads it (once in the
+        // process; a thread that reads a node being solved waits for it),
+        // so that only the nodes the pixels read are solved.
         let n = self.model.pens;
-        let nodes: Vec<usize> = (0..N * N * N)
-            .filter(|&i| need[i] && self.table[i].get().is_none())
-            .collect();
-        nodes.par_iter().for_each(|&i| {
+        let node = |i: usize| {
             self.table[i].get_or_init(|| {
                 let rgb = [i / (N * N), i / N % N, i % N].map(|v| v as f64 / f64::from(step));
                 let a = self.inks(Lab::from_srgb(rgb));
@@ -365,14 +345,8 @@ impl Separation {
                     *o = v as f32;
                 }
                 out
-            });
-        });
-        // The solved nodes as a plain table (unneeded nodes stay unread).
-        let table: Vec<[f32; super::pens::MAX_PENS]> = self
-            .table
-            .iter()
-            .map(|t| t.get().copied().unwrap_or_default())
-            .collect();
+            })
+        };
         let mut planes = vec![vec![0f32; linear_rgb.len()]; n];
         // Each chunk of pixels writes its part of every plane.
         const CHUNK: usize = 1 << 12;
@@ -391,7 +365,7 @@ impl Separation {
                 let (nodes, weights) = tetrahedron(p);
                 let mut sum = [0f32; super::pens::MAX_PENS];
                 for (i, w) in nodes.into_iter().zip(weights) {
-                    for (o, v) in sum.iter_mut().zip(&table[i]).take(n) {
+                    for (o, v) in sum.iter_mut().zip(node(i)).take(n) {
                         *o += w * v;
                     }
                 }
@@ -477,6 +451,43 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// A pixel on a node of the table takes that node's inks; any pixel
+    /// takes the same inks whatever else was separated before and on any
+    /// number of threads (nodes are solved where first read).
+    #[test]
+    fn image_inks_come_from_the_table_the_same_on_any_threads() {
+        let model = RenderModel::new(&PenSet::cmyk(), false);
+        let step = (TABLE_NODES - 1) as f64;
+        // sRGB 8/16 and 4/16 of the way: on nodes; then a ramp between.
+        let on_node = [[8.0 / step, 4.0 / step, 12.0 / step]
+            .map(decode)
+            .map(|v| v as f32)];
+        let ramp: Vec<[f32; 3]> = (0..500)
+            .map(|i| {
+                let t = i as f32 / 499.0;
+                [t, (1.0 - t) * 0.7, (t * 7.0).fract()]
+            })
+            .collect();
+        let sep = Separation::new(model.clone(), 0.96);
+        let planes = sep.image(&on_node);
+        let want = sep.inks(Lab::from_srgb([8.0 / step, 4.0 / step, 12.0 / step]));
+        for (p, w) in planes.iter().zip(&want) {
+            assert!((f64::from(p[0]) - w).abs() < 1e-6, "{p:?} {want:?}");
+        }
+        let one = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap();
+        let four = rayon::ThreadPoolBuilder::new()
+            .num_threads(4)
+            .build()
+            .unwrap();
+        let alone = one.install(|| Separation::new(model.clone(), 0.96).image(&ramp));
+        let after = four.install(|| sep.image(&ramp));
+        assert_eq!(alone, after);
+        assert!(alone.iter().any(|p| p.iter().any(|&a| a > 0.1)));
     }
 
     #[test]
