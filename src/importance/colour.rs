@@ -216,8 +216,11 @@ impl ColourMap {
         separation
             .image(&self.rgb)
             .into_par_iter()
-            .map(|ink| {
-                let v = ink.iter().map(|a| (1.0 - a).clamp(0.0, 1.0)).collect();
+            .map(|mut v| {
+                // In place: the ink's plane becomes the map's values.
+                for a in &mut v {
+                    *a = (1.0 - *a).clamp(0.0, 1.0);
+                }
                 ImportanceMap::from_values(self.width, self.height, v).expect("inks are in range")
             })
             .collect()
