@@ -108,9 +108,29 @@ pub(crate) fn pens(
                 near.clear();
                 let mut total = 0f32;
                 let inv_reach2 = 1.0 / (reach * reach);
+                // Row by row, the cells the disk of `reach` touches (a
+                // hundredth of a cell more, for rounding): the same
+                // neighbours in the same order as the whole square's.
+                let margin = 0.01 * cell;
                 for cy in y0..=y1 {
+                    let lo = cy as f32 * cell;
+                    let hi = if cy + 1 == rows {
+                        f32::INFINITY
+                    } else {
+                        lo + cell
+                    };
+                    let dy = ((lo - p.y).max(p.y - hi) - margin).max(0.0);
+                    if dy >= reach {
+                        continue;
+                    }
+                    let half = (reach * reach - dy * dy).sqrt() + margin;
+                    let rx0 = (((p.x - half).max(0.0) / cell) as usize).max(x0);
+                    let rx1 = (((p.x + half).max(0.0) / cell) as usize).min(x1);
+                    if rx0 > rx1 {
+                        continue;
+                    }
                     let row = cy * cols;
-                    let (a, b) = (start[row + x0] as usize, start[row + x1 + 1] as usize);
+                    let (a, b) = (start[row + rx0] as usize, start[row + rx1 + 1] as usize);
                     for &j in &items[a..b] {
                         let j = j as usize;
                         if j <= first + k || j >= first + pen.len() {
