@@ -212,6 +212,20 @@ impl Ratios {
     /// [`ink::dot_ratio`]`(k, r)`, interpolated (radii outside the table's
     /// read at its ends).
     pub(crate) fn at(&self, k: f64, r: f64) -> f64 {
+        self.at_place(k, self.place(r))
+    }
+
+    /// Where radius `r` lies among the table's rows: found once for a
+    /// radius read at many inks ([`Self::at_place`]).
+    pub(crate) fn place(&self, r: f64) -> f64 {
+        if self.rows == 1 {
+            return 0.0;
+        }
+        ((r.ln() - self.ln_r) / self.ln_step).clamp(0.0, (self.rows - 1) as f64)
+    }
+
+    /// [`Self::at`] of the radius at `t` among the rows ([`Self::place`]).
+    pub(crate) fn at_place(&self, k: f64, t: f64) -> f64 {
         if k.is_nan() || k <= 0.0 {
             return 0.0;
         }
@@ -225,7 +239,6 @@ impl Ratios {
         if self.rows == 1 {
             return row(0);
         }
-        let t = ((r.ln() - self.ln_r) / self.ln_step).clamp(0.0, (self.rows - 1) as f64);
         let ri = (t as usize).min(self.rows - 2);
         let a = row(ri);
         a + (t - ri as f64) * (row(ri + 1) - a)

@@ -212,6 +212,19 @@ impl Correction {
         } else {
             Vec::new()
         };
+        // Each dot's work cell, the block of its gains and its spacing's
+        // place among the ratios' rows: the same every round.
+        let at: Vec<(u32, u32, f64)> = points
+            .par_iter()
+            .zip(spacing.par_iter())
+            .map(|(p, &r)| {
+                let g = grid.cell(p);
+                let (gx, gy) = (g as u32 % ww, g as u32 / ww);
+                let (sx, sy) = (gx * self.src.0 / ww, gy * self.src.1 / wh);
+                let s = (sy / GAIN_BLOCK) * self.gain_grid.0 + sx / GAIN_BLOCK;
+                (g as u32, s, ratios.place(r))
+            })
+            .collect();
         let of = rounds(grid.sigma);
         for round in 1..=of {
             stage(Stage::Correct { round, of })?;
@@ -270,15 +283,12 @@ impl Correction {
                 .par_iter()
                 .zip(calibrated.par_iter_mut())
                 .zip(assumed.par_iter_mut())
-                .zip(spacing.par_iter())
-                .for_each(|(((p, cal), assumed), &r)| {
-                    let g = grid.cell(p);
-                    let (gx, gy) = (g as u32 % ww, g as u32 / ww);
+                .zip(at.par_iter())
+                .for_each(|(((p, cal), assumed), &(g, s, place))| {
+                    let (g, s) = (g as usize, s as usize);
                     let k = p.class as usize;
                     // The ink change of the dot's pen at its work cell.
                     let e = [0, 1, 2].map(|c| error[c].values[g]);
-                    let (sx, sy) = (gx * self.src.0 / ww, gy * self.src.1 / wh);
-                    let s = ((sy / GAIN_BLOCK) * self.gain_grid.0 + sx / GAIN_BLOCK) as usize;
                     let gain = &self.gains[(s * self.pens + k) * 3..(s * self.pens + k + 1) * 3];
                     let delta = gain[0] * e[0] + gain[1] * e[1] + gain[2] * e[2];
                     let before = *assumed;
@@ -286,11 +296,11 @@ impl Correction {
                         return;
                     }
                     let after = (before + f64::from(delta)).clamp(0.5 * before, MAX_INK);
-                    let had = ratios.at(before, r);
+                    let had = ratios.at_place(before, place);
                     if had <= 0.0 {
                         return;
                     }
-                    let factor = (ratios.at(after, r) / had).clamp(0.6, 1.6);
+                    let factor = (ratios.at_place(after, place) / had).clamp(0.6, 1.6);
                     *cal *= factor as f32;
                     *assumed = after;
                 });

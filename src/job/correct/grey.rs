@@ -86,6 +86,12 @@ impl<'a> GreyCorrection<'a> {
             .par_iter()
             .map(|p| ink(p.x, p.y).min(ink::K_MAX))
             .collect();
+        // Each dot's work cell and its radius's place among the ratios'
+        // rows: the same every round.
+        let at: Vec<(u32, f64)> = points
+            .par_iter()
+            .map(|p| (grid.cell(p) as u32, ratios.place(f64::from(p.radius))))
+            .collect();
         let of = rounds(grid.sigma);
         for round in 1..=of {
             stage(Stage::Correct { round, of })?;
@@ -103,23 +109,22 @@ impl<'a> GreyCorrection<'a> {
                 ERROR_BLUR * sigmas,
             );
             // Each dot's own update: in parallel, the same values.
-            points
-                .par_iter()
-                .zip(radii.par_iter_mut())
+            radii
+                .par_iter_mut()
                 .zip(assumed.par_iter_mut())
-                .for_each(|((p, r), assumed)| {
+                .zip(at.par_iter())
+                .for_each(|((r, assumed), &(g, place))| {
                     let before = *assumed;
                     if before < 1e-3 {
                         return;
                     }
-                    let e = f64::from(error.values[grid.cell(p)]);
+                    let e = f64::from(error.values[g as usize]);
                     let after = (before + damping * e).clamp(0.5 * before, MAX_INK);
-                    let radius = f64::from(p.radius);
-                    let had = ratios.at(before, radius);
+                    let had = ratios.at_place(before, place);
                     if had <= 0.0 {
                         return;
                     }
-                    let factor = (ratios.at(after, radius) / had).clamp(0.6, 1.6) as f32;
+                    let factor = (ratios.at_place(after, place) / had).clamp(0.6, 1.6) as f32;
                     *r = (*r * factor).clamp(limits.0.min(*r), limits.1.max(*r));
                     *assumed = after;
                 });
