@@ -61,7 +61,7 @@ impl Drop for Opening {
     }
 }
 
-/// Starts opening the process's GPU ([`SharedGpu::get`]) when `choice` may
+/// Starts opening the process's GPU (`SharedGpu::get`) when `choice` may
 /// use it, so that the first run finds it open (or known absent) instead of
 /// waiting for the driver: probing takes 30–100 ms where Mesa's drivers are
 /// installed, as long as sampling 10K dots.

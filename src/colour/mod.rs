@@ -127,14 +127,14 @@ pub(crate) fn det3(m: [[f64; 3]; 3]) -> f64 {
         + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
 }
 
-/// The cube root of `t`, within one unit in the last place of the
-/// correctly rounded one (`f64::cbrt`, which takes 2.5× as long; it takes
-/// what is not a positive finite number): a guess from the exponent's
-/// bits, two of Halley's steps and one of Newton's, in plain arithmetic
-/// (the same on every platform). Lab's conversions were 4% of a CMYK
-/// drawing's time; 16 colour drawings came out byte for byte the same.
+/// The cube root of `t`, within one unit in the last place of the exact
+/// one over (1e-300, 1e300) (`f64::cbrt` elsewhere, and `f64::cbrt` takes
+/// 2.5× as long): a guess from the exponent's bits, two of Halley's steps
+/// and one of Newton's, in plain arithmetic (the same on every platform).
+/// Lab's conversions were 4% of a CMYK drawing's time; 16 colour drawings
+/// came out byte for byte the same.
 fn cube_root(t: f64) -> f64 {
-    if !(t.is_finite() && t > 0.0) {
+    if !(t > 1e-300 && t < 1e300) {
         return t.cbrt();
     }
     let mut y = f64::from_bits(t.to_bits() / 3 + 0x2A9F_7893_782D_A1CE);
@@ -270,9 +270,10 @@ pub fn delta_e00(c1: Lab, c2: Lab) -> f64 {
 mod tests {
     use super::*;
 
-    /// Within one unit in the last place of the correctly rounded cube
-    /// root over the Lab range and far past it, and the same where `t` is
-    /// not a positive finite number.
+    /// Within one unit in the last place of the cube root over the Lab
+    /// range and far past it (checked against the platform's `cbrt`, with
+    /// one more unit for its own rounding), and the platform's where `t`
+    /// lies outside (1e-300, 1e300).
     #[test]
     fn the_cube_root_is_within_one_ulp() {
         let mut t = 1e-4f64;
@@ -280,12 +281,13 @@ mod tests {
         while t < 1e6 {
             let (a, b) = (cube_root(t), t.cbrt());
             let ulps = (a.to_bits() as i64 - b.to_bits() as i64).unsigned_abs();
-            assert!(ulps <= 1, "{t}: {a} against {b}");
-            off += usize::from(ulps == 1);
+            assert!(ulps <= 2, "{t}: {a} against {b}");
+            off += usize::from(ulps > 0);
             t *= 1.000_01;
         }
+        // Not the platform's cbrt itself.
         assert!(off > 0);
-        for t in [0.0, -0.0, f64::INFINITY, -1.0] {
+        for t in [0.0, -0.0, f64::INFINITY, -1.0, 1e-310, 1e305] {
             assert_eq!(cube_root(t).to_bits(), t.cbrt().to_bits());
         }
         assert!(cube_root(f64::NAN).is_nan());

@@ -332,8 +332,8 @@ impl Separation {
             });
             (nodes, weights)
         };
-        // A node's inks, solved where a pixel first reads it (once in the
-        // process; a thread that reads a node being solved waits for it),
+        // A node's inks, solved where a pixel first reads it (once for this
+        // separation; a thread that reads a node being solved waits for it),
         // so that only the nodes the pixels read are solved.
         let n = self.model.pens;
         let node = |i: usize| {
@@ -460,7 +460,7 @@ mod tests {
     fn image_inks_come_from_the_table_the_same_on_any_threads() {
         let model = RenderModel::new(&PenSet::cmyk(), false);
         let step = (TABLE_NODES - 1) as f64;
-        // sRGB 8/16 and 4/16 of the way: on nodes; then a ramp between.
+        // sRGB 8/16, 4/16 and 12/16 of the way: a node; then a ramp.
         let on_node = [[8.0 / step, 4.0 / step, 12.0 / step]
             .map(decode)
             .map(|v| v as f32)];

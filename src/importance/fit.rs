@@ -15,25 +15,20 @@ use crate::sampler::{Params, RadiusMap};
 /// than the domain ([`Self::stretched`]), read bilinearly (the triangle
 /// filter's upsampling) without a copy at the domain's size.
 pub struct Prepared {
-    /// The adjusted map, at the domain's size or smaller.
-    pub map: ImportanceMap,
+    /// The adjusted map, at the domain's size or smaller ([`Self::map`]).
+    map: ImportanceMap,
     /// The mapping.
     pub mapping: Mapping,
     /// The radius range at scale 1.
     pub range: RadiusRange,
-    /// The white cutoff.
-    pub cutoff: Option<f32>,
+    /// The white cutoff ([`Self::cutoff`]).
+    cutoff: Option<f32>,
     /// Where the map is read at a larger domain.
     stretch: Option<Stretch>,
-    /// [`Self::knots`], made on first use, with the map and cutoff it was
-    /// made of ([`KnotsKey`]).
-    knots: std::sync::OnceLock<(KnotsKey, Knots)>,
+    /// [`Self::knots`], made on first use (of the map and cutoff, which
+    /// do not change after [`Self::new`]).
+    knots: std::sync::OnceLock<Knots>,
 }
-
-/// What the knots of a [`Prepared`] depend on: its map's values (where
-/// they lie, and how many) and its cutoff, whose fields are public.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-struct KnotsKey(usize, usize, Option<u32>);
 
 /// A map read at a larger domain: per domain column and row, the two map
 /// pixels between which it lies and the weight of the second.
@@ -132,6 +127,18 @@ impl Prepared {
             ys: stretch_axis(own.1, domain.1),
         });
         self
+    }
+
+    /// The adjusted map, at the domain's size or smaller.
+    #[must_use]
+    pub fn map(&self) -> &ImportanceMap {
+        &self.map
+    }
+
+    /// The white cutoff: values above it get no dots.
+    #[must_use]
+    pub fn cutoff(&self) -> Option<f32> {
+        self.cutoff
     }
 
     /// The domain's size in pixels.
@@ -262,20 +269,8 @@ impl Prepared {
 
     /// [`Self::made_knots`], made once: the plan, the count's fit and a
     /// colour drawing's sizes each predict from them.
-    fn knots(&self) -> std::borrow::Cow<'_, Knots> {
-        let values = self.map.values();
-        let key = KnotsKey(
-            values.as_ptr() as usize,
-            values.len(),
-            self.cutoff.map(f32::to_bits),
-        );
-        let (made_for, knots) = self.knots.get_or_init(|| (key, self.made_knots()));
-        if *made_for == key {
-            std::borrow::Cow::Borrowed(knots)
-        } else {
-            // A map or cutoff set after the first prediction.
-            std::borrow::Cow::Owned(self.made_knots())
-        }
+    fn knots(&self) -> &Knots {
+        self.knots.get_or_init(|| self.made_knots())
     }
 
     /// The count a run at radius `scale` is predicted to give: the RSA
@@ -639,31 +634,22 @@ impl Classes<'_> {
 mod tests {
     use super::*;
 
-    /// The count predicted from the knots made once is the count of the
-    /// map and cutoff the prepared map holds now, when either is set after
-    /// the first prediction.
+    /// The knots made once predict what knots made anew do, at every
+    /// scale, and a prepared map with a cutoff predicts fewer points.
     #[test]
-    fn predictions_follow_a_map_or_cutoff_set_later() {
+    fn predictions_from_the_knots_made_once_are_the_fresh_ones() {
         let (w, h) = (64u32, 48u32);
-        let map = |dark: f32| {
-            let values = (0..w * h)
-                .map(|i| (i % w) as f32 / w as f32 * dark)
-                .collect();
-            ImportanceMap::from_values(w, h, values).unwrap()
-        };
+        let values = (0..w * h).map(|i| (i % w) as f32 / w as f32).collect();
+        let map = ImportanceMap::from_values(w, h, values).unwrap();
         let range = RadiusRange::new(2.0, 8.0).unwrap();
-        let fresh = |dark: f32, cutoff| Prepared::new(map(dark), Mapping::Tone, range, cutoff);
-        let mut p = fresh(1.0, None);
-        let first = p.predicted_points(1.0);
-        assert_eq!(first, p.predicted_points(1.0));
-        p.map = map(0.5);
-        let darker = fresh(0.5, None).predicted_points(1.0);
-        assert!(darker > first);
-        assert_eq!(p.predicted_points(1.0), darker);
-        p.cutoff = Some(0.25);
-        let cut = fresh(0.5, Some(0.25)).predicted_points(1.0);
-        assert!(cut < darker);
-        assert_eq!(p.predicted_points(1.0), cut);
+        let p = Prepared::new(map.clone(), Mapping::Tone, range, None);
+        let cut = Prepared::new(map, Mapping::Tone, range, Some(0.25));
+        for scale in [0.5, 1.0, 1.7, 3.0] {
+            let fresh = p.made_knots().predicted(&p, scale);
+            assert_eq!(p.predicted_points(scale), fresh);
+            assert_eq!(p.predictor()(scale), fresh);
+            assert!(cut.predicted_points(scale) < fresh);
+        }
     }
 
     #[test]

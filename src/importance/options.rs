@@ -245,7 +245,7 @@ mod tests {
             .prepare_map(&map, |_, _| (40, 30), Mapping::Tone, true)
             .unwrap();
         assert_eq!(big.domain(), (40, 30));
-        assert_eq!((big.map.width(), big.map.height()), (4, 3));
+        assert_eq!((big.map().width(), big.map().height()), (4, 3));
         let toned = map
             .resized_with(4, 3, |v| opts.adjust().apply(opts.tones.tone(v)))
             .unwrap();
@@ -272,7 +272,7 @@ mod tests {
         let small = opts
             .prepare_map(&map, |_, _| (2, 2), Mapping::Tone, true)
             .unwrap();
-        assert_eq!((small.map.width(), small.map.height()), (2, 2));
+        assert_eq!((small.map().width(), small.map().height()), (2, 2));
     }
 
     #[test]

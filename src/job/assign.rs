@@ -113,11 +113,16 @@ pub(crate) fn pens(
                 // neighbours in the same order as the whole square's.
                 let margin = 0.01 * cell;
                 for cy in y0..=y1 {
-                    let lo = cy as f32 * cell;
+                    // The first and last rows hold whatever lies past them.
+                    let lo = if cy == 0 {
+                        f32::NEG_INFINITY
+                    } else {
+                        cy as f32 * cell
+                    };
                     let hi = if cy + 1 == rows {
                         f32::INFINITY
                     } else {
-                        lo + cell
+                        (cy + 1) as f32 * cell
                     };
                     let dy = ((lo - p.y).max(p.y - hi) - margin).max(0.0);
                     if dy >= reach {

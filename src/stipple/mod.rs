@@ -159,7 +159,7 @@ pub fn relax_points(
         let radius = crate::importance::ImportanceMap::radius_fn(prepared.mapping, range);
         relax_weighted(&xy, (w, h), options, progress, |i| {
             let v = prepared.value_index(i);
-            if prepared.cutoff.is_some_and(|c| v > c) {
+            if prepared.cutoff().is_some_and(|c| v > c) {
                 0.0
             } else {
                 1.0 / f64::from(radius(v)).powi(4)

@@ -19,7 +19,7 @@ fn ink_at(map: &Prepared, x: f32, y: f32) -> f64 {
 /// The ink the map asks for where its value is `v`.
 fn ink_of(map: &Prepared, v: f32) -> f64 {
     let v = v.clamp(0.0, 1.0);
-    if map.cutoff.is_some_and(|c| v > c) {
+    if map.cutoff().is_some_and(|c| v > c) {
         0.0
     } else {
         f64::from(1.0 - v)
