@@ -344,7 +344,6 @@ const KNOTS: usize = 1024;
 const KNOT_ONE: f64 = 4_294_967_296.0;
 
 /// The sampled pixels of a map as weights on the density table's knots.
-#[derive(Clone, Debug)]
 struct Knots {
     /// The weight on each knot, in 2^-32 of a pixel.
     weights: Vec<u64>,

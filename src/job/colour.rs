@@ -168,9 +168,7 @@ impl Job {
         // alone, up to how much more tightly the union packs than the
         // count's prediction: one factor k over the whole drawing.
         let scale = f64::from(range.max) / f64::from(maps[0].range.max);
-        // Each map's prediction in parallel, added in the maps' order.
-        let predicted: Vec<f64> = maps.par_iter().map(|m| m.predicted_points(scale)).collect();
-        let expected: f64 = predicted.iter().sum();
+        let expected: f64 = maps.iter().map(|m| m.predicted_points(scale)).sum();
         let k = if expected > 0.0 {
             (points.len() as f64 / expected).clamp(0.25, 4.0)
         } else {
