@@ -85,7 +85,8 @@ impl LayerOrder {
 pub enum Correction {
     /// The drawing is rendered, blurred by its mean dot spacing and
     /// compared with the picture, blurred alike; each sized dot is resized
-    /// for the ink its neighbourhood lacks, in two or three rounds.
+    /// for the ink its neighbourhood lacks, in two to five rounds
+    /// (`job::correct::Schedule`).
     #[default]
     On,
     /// The calibration's curves alone (the drawings of earlier versions).

@@ -4,7 +4,7 @@
 
 use rayon::prelude::*;
 
-use super::{ERROR_BLUR, Grid, MAX_INK, blur_sigmas, damping, rounds};
+use super::{ERROR_BLUR, Grid, MAX_INK, Schedule, blur_sigmas, damping, momentum};
 use crate::colour::pens::MAX_PENS;
 use crate::colour::{RenderModel, Separation, det3};
 use crate::importance::ColourMap;
@@ -21,7 +21,8 @@ use super::super::Stage;
 /// pens make them (the separation's nearest colours elsewhere), blurred
 /// alike; the error is turned into ink changes per pen by the
 /// model's Jacobian (damped least norm), and each dot is resized by the ink
-/// curve to put down its pen's new ink, in [`rounds`].
+/// curve to put down its pen's new ink, in the rounds of
+/// [`Schedule::colour`].
 pub(crate) struct Correction {
     /// The render and work grids.
     grid: Grid,
@@ -173,7 +174,7 @@ impl Correction {
 
     /// Corrects `calibrated` (the dots' radii) of `points`, whose pens were
     /// to put down `inks` at the spacing of maximal sets of radii `spacing`,
-    /// in [`rounds`].
+    /// in the rounds of [`Schedule::colour`].
     pub(crate) fn apply(
         &self,
         points: &[Point],
@@ -225,7 +226,9 @@ impl Correction {
                 (g as u32, s, ratios.place(r))
             })
             .collect();
-        let of = rounds(grid.sigma);
+        let of = Schedule::colour(grid.sigma).rounds;
+        // Each dot's last ink change (momentum).
+        let mut change = vec![0f64; points.len()];
         for round in 1..=of {
             stage(Stage::Correct { round, of })?;
             let layers = (0..pens as u32)
@@ -278,13 +281,15 @@ impl Correction {
                     .collect();
                 grid.blurred(values, ERROR_BLUR * sigmas)
             });
+            let beta = momentum(round);
             // Each dot's own update: in parallel, the same values.
             points
                 .par_iter()
                 .zip(calibrated.par_iter_mut())
                 .zip(assumed.par_iter_mut())
                 .zip(at.par_iter())
-                .for_each(|(((p, cal), assumed), &(g, s, place))| {
+                .zip(change.par_iter_mut())
+                .for_each(|((((p, cal), assumed), &(g, s, place)), change)| {
                     let (g, s) = (g as usize, s as usize);
                     let k = p.class as usize;
                     // The ink change of the dot's pen at its work cell.
@@ -292,10 +297,12 @@ impl Correction {
                     let gain = &self.gains[(s * self.pens + k) * 3..(s * self.pens + k + 1) * 3];
                     let delta = gain[0] * e[0] + gain[1] * e[1] + gain[2] * e[2];
                     let before = *assumed;
+                    let last = std::mem::take(change);
                     if before < 1e-3 {
                         return;
                     }
-                    let after = (before + f64::from(delta)).clamp(0.5 * before, MAX_INK);
+                    let after =
+                        (before + f64::from(delta) + beta * last).clamp(0.5 * before, MAX_INK);
                     let had = ratios.at_place(before, place);
                     if had <= 0.0 {
                         return;
@@ -303,6 +310,7 @@ impl Correction {
                     let factor = (ratios.at_place(after, place) / had).clamp(0.6, 1.6);
                     *cal *= factor as f32;
                     *assumed = after;
+                    *change = after - before;
                 });
         }
         Ok(())

@@ -213,6 +213,34 @@ impl Grid {
         means
     }
 
+    /// Calls `add(cell, share)` for the four work cells around domain
+    /// point `p`, shares bilinear by its place between their centres
+    /// (summing to 1; clamped at the grid's edges): how a change at the
+    /// point is spread over the work grid ([`super::Schedule::predicted`]).
+    pub(crate) fn spread(&self, p: &Point, mut add: impl FnMut(usize, f64)) {
+        let (ww, wh) = self.work;
+        let at = |v: f32, n: u32| {
+            (f64::from(v * self.scale) / f64::from(self.block) - 0.5).clamp(0.0, f64::from(n - 1))
+        };
+        let (fx, fy) = (at(p.x, ww), at(p.y, wh));
+        if !(fx.is_finite() && fy.is_finite()) {
+            return;
+        }
+        let (x0, y0) = (fx as usize, fy as usize);
+        let (tx, ty) = (fx - x0 as f64, fy - y0 as f64);
+        let (x1, y1) = ((x0 + 1).min(ww as usize - 1), (y0 + 1).min(wh as usize - 1));
+        let w = ww as usize;
+        add(y0 * w + x0, (1.0 - tx) * (1.0 - ty));
+        add(y0 * w + x1, tx * (1.0 - ty));
+        add(y1 * w + x0, (1.0 - tx) * ty);
+        add(y1 * w + x1, tx * ty);
+    }
+
+    /// A work cell's area in domain pixels².
+    pub(crate) fn cell_area(&self) -> f64 {
+        (f64::from(self.block) / f64::from(self.scale)).powi(2)
+    }
+
     /// `values` (one per work cell) blurred by `sigmas` σ.
     pub(crate) fn blurred(&self, values: Vec<f32>, sigmas: f64) -> Grey {
         blur(
