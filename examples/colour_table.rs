@@ -23,13 +23,36 @@ use pixelpie::importance::{ColourMap, ImportanceMap, linear_to_srgb, srgb_to_lin
 use pixelpie::job::Job;
 use pixelpie::sampler::cpu;
 
-fn channels(img: &image::RgbImage) -> Rgb {
-    let (w, h) = img.dimensions();
-    [0, 1, 2].map(|k| Grey {
+/// The three channels of `img`, rendered at `k` times the photo's size,
+/// each pixel the mean of its k×k block (in display values, as the
+/// measure averages): dots a pixel or two wide at the photo's size are so
+/// measured by their coverage, as `pixelpie fidelity` measures an SVG.
+fn channels(img: &image::RgbImage, k: u32) -> Rgb {
+    let (fw, fh) = img.dimensions();
+    let (w, h) = (fw / k, fh / k);
+    let raw = img.as_raw();
+    [0, 1, 2].map(|c| Grey {
         width: w,
         height: h,
-        values: img.pixels().map(|p| f32::from(p.0[k]) / 255.0).collect(),
+        values: (0..w * h)
+            .map(|i| {
+                let (x, y) = (i % w, i / w);
+                let mut sum = 0u32;
+                for fy in y * k..(y + 1) * k {
+                    for fx in x * k..(x + 1) * k {
+                        sum += u32::from(raw[3 * (fy * fw + fx) as usize + c]);
+                    }
+                }
+                sum as f32 / (255 * k * k) as f32
+            })
+            .collect(),
     })
+}
+
+/// The render's scale over the photo's size: up to 4, at most 4096 px a
+/// side (as `pixelpie fidelity` renders an SVG).
+fn fine_scale(w: u32, h: u32) -> u32 {
+    (4096 / w.max(h).max(1)).clamp(1, 4)
 }
 
 struct Row {
@@ -127,8 +150,15 @@ fn main() -> Result<()> {
         let drawing = job.draw(pixelpie::job::Picture::Colour(&picture), sample, |_| true)?;
         let seconds = t.elapsed().as_secs_f64();
         let domain = drawing.domain;
-        let img = job.picture(&drawing, (w, h))?;
-        let mut row = measure(&photo, &channels(&img), sigma, "PixelPie --pens", seconds)?;
+        let k = fine_scale(w, h);
+        let img = job.picture(&drawing, (w * k, h * k))?;
+        let mut row = measure(
+            &photo,
+            &channels(&img, k),
+            sigma,
+            "PixelPie --pens",
+            seconds,
+        )?;
         let view = (f64::from(domain.0), f64::from(domain.1));
         let layers = job
             .pen_dots(&drawing)
@@ -182,7 +212,11 @@ fn main() -> Result<()> {
                 let share = plane.iter().map(|&v| f64::from(v)).sum::<f64>() / total;
                 let n = (points as f64 * share).round() as usize;
                 if n == 0 {
-                    layers.push(image::GrayImage::from_pixel(w, h, image::Luma([255])));
+                    layers.push(image::GrayImage::from_pixel(
+                        w * k,
+                        h * k,
+                        image::Luma([255]),
+                    ));
                     fine.push(image::GrayImage::from_pixel(
                         domain.0,
                         domain.1,
@@ -202,7 +236,11 @@ fn main() -> Result<()> {
                 // A channel with too little ink for its share of the dots
                 // at radii the domain holds draws nothing.
                 let Ok(d) = grey.run_map(&map, sample, |_| true) else {
-                    layers.push(image::GrayImage::from_pixel(w, h, image::Luma([255])));
+                    layers.push(image::GrayImage::from_pixel(
+                        w * k,
+                        h * k,
+                        image::Luma([255]),
+                    ));
                     fine.push(image::GrayImage::from_pixel(
                         domain.0,
                         domain.1,
@@ -212,14 +250,18 @@ fn main() -> Result<()> {
                 };
                 let dots = grey.dots(&d);
                 let view = (f64::from(d.domain.0), f64::from(d.domain.1));
-                layers.push(pixelpie::stipple::raster::render_view(&dots, view, (w, h))?);
+                layers.push(pixelpie::stipple::raster::render_view(
+                    &dots,
+                    view,
+                    (w * k, h * k),
+                )?);
                 fine.push(pixelpie::stipple::raster::render_view(&dots, view, domain)?);
                 let _ = pen;
             }
             let img = pixelpie::stipple::raster::composite(&layers, &model)?;
             let seconds = t.elapsed().as_secs_f64();
             let method = "CMYK channels apart (DrawingBotV3)";
-            let mut row = measure(&photo, &channels(&img), sigma, method, seconds)?;
+            let mut row = measure(&photo, &channels(&img, k), sigma, method, seconds)?;
             row.overlap = Some(overlap(&fine));
             rows.push(row);
         }
@@ -231,10 +273,10 @@ fn main() -> Result<()> {
         let t = Instant::now();
         let d = grey.run_map(&picture.luminance(), sample, |_| true)?;
         let seconds = t.elapsed().as_secs_f64();
-        let img = grey.picture(&d, (w, h))?;
+        let img = grey.picture(&d, (w * k, h * k))?;
         rows.push(measure(
             &photo,
-            &channels(&img),
+            &channels(&img, k),
             sigma,
             "black only",
             seconds,

@@ -280,4 +280,52 @@ mod tests {
             assert_eq!(a[0].to_bits(), b.to_bits());
         }
     }
+
+    /// A dot's change is spread over the four work cells around it: the
+    /// shares sum to one, and their centre of mass is the dot's place in
+    /// cell units (away from the edges; at an edge the share stays in the
+    /// grid); a dot at a cell's centre gives that cell everything.
+    #[test]
+    fn a_change_spreads_around_its_dot() {
+        let grid = Grid::new((301, 197), 400, &GridSpec::grey(0.0));
+        let (ww, wh) = grid.work;
+        let cell = f64::from(grid.block) / f64::from(grid.scale);
+        let at = |x: f32, y: f32| Point {
+            x,
+            y,
+            radius: 1.0,
+            class: 0,
+        };
+        for p in [
+            at(100.3, 57.9),
+            at(12.0, 150.5),
+            at(0.1, 0.2),
+            at(300.9, 196.9),
+        ] {
+            let (mut total, mut mx, mut my) = (0.0, 0.0, 0.0);
+            grid.spread(&p, |c, share| {
+                assert!(c < (ww * wh) as usize && share >= 0.0);
+                total += share;
+                mx += share * ((c % ww as usize) as f64 + 0.5);
+                my += share * ((c / ww as usize) as f64 + 0.5);
+            });
+            assert!((total - 1.0).abs() < 1e-12, "{p:?}: {total}");
+            let (px, py) = (f64::from(p.x) / cell, f64::from(p.y) / cell);
+            let inside = |v: f64, n: u32| v > 0.5 && v < f64::from(n) - 0.5;
+            if inside(px, ww) && inside(py, wh) {
+                assert!(
+                    (mx - px).abs() < 1e-3 && (my - py).abs() < 1e-3,
+                    "{p:?}: ({mx}, {my}) against ({px}, {py})"
+                );
+            }
+        }
+        let centre = at((2.5 * cell) as f32, (3.5 * cell) as f32);
+        grid.spread(&centre, |c, share| {
+            if c == 3 * ww as usize + 2 {
+                assert!((share - 1.0).abs() < 1e-6, "{share}");
+            } else {
+                assert!(share < 1e-6, "cell {c}: {share}");
+            }
+        });
+    }
 }

@@ -115,3 +115,27 @@ pub(crate) fn momentum(round: u8) -> f64 {
 /// calibration stops, since overlaps with other pens' dots (colour) and
 /// the holes of dark areas (grey) hide some of it.
 pub(crate) const MAX_INK: f64 = 0.995;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Grey drawings take five rounds, rendering the first and the last;
+    /// colour drawings three rendered rounds; dense drawings two rendered
+    /// rounds either way.
+    #[test]
+    fn schedules_render_where_they_say() {
+        let renders = |s: Schedule| (1..=s.rounds).map(|r| s.renders(r)).collect::<Vec<_>>();
+        assert_eq!(
+            renders(Schedule::grey(2.0)),
+            [true, false, false, false, true]
+        );
+        assert_eq!(renders(Schedule::colour(2.0)), [true, true, true]);
+        assert_eq!(renders(Schedule::grey(1.0)), [true, true]);
+        assert_eq!(renders(Schedule::colour(1.0)), [true, true]);
+        assert_eq!(
+            (momentum(1), momentum(2), momentum(3)),
+            (0.0, 0.0, MOMENTUM)
+        );
+    }
+}
