@@ -26,7 +26,8 @@ use pixelpie::sampler::cpu;
 /// The three channels of `img`, rendered at `k` times the photo's size,
 /// each pixel the mean of its k×k block (in display values, as the
 /// measure averages): dots a pixel or two wide at the photo's size are so
-/// measured by their coverage, as `pixelpie fidelity` measures an SVG.
+/// measured by their coverage (`pixelpie fidelity` likewise renders an
+/// SVG finer and brings it down to the photo's size).
 fn channels(img: &image::RgbImage, k: u32) -> Rgb {
     let (fw, fh) = img.dimensions();
     let (w, h) = (fw / k, fh / k);
@@ -50,7 +51,7 @@ fn channels(img: &image::RgbImage, k: u32) -> Rgb {
 }
 
 /// The render's scale over the photo's size: up to 4, at most 4096 px a
-/// side (as `pixelpie fidelity` renders an SVG).
+/// side.
 fn fine_scale(w: u32, h: u32) -> u32 {
     (4096 / w.max(h).max(1)).clamp(1, 4)
 }

@@ -307,10 +307,17 @@ impl Correction {
                     if had <= 0.0 {
                         return;
                     }
-                    let factor = (ratios.at_place(after, place) / had).clamp(0.6, 1.6);
+                    let wanted = ratios.at_place(after, place) / had;
+                    let factor = wanted.clamp(0.6, 1.6);
                     *cal *= factor as f32;
                     *assumed = after;
-                    *change = after - before;
+                    // A dot held by the clamp did not put down the change:
+                    // none of it is carried.
+                    *change = if factor == wanted {
+                        after - before
+                    } else {
+                        0.0
+                    };
                 });
         }
         Ok(())

@@ -1,7 +1,7 @@
 //! The size stage's closed loop: the drawing rendered, blurred by the mean
 //! dot spacing (the measure's σ) and compared with its target, blurred
 //! alike; each dot then resized by the ink curve to put down the ink its
-//! neighbourhood lacks, in [`rounds`]. The calibration's curves hold for
+//! neighbourhood lacks, in the rounds of a [`Schedule`]. The calibration's curves hold for
 //! maximal Poisson-disk sets on average; the loop corrects what they miss:
 //! relaxed sets (evener, so their dots overlap less), edges, the policies'
 //! spacing. The plan decides whether it runs and on which grid
@@ -62,8 +62,8 @@ pub(crate) struct Schedule {
 impl Schedule {
     /// A grey drawing's: five rounds, the first and the last rendered and
     /// the three between predicted. Against three rendered rounds, at
-    /// about the same time: 0.9–1.9 dB closer at σ on five photos at 20K
-    /// dots, 0.5 dB on astronaut at 100K (docs/drawing.md). The
+    /// about the same time: 0.7–2.2 dB closer at σ on five photos at 20K
+    /// dots, 0.55 dB on astronaut at 100K (docs/drawing.md). The
     /// predictions alone drift (1.6 dB worse than three rendered rounds),
     /// so the last round renders.
     pub(crate) fn grey(sigma_cells: f64) -> Self {
