@@ -996,6 +996,11 @@ fn a_white_pen_on_black_paper_draws_a_night_sky_as_well_as_black_on_white() {
         d.layers
     );
     assert!(d.dots.len() > 2000, "{} dots read back", d.dots.len());
+    assert_eq!(d.ink, Some([255, 255, 255]), "the one ink");
+    // The SVG is measured on its paper too, white dots on black.
+    let measured = fidelity(&night, &svg)["psnr"].as_f64().unwrap();
+    eprintln!("white on black, the SVG: {measured:.2} dB");
+    assert!(measured > 30.0, "{measured} dB");
     if let Some(viewed) = rsvg(&svg, img.width()) {
         let sigma = (f64::from(img.width() * img.height()) / 3000.0).sqrt();
         let de = blurred_delta_e(&img, &viewed, sigma);

@@ -168,10 +168,17 @@ fn load_colour_drawing(path: &Path) -> Result<Option<(image::RgbImage, usize)>> 
             if d.layers.len() < 2 && d.paper.is_none() {
                 return Ok(None);
             }
+            // A one-ink drawing on coloured paper has no pen layers: its
+            // dots are the ink's (layer 0).
+            let colours: Vec<[u8; 3]> = if d.layers.is_empty() {
+                vec![d.ink.unwrap_or([0, 0, 0])]
+            } else {
+                d.layers.iter().map(|(_, c)| *c).collect()
+            };
             let pens = PenSet::from_colours(
-                d.layers
+                colours
                     .iter()
-                    .map(|(_, c)| pixelpie::colour::pens::hex_of(*c))
+                    .map(|c| pixelpie::colour::pens::hex_of(*c))
                     .collect::<Vec<_>>()
                     .iter()
                     .map(String::as_str),
@@ -182,7 +189,7 @@ fn load_colour_drawing(path: &Path) -> Result<Option<(image::RgbImage, usize)>> 
                 (d.view_width * k).round().max(1.0) as u32,
                 (d.view_height * k).round().max(1.0) as u32,
             );
-            let layers = (0..d.layers.len())
+            let layers = (0..colours.len())
                 .map(|l| {
                     let dots: Vec<_> = d
                         .dots

@@ -42,6 +42,9 @@ pub struct Drawing {
     /// The paper's colour, from the rectangle of a layer plotters skip
     /// (its label starts with `%`), when there is one.
     pub paper: Option<[u8; 3]>,
+    /// The colour (`fill`, else `stroke`, a `#rrggbb` colour) of the group
+    /// around the first dot outside every layer: a one-ink drawing's ink.
+    pub ink: Option<[u8; 3]>,
 }
 
 /// Parses an SVG written by pixelpie. Err with a one-line message if it is
@@ -125,6 +128,8 @@ struct Frame {
     layer: Option<usize>,
     /// Whether it is in a layer plotters skip (label `%…`).
     skipped: bool,
+    /// The colour of the innermost group around it that has one.
+    colour: Option<[u8; 3]>,
 }
 
 /// What the parse has found so far.
@@ -150,6 +155,8 @@ struct Document {
     paths: Vec<Vec<(f64, f64)>>,
     /// The paper's colour.
     paper: Option<[u8; 3]>,
+    /// The one-ink drawing's ink.
+    ink: Option<[u8; 3]>,
 }
 
 impl Document {
@@ -188,6 +195,7 @@ impl Document {
             hidden: false,
             layer: None,
             skipped: false,
+            colour: None,
         })
     }
 
@@ -208,6 +216,15 @@ impl Document {
                 .get("fill")
                 .and_then(|c| crate::colour::pens::parse_hex(c).ok());
         }
+        let colour = if name == "g" {
+            [attrs.get("fill"), attrs.get("stroke")]
+                .into_iter()
+                .flatten()
+                .find_map(|c| crate::colour::pens::parse_hex(c).ok())
+                .or(parent.colour)
+        } else {
+            parent.colour
+        };
         let label = attrs.get("inkscape:label").unwrap_or_default();
         if name == "g" && attrs.get("inkscape:groupmode") == Some("layer") && label.starts_with('%')
         {
@@ -226,6 +243,9 @@ impl Document {
         if !hidden {
             match self.dot(name, attrs, transform) {
                 Ok(Some(d)) => {
+                    if layer.is_none() && self.ink.is_none() {
+                        self.ink = colour;
+                    }
                     self.dots.push(d);
                     self.layer_of.push(layer.unwrap_or(0));
                     let (ox, oy) = match &self.view_box {
@@ -254,6 +274,7 @@ impl Document {
             hidden,
             layer,
             skipped,
+            colour,
         }
     }
 
@@ -308,6 +329,7 @@ impl Document {
             layer_of: self.layer_of,
             paths: self.paths,
             paper: self.paper,
+            ink: self.ink,
         })
     }
 }
@@ -598,6 +620,24 @@ fn rotation(deg: f64) -> Affine {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A one-ink drawing's ink is its group's colour, read whether the
+    /// drawing is on coloured paper or not; dots in layers give none.
+    #[test]
+    fn a_one_ink_drawing_gives_its_ink() {
+        let on_black = r##"<svg xmlns="http://www.w3.org/2000/svg" xmlns:inkscape="http://www.inkscape.org/namespaces/inkscape" viewBox="0 0 10 8">
+<!-- 1 dots, made by pixelpie -->
+<g inkscape:groupmode="layer" inkscape:label="% paper (not plotted)"><rect x="0" y="0" width="10" height="8" fill="#000000"/></g>
+<g fill="#ffffff" stroke="none"><circle cx="5" cy="4" r="1.5"/></g></svg>"##;
+        let d = read_svg(on_black).unwrap();
+        assert_eq!((d.paper, d.ink), (Some([0, 0, 0]), Some([255, 255, 255])));
+        assert!(d.layers.is_empty() && d.layer_of == [0]);
+        let layered = r##"<svg xmlns="http://www.w3.org/2000/svg" xmlns:inkscape="http://www.inkscape.org/namespaces/inkscape" viewBox="0 0 10 8">
+<!-- 1 dots, made by pixelpie -->
+<g inkscape:groupmode="layer" inkscape:label="1 cyan" fill="#00ffff"><circle cx="5" cy="4" r="1.5"/></g></svg>"##;
+        let d = read_svg(layered).unwrap();
+        assert_eq!((d.ink, d.layers.len()), (None, 1));
+    }
 
     #[test]
     fn polylines_read_absolute_and_relative_commands() {
