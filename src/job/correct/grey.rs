@@ -188,6 +188,19 @@ mod tests {
     use crate::importance::{ImportanceMap, Mapping, RadiusRange};
     use crate::stipple::Dot;
 
+    /// `n`×`n` points `step` apart from `first`, each of sample radius
+    /// `radius`.
+    fn lattice(n: u32, step: f32, first: (f32, f32), radius: f32) -> Vec<Point> {
+        (0..n * n)
+            .map(|i| Point {
+                x: (i % n) as f32 * step + first.0,
+                y: (i / n) as f32 * step + first.1,
+                radius,
+                class: 0,
+            })
+            .collect()
+    }
+
     /// The mean ink of `dots` on a `size` domain, rendered at 4×.
     fn mean_ink(dots: &[Dot], size: (u32, u32)) -> f64 {
         let view = (f64::from(size.0), f64::from(size.1));
@@ -239,14 +252,7 @@ mod tests {
     #[test]
     fn a_prediction_is_the_render_it_stands_for() {
         let (w, h) = (256u32, 256u32);
-        let points: Vec<Point> = (0..16 * 16)
-            .map(|i| Point {
-                x: (i % 16) as f32 * 16.0 + 8.3,
-                y: (i / 16) as f32 * 16.0 + 7.9,
-                radius: 8.0,
-                class: 0,
-            })
-            .collect();
+        let points = lattice(16, 16.0, (8.3, 7.9), 8.0);
         let grid = GridSpec::grey(0.0).grid((w, h), points.len());
         assert!((grid.scale - 0.5).abs() < 1e-6, "{grid:?}");
         let shown = |r: f32| -> Vec<f32> {
@@ -288,14 +294,7 @@ mod tests {
         let range = RadiusRange::new(4.0, 16.0).unwrap();
         let prepared = Prepared::new(map, Mapping::ToneSized(0.3), range, None);
         // A lattice 8 px apart, every dot the same: its ink is π r² / 64.
-        let points: Vec<Point> = (0..32 * 32)
-            .map(|i| Point {
-                x: (i % 32) as f32 * 8.0 + 4.0,
-                y: (i / 32) as f32 * 8.0 + 4.0,
-                radius: 5.0,
-                class: 0,
-            })
-            .collect();
+        let points = lattice(32, 8.0, (4.0, 4.0), 5.0);
         let drawn = |radii: &[f32]| {
             let dots: Vec<Dot> = points
                 .iter()
