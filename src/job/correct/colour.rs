@@ -4,7 +4,7 @@
 
 use rayon::prelude::*;
 
-use super::{ERROR_BLUR, Grid, MAX_INK, Schedule, blur_sigmas, damping, momentum};
+use super::{ERROR_BLUR, Grid, Schedule, blur_sigmas, damping, momentum, step};
 use crate::colour::pens::MAX_PENS;
 use crate::colour::{RenderModel, Separation, det3};
 use crate::importance::ColourMap;
@@ -296,28 +296,18 @@ impl Correction {
                     let e = [0, 1, 2].map(|c| error[c].values[g]);
                     let gain = &self.gains[(s * self.pens + k) * 3..(s * self.pens + k + 1) * 3];
                     let delta = gain[0] * e[0] + gain[1] * e[1] + gain[2] * e[2];
-                    let before = *assumed;
-                    let last = std::mem::take(change);
-                    if before < 1e-3 {
+                    let (before, last) = (*assumed, std::mem::take(change));
+                    let Some(s) = step(&ratios, place, before, f64::from(delta), beta * last)
+                    else {
                         return;
-                    }
-                    let after =
-                        (before + f64::from(delta) + beta * last).clamp(0.5 * before, MAX_INK);
-                    let had = ratios.at_place(before, place);
-                    if had <= 0.0 {
-                        return;
-                    }
-                    let wanted = ratios.at_place(after, place) / had;
-                    let factor = wanted.clamp(0.6, 1.6);
-                    *cal *= factor as f32;
-                    *assumed = after;
+                    };
+                    *cal *= s.factor as f32;
+                    *assumed = s.after;
                     // A dot held by the clamp did not put down the change:
                     // none of it is carried.
-                    *change = if factor == wanted {
-                        after - before
-                    } else {
-                        0.0
-                    };
+                    if !s.held {
+                        *change = s.after - before;
+                    }
                 });
         }
         Ok(())

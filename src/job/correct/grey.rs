@@ -3,7 +3,7 @@
 
 use rayon::prelude::*;
 
-use super::{ERROR_BLUR, Grid, MAX_INK, Schedule, blur_sigmas, damping, momentum};
+use super::{ERROR_BLUR, Grid, Schedule, blur_sigmas, damping, momentum, step};
 use crate::analyze::fidelity::Grey;
 use crate::importance::{Prepared, ink};
 use crate::sampler::Point;
@@ -126,28 +126,20 @@ impl<'a> GreyCorrection<'a> {
                 .zip(at.par_iter())
                 .zip(change.par_iter_mut())
                 .for_each(|(((r, assumed), &(g, place)), change)| {
-                    let before = *assumed;
-                    if before < 1e-3 {
-                        *change = 0.0;
-                        return;
-                    }
+                    let (before, last) = (*assumed, std::mem::take(change));
                     let e = f64::from(error.values[g as usize]);
-                    let after =
-                        (before + damping * e + beta * *change).clamp(0.5 * before, MAX_INK);
-                    *change = 0.0;
-                    let had = ratios.at_place(before, place);
-                    if had <= 0.0 {
+                    let Some(s) = step(&ratios, place, before, damping * e, beta * last) else {
                         return;
-                    }
-                    let wanted = ratios.at_place(after, place) / had;
-                    let factor = wanted.clamp(0.6, 1.6) as f32;
+                    };
+                    let factor = s.factor as f32;
                     let to = (*r * factor).clamp(limits.0.min(*r), limits.1.max(*r));
                     // A dot held by a clamp did not put down the change:
                     // nothing of it is predicted or carried.
-                    let held = factor != wanted as f32 || to != *r * factor;
+                    if !s.held && to == *r * factor {
+                        *change = s.after - before;
+                    }
                     *r = to;
-                    *assumed = after;
-                    *change = if held { 0.0 } else { after - before };
+                    *assumed = s.after;
                 });
             // The next round, if it does not render, sees this one's
             // render changed by each dot's ink change over its area.

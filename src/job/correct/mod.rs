@@ -110,6 +110,46 @@ pub(crate) fn momentum(round: u8) -> f64 {
     if round >= 3 { MOMENTUM } else { 0.0 }
 }
 
+/// One dot's update in a round, as grey and colour make it.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Step {
+    /// The ink the dot is now sized for.
+    pub after: f64,
+    /// The factor on its radius that puts that ink down, within 0.6–1.6.
+    pub factor: f64,
+    /// Whether the 0.6–1.6 clamp held the factor back.
+    pub held: bool,
+}
+
+/// The update of a dot sized for ink `before`, at `place` among `ratios`'
+/// rows: `delta` and the `carried` share of its last change added, within
+/// half its ink and [`MAX_INK`], and the radius factor that puts the new
+/// ink down. `None` where the dot is left as it is (almost no ink, or no
+/// radius for it).
+pub(crate) fn step(
+    ratios: &super::density::Ratios,
+    place: f64,
+    before: f64,
+    delta: f64,
+    carried: f64,
+) -> Option<Step> {
+    if before < 1e-3 {
+        return None;
+    }
+    let after = (before + delta + carried).clamp(0.5 * before, MAX_INK);
+    let had = ratios.at_place(before, place);
+    if had <= 0.0 {
+        return None;
+    }
+    let wanted = ratios.at_place(after, place) / had;
+    let factor = wanted.clamp(0.6, 1.6);
+    Some(Step {
+        after,
+        factor,
+        held: factor != wanted,
+    })
+}
+
 /// The most ink a correction asks of a dot: past
 /// [`crate::importance::ink::K_MAX`], where the
 /// calibration stops, since overlaps with other pens' dots (colour) and
@@ -137,5 +177,24 @@ mod tests {
             (momentum(1), momentum(2), momentum(3)),
             (0.0, 0.0, MOMENTUM)
         );
+    }
+
+    /// A step adds the change and the carried share, keeps at least half
+    /// the ink, grows the radius for more ink, and says when the 0.6–1.6
+    /// clamp held it back; a dot without ink is left alone.
+    #[test]
+    fn a_step_moves_the_ink_and_says_when_a_clamp_holds_it() {
+        let ratios = super::super::density::Ratios::new(2.0, 8.0);
+        let place = ratios.place(4.0);
+        assert!(step(&ratios, place, 5e-4, 0.1, 0.0).is_none());
+        let s = step(&ratios, place, 0.4, 0.02, 0.01).unwrap();
+        assert!(
+            (s.after - 0.43).abs() < 1e-12 && s.factor > 1.0 && !s.held,
+            "{s:?}"
+        );
+        let big = step(&ratios, place, 0.05, 0.9, 0.0).unwrap();
+        assert!(big.held && big.factor == 1.6, "{big:?}");
+        let cut = step(&ratios, place, 0.4, -0.5, 0.0).unwrap();
+        assert!(cut.after == 0.2 && cut.factor < 1.0, "{cut:?}");
     }
 }
