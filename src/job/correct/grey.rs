@@ -274,6 +274,50 @@ mod tests {
         }
     }
 
+    /// On a flat grey whose render ends in a sliver of a work cell (one
+    /// render pixel past the last whole block), the dots along that edge
+    /// are sized as those inside: a sliver cell read only the outer edge of
+    /// the last dots' disks, so that the correction grew them (a dark band
+    /// down the right or bottom edge of some drawings, 20 grey levels).
+    #[test]
+    fn the_last_cells_are_corrected_as_the_others() {
+        // A domain whose render's width is one pixel past whole blocks.
+        let (n, h) = (32u32, 256u32);
+        let (w, grid) = (250..300)
+            .map(|w| (w, GridSpec::grey(0.0).grid((w, h), (n * n) as usize)))
+            .find(|(_, g)| g.block >= 3 && g.size.0 % g.block == 1)
+            .expect("a width whose render ends in a sliver");
+        let map = ImportanceMap::from_values(w, h, vec![0.6; (w * h) as usize]).unwrap();
+        let range = RadiusRange::new(4.0, 16.0).unwrap();
+        let prepared = Prepared::new(map, Mapping::ToneSized(0.3), range, None);
+        // Dots on a lattice that fills the domain to its edges.
+        let step = (w as f32 / n as f32, h as f32 / n as f32);
+        let points: Vec<Point> = (0..n * n)
+            .map(|i| Point {
+                x: (i % n) as f32 * step.0 + step.0 / 2.0,
+                y: (i / n) as f32 * step.1 + step.1 / 2.0,
+                radius: 5.0,
+                class: 0,
+            })
+            .collect();
+        let mut radii = vec![3.0f32; points.len()];
+        GreyCorrection::new(grid, &prepared)
+            .apply(&points, range, &mut radii, (0.5, 8.0), &mut |_| Ok(()))
+            .unwrap();
+        let mean = |column: &dyn Fn(u32) -> bool| {
+            let r: Vec<f32> = (0..n * n)
+                .filter(|i| column(i % n))
+                .map(|i| radii[i as usize])
+                .collect();
+            r.iter().sum::<f32>() / r.len() as f32
+        };
+        let (last, inside) = (mean(&|c| c == n - 1), mean(&|c| (4..n - 4).contains(&c)));
+        assert!(
+            (last / inside - 1.0).abs() < 0.03,
+            "the last column's dots {last:.3} against {inside:.3} inside ({grid:?})"
+        );
+    }
+
     /// On a flat grey, dots drawn far too large (or too small) are brought
     /// most of the way to the grey's ink, as a fine render measures it (the
     /// rounds' steps are scaled for calibrated dots, near their ink: from

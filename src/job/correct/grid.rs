@@ -8,6 +8,13 @@ use crate::analyze::fidelity::{Grey, blur};
 use crate::sampler::Point;
 use crate::stipple::Dot;
 
+/// The render pixels of work cell `c` of `n` along a side of `len`
+/// pixels in blocks of `block`: the last cell takes what is left over.
+fn span(c: u32, n: u32, block: u32, len: u32) -> std::ops::Range<u32> {
+    let end = if c + 1 >= n { len } else { (c + 1) * block };
+    c * block..end.min(len)
+}
+
 /// Render pixels between neighbouring dots in a grey drawing's
 /// correction: dots a few pixels wide, so that the render sees their
 /// overlaps (4096 px squares at 10K–1M dots, measured against renders of
@@ -76,9 +83,10 @@ pub(crate) struct Grid {
     pub size: (u32, u32),
     /// Render-grid pixels per domain pixel.
     pub scale: f32,
-    /// Render-grid pixels per side of a work-grid cell.
+    /// Render-grid pixels per side of a work-grid cell (the last column
+    /// and row of cells take what is left over too: no cell is a sliver).
     pub block: u32,
-    /// The work grid's size: the render grid in blocks.
+    /// The work grid's size: the render grid in whole blocks.
     pub work: (u32, u32),
     /// The blur's σ (the mean dot spacing) in work-grid cells.
     pub sigma: f64,
@@ -112,7 +120,7 @@ impl Grid {
             size,
             scale,
             block,
-            work: (size.0.div_ceil(block), size.1.div_ceil(block)),
+            work: ((size.0 / block).max(1), (size.1 / block).max(1)),
             sigma: fine_sigma / f64::from(block),
         }
     }
@@ -166,8 +174,9 @@ impl Grid {
                 let (cx, cy) = (c as u32 % ww, c as u32 / ww);
                 let mut sum = [0f64; N];
                 let mut n = 0.0;
-                for y in cy * block..((cy + 1) * block).min(h) {
-                    for x in cx * block..((cx + 1) * block).min(w) {
+                let (xs, ys) = (span(cx, ww, block, w), span(cy, wh, block, h));
+                for y in ys {
+                    for x in xs.clone() {
                         for (s, v) in sum.iter_mut().zip(f((y * w + x) as usize)) {
                             *s += v;
                         }
@@ -188,22 +197,28 @@ impl Grid {
         let (ww, wh) = self.work;
         let block = self.block as usize;
         let mut means = vec![0f32; ww as usize * wh as usize];
+        let columns: Vec<std::ops::Range<usize>> = (0..ww)
+            .map(|cx| {
+                let r = span(cx, ww, block as u32, w);
+                r.start as usize..r.end as usize
+            })
+            .collect();
         means.par_chunks_mut(ww as usize).enumerate().for_each_init(
             || (vec![0f64; w as usize], vec![0f64; ww as usize]),
             |(values, sums), (cy, out)| {
                 sums.iter_mut().for_each(|s| *s = 0.0);
-                let (y0, y1) = (cy * block, ((cy + 1) * block).min(h as usize));
+                let ys = span(cy as u32, wh, block as u32, h);
+                let (y0, y1) = (ys.start as usize, ys.end as usize);
                 for y in y0..y1 {
                     row(y as u32, values);
-                    for (cx, s) in sums.iter_mut().enumerate() {
-                        let x1 = ((cx + 1) * block).min(w as usize);
-                        for &v in &values[cx * block..x1] {
+                    for (s, xs) in sums.iter_mut().zip(&columns) {
+                        for &v in &values[xs.clone()] {
                             *s += v;
                         }
                     }
                 }
-                for (cx, (o, s)) in out.iter_mut().zip(sums.iter()).enumerate() {
-                    let cols = ((cx + 1) * block).min(w as usize) - cx * block;
+                for ((o, s), xs) in out.iter_mut().zip(sums.iter()).zip(&columns) {
+                    let cols = xs.len();
                     // The count as `cell_means` makes it: 1.0 added once a pixel.
                     let n = (0..(y1 - y0) * cols).fold(0.0f64, |n, _| n + 1.0);
                     *o = (s / n) as f32;
@@ -278,6 +293,31 @@ mod tests {
         assert_eq!(whole.len(), by_rows.len());
         for (a, b) in whole.iter().zip(&by_rows) {
             assert_eq!(a[0].to_bits(), b.to_bits());
+        }
+    }
+
+    /// The work cells tile the render, each a whole block, the last of a
+    /// row or column with what is left over (less than another block): no
+    /// cell is a sliver.
+    #[test]
+    fn the_work_cells_are_whole_blocks() {
+        for (domain, dots) in [((301, 197), 400), ((1415, 941), 20035), ((250, 256), 1024)] {
+            let grid = Grid::new(domain, dots, &GridSpec::grey(0.0));
+            for (n, len) in [(grid.work.0, grid.size.0), (grid.work.1, grid.size.1)] {
+                let spans: Vec<_> = (0..n).map(|c| span(c, n, grid.block, len)).collect();
+                assert_eq!(spans[0].start, 0);
+                assert_eq!(spans[n as usize - 1].end, len, "{grid:?}");
+                for (c, s) in spans.iter().enumerate() {
+                    let width = s.end - s.start;
+                    assert!(
+                        width >= grid.block.min(len) && width < 2 * grid.block,
+                        "cell {c}: {s:?} ({grid:?})"
+                    );
+                    if c > 0 {
+                        assert_eq!(spans[c - 1].end, s.start);
+                    }
+                }
+            }
         }
     }
 
