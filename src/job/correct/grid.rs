@@ -159,6 +159,26 @@ impl Grid {
         Ok(crate::stipple::raster::render(&dots, self.size, 1.0)?)
     }
 
+    /// The dots of `points` with `radii`, in render pixels, drawn as their
+    /// union's exact coverage ([`crate::stipple::raster::render_union`]):
+    /// 255 paper, 0 ink.
+    pub(crate) fn render_union(
+        &self,
+        points: &[Point],
+        radii: &[f32],
+    ) -> crate::Result<image::GrayImage> {
+        let dots: Vec<Dot> = points
+            .iter()
+            .zip(radii)
+            .map(|(p, &r)| Dot {
+                x: p.x * self.scale,
+                y: p.y * self.scale,
+                radius: r * self.scale,
+            })
+            .collect();
+        Ok(crate::stipple::raster::render_union(&dots, self.size)?)
+    }
+
     /// The mean of `f` over each work cell's render pixels (`f` of the
     /// render pixel's index).
     pub(crate) fn cell_means<const N: usize>(
