@@ -198,7 +198,7 @@ fn load_colour_drawing(path: &Path) -> Result<Option<(image::RgbImage, usize)>> 
                         .filter(|(_, of)| **of == l)
                         .map(|(dot, _)| *dot)
                         .collect();
-                    raster::render_view(&dots, (d.view_width, d.view_height), size)
+                    raster::render_view_union(&dots, (d.view_width, d.view_height), size)
                 })
                 .collect::<Result<Vec<_>, _>>()?;
             // On its paper, the layers in the file's (plotting) order.

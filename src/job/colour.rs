@@ -258,7 +258,7 @@ impl Job {
             Format::Png => {
                 let papers = layers
                     .iter()
-                    .map(|d| crate::stipple::raster::render(d, drawing.domain, self.scale))
+                    .map(|d| crate::stipple::raster::render_exact(d, drawing.domain, self.scale))
                     .collect::<Result<Vec<_>, _>>()?;
                 let img = crate::stipple::raster::composite(&papers, &self.model_of(pens))?;
                 crate::stipple::raster::write_png_rgb(&mut out, &img, dots)?;

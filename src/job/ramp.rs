@@ -45,7 +45,7 @@ pub fn ramp_error_sized(job: &Job, gain: f64, size: (u32, u32)) -> crate::Result
     // measured by their true coverage.
     const K: u32 = 4;
     let scale = K as f32 * w as f32 / drawing.domain.0 as f32;
-    let img = crate::stipple::raster::render(&dots, drawing.domain, scale)?;
+    let img = crate::stipple::raster::render_exact(&dots, drawing.domain, scale)?;
     let (iw, ih) = (img.width(), img.height());
     let bands: Vec<(f64, f64)> = (0..32)
         .map(|b| {

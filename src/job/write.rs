@@ -164,7 +164,7 @@ impl Job {
             Format::Svg => return self.svg(drawing),
             Format::Png => {
                 let dots = self.dots(drawing);
-                let img = crate::stipple::raster::render(&dots, drawing.domain, self.scale)?;
+                let img = crate::stipple::raster::render_exact(&dots, drawing.domain, self.scale)?;
                 let (ink, paper) = (self.ink_on_paper(), self.paper_rgb());
                 if ink == Ink::BLACK.0 && paper == PaperColour::WHITE.0 {
                     crate::stipple::raster::write_png(&mut out, &img, dots.len())?;

@@ -1,9 +1,13 @@
 //! PNG output: black anti-aliased dots on white, 8-bit grey.
 //!
-//! A pixel's coverage by a dot is approximated by clamp(R + ½ − d, 0, 1),
-//! d the distance from the pixel centre to the dot's centre (and at most the
-//! dot's area for dots thinner than a pixel). Overlapping dots combine as
-//! independent inks, paper = Π (1 − coverage). The grey written is the
+//! Two renders. [`render_union`] (and [`render_exact`], [`render_mean`]),
+//! what the PNG, the correction and the measures draw: the dots' union on
+//! 4×4 samples a pixel, true coverage at every dot size and overlap.
+//! [`render`], the app's quick view: a pixel's coverage by a dot
+//! approximated by clamp(R + ½ − d, 0, 1), d the distance from the pixel
+//! centre to the dot's centre (and at most the dot's area for dots thinner
+//! than a pixel), overlapping dots combined as independent inks, paper =
+//! Π (1 − coverage). The grey written is the
 //! paper fraction itself, as a display value: a pixel half covered reads
 //! 128, as browsers and plotter previews blend a drawing's edges, so that a
 //! blurred drawing's display grey is 1 − its ink ([`mean_ink`]).
@@ -27,19 +31,7 @@ pub const MAX_PIXELS: u64 = 1 << 28;
 /// assert_eq!(img.get_pixel(0, 0).0[0], 255); // paper in the corner
 /// ```
 pub fn render(dots: &[Dot], domain: (u32, u32), scale: f32) -> Result<GrayImage> {
-    if !(scale.is_finite() && scale > 0.0) {
-        return Err(Error::InvalidParameter(format!(
-            "scale {scale} must be a positive number"
-        )));
-    }
-    let w = (f64::from(domain.0) * f64::from(scale)).round().max(1.0);
-    let h = (f64::from(domain.1) * f64::from(scale)).round().max(1.0);
-    if w * h > MAX_PIXELS as f64 {
-        return Err(Error::InvalidParameter(format!(
-            "a {w}x{h} PNG is too large (at most {MAX_PIXELS} pixels); lower --scale"
-        )));
-    }
-    let (w, h) = (w as u32, h as u32);
+    let (w, h) = scaled_size(domain, scale)?;
     // The dots' pixel boxes, in the dots' order, bucketed by band of rows:
     // the bands are drawn in parallel, each pixel's dots in the same order
     // as one pass over the dots would take them, so the result does not
@@ -254,6 +246,45 @@ pub fn render_union(dots: &[Dot], size: (u32, u32)) -> Result<GrayImage> {
         .ok_or_else(|| Error::Encode("pixel buffer of the wrong size".into()))
 }
 
+/// The image size of a `domain` drawn at `scale` (output pixels per domain
+/// pixel): a positive scale, at most [`MAX_PIXELS`].
+fn scaled_size(domain: (u32, u32), scale: f32) -> Result<(u32, u32)> {
+    if !(scale.is_finite() && scale > 0.0) {
+        return Err(Error::InvalidParameter(format!(
+            "scale {scale} must be a positive number"
+        )));
+    }
+    let w = (f64::from(domain.0) * f64::from(scale)).round().max(1.0);
+    let h = (f64::from(domain.1) * f64::from(scale)).round().max(1.0);
+    if w * h > MAX_PIXELS as f64 {
+        return Err(Error::InvalidParameter(format!(
+            "a {w}x{h} PNG is too large (at most {MAX_PIXELS} pixels); lower --scale"
+        )));
+    }
+    Ok((w as u32, h as u32))
+}
+
+/// [`render`]'s image drawn as the dots' union ([`render_union`]): their
+/// true coverage, what the PNG of a drawing and the ramp's check show.
+///
+/// ```
+/// use pixelpie::stipple::{Dot, raster};
+/// let img = raster::render_exact(&[Dot { x: 4.0, y: 4.0, radius: 2.0 }], (8, 8), 2.0).unwrap();
+/// assert_eq!((img.width(), img.get_pixel(8, 8).0[0]), (16, 0));
+/// ```
+pub fn render_exact(dots: &[Dot], domain: (u32, u32), scale: f32) -> Result<GrayImage> {
+    let size = scaled_size(domain, scale)?;
+    let scaled: Vec<Dot> = dots
+        .iter()
+        .map(|d| Dot {
+            x: d.x * scale,
+            y: d.y * scale,
+            radius: d.radius * scale,
+        })
+        .collect();
+    render_union(&scaled, size)
+}
+
 /// The 8-bit grey of `p` ∈ [0, 1]: `(255·p).round()`, without the libm
 /// call that `round()` is on baseline x86-64 (255·p is exact in f64 with
 /// at most 24 significant bits, so adding ½ there and truncating rounds
@@ -291,17 +322,32 @@ pub fn render_view(dots: &[Dot], view: (f64, f64), size: (u32, u32)) -> Result<G
     render(&scaled, size, 1.0)
 }
 
+/// [`render_view`] drawn as the dots' union ([`render_union`]): the
+/// coverage a measure reads.
+pub fn render_view_union(dots: &[Dot], view: (f64, f64), size: (u32, u32)) -> Result<GrayImage> {
+    let (sx, sy) = (f64::from(size.0) / view.0, f64::from(size.1) / view.1);
+    let scaled: Vec<Dot> = dots
+        .iter()
+        .map(|d| Dot {
+            x: (f64::from(d.x) * sx) as f32,
+            y: (f64::from(d.y) * sy) as f32,
+            radius: (f64::from(d.radius) * sx) as f32,
+        })
+        .collect();
+    render_union(&scaled, size)
+}
+
 /// The PNG text keyword that marks our drawings and holds their dot count.
 pub const DOTS_KEYWORD: &str = "pixelpie:dots";
 
 /// The paper's display grey of `dots` (in a `view`) at `size`, each pixel
 /// the mean of k×k pixels rendered at k times the size (k up to 4, at most
-/// 4096 px on the longer side): the pixels' true coverage where dots are
-/// only a pixel or two wide (one pixel's coverage is then approximate, and
-/// overlaps within it are not seen). What `pixelpie fidelity` measures.
+/// 4096 px on the longer side) as the dots' union ([`render_union`], 16
+/// samples a pixel): their true coverage, however few pixels wide the dots
+/// are and however they overlap. What `pixelpie fidelity` measures.
 pub fn render_mean(dots: &[Dot], view: (f64, f64), size: (u32, u32)) -> Result<Vec<f32>> {
     let k = (4096 / size.0.max(size.1).max(1)).clamp(1, 4);
-    let fine = render_view(dots, view, (size.0 * k, size.1 * k))?;
+    let fine = render_view_union(dots, view, (size.0 * k, size.1 * k))?;
     let (fw, raw) = (size.0 * k, fine.as_raw());
     let norm = 1.0 / (255.0 * (k * k) as f32);
     Ok((0..size.0 as usize * size.1 as usize)

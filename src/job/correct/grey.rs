@@ -100,7 +100,7 @@ impl<'a> GreyCorrection<'a> {
         for round in 1..=of {
             stage(Stage::Correct { round, of })?;
             if schedule.renders(round) {
-                let paper = grid.render_union(points, radii)?;
+                let paper = grid.render(points, radii, |_| true)?;
                 let raw = paper.as_raw();
                 shown = grid
                     .cell_means(|i| [1.0 - f64::from(raw[i]) / 255.0])

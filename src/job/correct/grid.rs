@@ -139,7 +139,8 @@ impl Grid {
     }
 
     /// The dots of `points` with `radii` (those that `keep` passes), in
-    /// render pixels, drawn: 255 paper, 0 ink.
+    /// render pixels, drawn as their union's exact coverage
+    /// ([`crate::stipple::raster::render_union`]): 255 paper, 0 ink.
     pub(crate) fn render(
         &self,
         points: &[Point],
@@ -150,26 +151,6 @@ impl Grid {
             .iter()
             .zip(radii)
             .filter(|(p, _)| keep(p))
-            .map(|(p, &r)| Dot {
-                x: p.x * self.scale,
-                y: p.y * self.scale,
-                radius: r * self.scale,
-            })
-            .collect();
-        Ok(crate::stipple::raster::render(&dots, self.size, 1.0)?)
-    }
-
-    /// The dots of `points` with `radii`, in render pixels, drawn as their
-    /// union's exact coverage ([`crate::stipple::raster::render_union`]):
-    /// 255 paper, 0 ink.
-    pub(crate) fn render_union(
-        &self,
-        points: &[Point],
-        radii: &[f32],
-    ) -> crate::Result<image::GrayImage> {
-        let dots: Vec<Dot> = points
-            .iter()
-            .zip(radii)
             .map(|(p, &r)| Dot {
                 x: p.x * self.scale,
                 y: p.y * self.scale,
