@@ -226,10 +226,15 @@ pub fn render_union(dots: &[Dot], size: (u32, u32)) -> Result<GrayImage> {
                             continue;
                         }
                         let shift = k as u32 * S;
-                        for px in lo / S..=hi / S {
-                            if (full_lo..full_hi).contains(&px) {
-                                continue;
-                            }
+                        // The pixels of the span left of the whole ones and
+                        // right of them (all of it where none is whole).
+                        let (first, end) = (lo / S, hi / S + 1);
+                        let (left, right) = if full_lo < full_hi {
+                            (first..full_lo.max(first), full_hi.min(end)..end)
+                        } else {
+                            (first..end, end..end)
+                        };
+                        for px in left.chain(right) {
                             let a = lo.max(px * S) - px * S;
                             let z = hi.min(px * S + S - 1) - px * S;
                             let bits = ((1u16 << (z + 1)) - (1u16 << a)) << shift;
@@ -238,8 +243,11 @@ pub fn render_union(dots: &[Dot], size: (u32, u32)) -> Result<GrayImage> {
                     }
                 }
             }
+            // The grey of each count of samples inside, made once.
+            let greys: [u8; (S * S + 1) as usize] =
+                std::array::from_fn(|k| grey(1.0 - k as f32 / (S * S) as f32));
             for (o, &m) in out.iter_mut().zip(&masks) {
-                *o = grey(1.0 - m.count_ones() as f32 / (S * S) as f32);
+                *o = greys[m.count_ones() as usize];
             }
         });
     GrayImage::from_raw(w, h, pixels)
