@@ -290,7 +290,7 @@ impl Job {
         let layers = self
             .pen_dots(drawing)
             .iter()
-            .map(|layer| crate::stipple::raster::render_view(layer, view, size))
+            .map(|layer| crate::stipple::raster::render_view_union(layer, view, size))
             .collect::<Result<Vec<_>, _>>()?;
         let linear = self.importance.tones == Tones::Linear;
         Ok(crate::stipple::raster::composite(

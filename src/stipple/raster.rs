@@ -48,18 +48,7 @@ pub fn render(dots: &[Dot], domain: (u32, u32), scale: f32) -> Result<GrayImage>
         let y1 = ((c[1] + c[2] + 1.0).ceil().max(0.0) as u32).min(h);
         (y0, y1)
     };
-    let bands = h.div_ceil(BAND) as usize;
-    let mut in_band: Vec<Vec<u32>> = vec![Vec::new(); bands];
-    for (i, c) in boxes.iter().enumerate() {
-        if let Some(c) = c {
-            let (y0, y1) = rows(c);
-            if y1 > y0 {
-                for b in y0 / BAND..=(y1 - 1) / BAND {
-                    in_band[b as usize].push(i as u32);
-                }
-            }
-        }
-    }
+    let in_band = in_bands(&boxes, rows, BAND, h);
     let mut pixels = vec![255u8; w as usize * h as usize];
     pixels
         .par_chunks_mut(BAND as usize * w as usize)
@@ -151,22 +140,12 @@ pub fn render_union(dots: &[Dot], size: (u32, u32)) -> Result<GrayImage> {
     // Sample rows (S a pixel row) a disc's samples can lie in.
     let rows = |c: &[f32; 3]| {
         let y0 = ((c[1] - c[2]) * sf - 0.5).ceil().max(0.0) as u32;
-        let y1 = (((c[1] + c[2]) * sf - 0.5).floor() + 1.0).clamp(0.0, (h * S) as f32) as u32;
+        let y1 = ((f64::from(c[1] + c[2]) * f64::from(sf) - 0.5).floor() + 1.0)
+            .clamp(0.0, f64::from(h * S)) as u32;
         (y0, y1)
     };
     let band = BAND * S;
-    let bands = (h * S).div_ceil(band) as usize;
-    let mut in_band: Vec<Vec<u32>> = vec![Vec::new(); bands];
-    for (i, c) in discs.iter().enumerate() {
-        if let Some(c) = c {
-            let (y0, y1) = rows(c);
-            if y1 > y0 {
-                for b in y0 / band..=(y1 - 1) / band {
-                    in_band[b as usize].push(i as u32);
-                }
-            }
-        }
-    }
+    let in_band = in_bands(&discs, rows, band, h * S);
     let mut pixels = vec![255u8; w as usize * h as usize];
     pixels
         .par_chunks_mut(BAND as usize * w as usize)
@@ -176,7 +155,7 @@ pub fn render_union(dots: &[Dot], size: (u32, u32)) -> Result<GrayImage> {
             let top = b as u32 * band;
             let bottom = top + (out.len() / w as usize) as u32 * S;
             let mut masks = vec![0u16; out.len()];
-            let last = (w * S - 1) as f32;
+            let last = f64::from(w * S - 1);
             for &i in list {
                 let Some(c @ [cx, cy, r]) = discs[i as usize] else {
                     continue;
@@ -202,8 +181,8 @@ pub fn render_union(dots: &[Dot], size: (u32, u32)) -> Result<GrayImage> {
                         }
                         let half = half2.sqrt();
                         // The samples (sx + ½)/S within [cx − half, cx + half].
-                        let lo = ((cx - half) * sf - 0.5).ceil().max(0.0);
-                        let hi = ((cx + half) * sf - 0.5).floor().min(last);
+                        let lo = f64::from((cx - half) * sf - 0.5).ceil().max(0.0);
+                        let hi = f64::from((cx + half) * sf - 0.5).floor().min(last);
                         if hi >= lo {
                             *span = (lo as u32, hi as u32);
                         }
@@ -293,6 +272,29 @@ pub fn render_exact(dots: &[Dot], domain: (u32, u32), scale: f32) -> Result<Gray
     render_union(&scaled, size)
 }
 
+/// The dots of `discs` (those that are some) that reach each band of
+/// `band` rows of `rows_in_all`, by the rows `rows` gives a dot, each
+/// band's in the dots' order: what each band's thread draws.
+fn in_bands(
+    discs: &[Option<[f32; 3]>],
+    rows: impl Fn(&[f32; 3]) -> (u32, u32),
+    band: u32,
+    rows_in_all: u32,
+) -> Vec<Vec<u32>> {
+    let mut in_band: Vec<Vec<u32>> = vec![Vec::new(); rows_in_all.div_ceil(band) as usize];
+    for (i, c) in discs.iter().enumerate() {
+        if let Some(c) = c {
+            let (y0, y1) = rows(c);
+            if y1 > y0 {
+                for b in y0 / band..=(y1 - 1) / band {
+                    in_band[b as usize].push(i as u32);
+                }
+            }
+        }
+    }
+    in_band
+}
+
 /// The 8-bit grey of `p` ∈ [0, 1]: `(255·p).round()`, without the libm
 /// call that `round()` is on baseline x86-64 (255·p is exact in f64 with
 /// at most 24 significant bits, so adding ½ there and truncating rounds
@@ -354,6 +356,9 @@ pub const DOTS_KEYWORD: &str = "pixelpie:dots";
 /// samples a pixel): their true coverage, however few pixels wide the dots
 /// are and however they overlap. What `pixelpie fidelity` measures.
 pub fn render_mean(dots: &[Dot], view: (f64, f64), size: (u32, u32)) -> Result<Vec<f32>> {
+    if size.0 == 0 || size.1 == 0 {
+        return Ok(Vec::new());
+    }
     let k = (4096 / size.0.max(size.1).max(1)).clamp(1, 4);
     let fine = render_view_union(dots, view, (size.0 * k, size.1 * k))?;
     let (fw, raw) = (size.0 * k, fine.as_raw());

@@ -162,12 +162,13 @@ fn predict(grid: &Grid, points: &[Point], change: &[f64], shown: &mut [f32]) {
     }
     let (w, h) = grid.size;
     let area = f64::from(w) * f64::from(h) / f64::from(grid.scale).powi(2);
-    let per_r2 = area / r2 / grid.cell_area();
+    let per_r2 = area / r2;
     for (p, &c) in points.iter().zip(change) {
         if c != 0.0 {
             let ink = c * per_r2 * f64::from(p.radius).powi(2);
             grid.spread(p, |cell, share| {
-                shown[cell] = (f64::from(shown[cell]) + ink * share) as f32;
+                let mean = ink * share / grid.cell_area(cell);
+                shown[cell] = (f64::from(shown[cell]) + mean) as f32;
             });
         }
     }
@@ -304,18 +305,21 @@ mod tests {
         GreyCorrection::new(grid, &prepared)
             .apply(&points, range, &mut radii, (0.5, 8.0), &mut |_| Ok(()))
             .unwrap();
-        let mean = |column: &dyn Fn(u32) -> bool| {
+        let mean = |dot: &dyn Fn(u32, u32) -> bool| {
             let r: Vec<f32> = (0..n * n)
-                .filter(|i| column(i % n))
+                .filter(|i| dot(i % n, i / n))
                 .map(|i| radii[i as usize])
                 .collect();
             r.iter().sum::<f32>() / r.len() as f32
         };
-        let (last, inside) = (mean(&|c| c == n - 1), mean(&|c| (4..n - 4).contains(&c)));
-        assert!(
-            (last / inside - 1.0).abs() < 0.03,
-            "the last column's dots {last:.3} against {inside:.3} inside ({grid:?})"
-        );
+        let inside = mean(&|c, r| (4..n - 4).contains(&c) && (4..n - 4).contains(&r));
+        let (column, row) = (mean(&|c, _| c == n - 1), mean(&|_, r| r == n - 1));
+        for (edge, last) in [("column", column), ("row", row)] {
+            assert!(
+                (last / inside - 1.0).abs() < 0.03,
+                "the last {edge}'s dots {last:.3} against {inside:.3} inside ({grid:?})"
+            );
+        }
     }
 
     /// On a flat grey, dots drawn far too large (or too small) are brought

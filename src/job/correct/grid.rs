@@ -255,9 +255,14 @@ impl Grid {
         add(y1 * w + x1, tx * ty);
     }
 
-    /// A work cell's area in domain pixels².
-    pub(crate) fn cell_area(&self) -> f64 {
-        (f64::from(self.block) / f64::from(self.scale)).powi(2)
+    /// A work cell's area in domain pixels² (a whole block's; the last
+    /// column's and row's take the render's leftover pixels too).
+    pub(crate) fn cell_area(&self, cell: usize) -> f64 {
+        let (ww, wh) = self.work;
+        let (cx, cy) = (cell as u32 % ww, cell as u32 / ww);
+        let xs = span(cx, ww, self.block, self.size.0);
+        let ys = span(cy, wh, self.block, self.size.1);
+        f64::from(xs.len() as u32 * ys.len() as u32) / f64::from(self.scale).powi(2)
     }
 
     /// `values` (one per work cell) blurred by `sigmas` σ.
