@@ -320,31 +320,25 @@ pub use crate::importance::linear_to_srgb;
 /// assert_eq!(img.get_pixel(5, 5).0[0], 0);
 /// ```
 pub fn render_view(dots: &[Dot], view: (f64, f64), size: (u32, u32)) -> Result<GrayImage> {
+    render(&in_view(dots, view, size), size, 1.0)
+}
+
+/// `dots` in a `view`'s units, stretched onto a `size` image's pixels.
+fn in_view(dots: &[Dot], view: (f64, f64), size: (u32, u32)) -> Vec<Dot> {
     let (sx, sy) = (f64::from(size.0) / view.0, f64::from(size.1) / view.1);
-    let scaled: Vec<Dot> = dots
-        .iter()
+    dots.iter()
         .map(|d| Dot {
             x: (f64::from(d.x) * sx) as f32,
             y: (f64::from(d.y) * sy) as f32,
             radius: (f64::from(d.radius) * sx) as f32,
         })
-        .collect();
-    render(&scaled, size, 1.0)
+        .collect()
 }
 
 /// [`render_view`] drawn as the dots' union ([`render_union`]): the
 /// coverage a measure reads.
 pub fn render_view_union(dots: &[Dot], view: (f64, f64), size: (u32, u32)) -> Result<GrayImage> {
-    let (sx, sy) = (f64::from(size.0) / view.0, f64::from(size.1) / view.1);
-    let scaled: Vec<Dot> = dots
-        .iter()
-        .map(|d| Dot {
-            x: (f64::from(d.x) * sx) as f32,
-            y: (f64::from(d.y) * sy) as f32,
-            radius: (f64::from(d.radius) * sx) as f32,
-        })
-        .collect();
-    render_union(&scaled, size)
+    render_union(&in_view(dots, view, size), size)
 }
 
 /// The PNG text keyword that marks our drawings and holds their dot count.
@@ -595,21 +589,27 @@ mod tests {
         }
     }
 
+    /// `n` dots from `seed` anywhere on a `(w, h)` image, of radii from
+    /// `radii.0` to `radii.0 + radii.1`, most of them small.
+    fn random_dots(seed: u32, n: usize, (w, h): (u32, u32), radii: (f64, f64)) -> Vec<Dot> {
+        let mut bits = xorshift(seed);
+        let mut next = || f64::from(bits()) / f64::from(u32::MAX);
+        (0..n)
+            .map(|_| Dot {
+                x: (next() * f64::from(w)) as f32,
+                y: (next() * f64::from(h)) as f32,
+                radius: (radii.0 + radii.1 * next() * next()) as f32,
+            })
+            .collect()
+    }
+
     /// The render's shortcuts (no distance where a pixel is clearly out of
     /// a dot or clearly inside it) give what one pass computing the ramp at
     /// every pixel gives: many small dots, whose ramps fill their boxes.
     #[test]
     fn the_render_is_the_ramp_at_every_pixel() {
         let (w, h) = (83u32, 71u32);
-        let mut bits = xorshift(0x1234_5678);
-        let mut next = || f64::from(bits()) / f64::from(u32::MAX);
-        let dots: Vec<Dot> = (0..400)
-            .map(|_| Dot {
-                x: (next() * f64::from(w)) as f32,
-                y: (next() * f64::from(h)) as f32,
-                radius: (0.2 + 7.0 * next() * next()) as f32,
-            })
-            .collect();
+        let dots = random_dots(0x1234_5678, 400, (w, h), (0.2, 7.0));
         let img = render(&dots, (w, h), 1.0).unwrap();
         assert_eq!(img.into_raw(), one_pass(&dots, (w, h), 1.0));
     }
@@ -620,15 +620,7 @@ mod tests {
     #[test]
     fn the_union_render_is_its_samples() {
         let (w, h) = (83u32, 151u32);
-        let mut bits = xorshift(0x2545_f491);
-        let mut next = || f64::from(bits()) / f64::from(u32::MAX);
-        let dots: Vec<Dot> = (0..300)
-            .map(|_| Dot {
-                x: (next() * f64::from(w)) as f32,
-                y: (next() * f64::from(h)) as f32,
-                radius: (0.1 + 9.0 * next() * next()) as f32,
-            })
-            .collect();
+        let dots = random_dots(0x2545_f491, 300, (w, h), (0.1, 9.0));
         let img = render_union(&dots, (w, h)).unwrap();
         for y in 0..h {
             for x in 0..w {
