@@ -164,7 +164,7 @@ fn main() -> Result<()> {
         let layers = job
             .pen_dots(&drawing)
             .iter()
-            .map(|l| pixelpie::stipple::raster::render_view(l, view, domain))
+            .map(|l| pixelpie::stipple::raster::render_view_union(l, view, domain))
             .collect::<Result<Vec<_>, _>>()?;
         row.overlap = Some(overlap(&layers));
         rows.push(row);
@@ -251,12 +251,14 @@ fn main() -> Result<()> {
                 };
                 let dots = grey.dots(&d);
                 let view = (f64::from(d.domain.0), f64::from(d.domain.1));
-                layers.push(pixelpie::stipple::raster::render_view(
+                layers.push(pixelpie::stipple::raster::render_view_union(
                     &dots,
                     view,
                     (w * k, h * k),
                 )?);
-                fine.push(pixelpie::stipple::raster::render_view(&dots, view, domain)?);
+                fine.push(pixelpie::stipple::raster::render_view_union(
+                    &dots, view, domain,
+                )?);
                 let _ = pen;
             }
             let img = pixelpie::stipple::raster::composite(&layers, &model)?;
