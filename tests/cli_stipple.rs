@@ -319,6 +319,50 @@ fn sample_importance_uses_the_image_size_or_resizes() {
     assert!(pts.iter().all(|p| (3.0..=12.0).contains(&p[2])));
 }
 
+/// An unordered drawing comes along a Hilbert curve through its dots: the
+/// same dots as the TSP-ordered one, on a path within 1.25 times the tour
+/// (the sampler's order, which it once kept, jumps across the picture:
+/// over 30 times the tour).
+#[test]
+fn an_unordered_drawing_runs_along_a_curve() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = |order: &str| {
+        let csv = file(dir.path(), &format!("{order}.csv"));
+        ok(&[
+            "stipple",
+            &asset("default.png"),
+            "-o",
+            s(&csv),
+            "--points",
+            "5000",
+            "--order",
+            order,
+            "--backend",
+            "cpu",
+            "-q",
+        ]);
+        csv_points(&csv)
+    };
+    let (curve, tour) = (path("none"), path("tsp"));
+    let length = |pts: &[[f64; 3]]| -> f64 {
+        pts.windows(2)
+            .map(|w| (w[0][0] - w[1][0]).hypot(w[0][1] - w[1][1]))
+            .sum()
+    };
+    let sorted = |pts: &[[f64; 3]]| {
+        let mut v: Vec<Vec<u64>> = pts
+            .iter()
+            .map(|p| p.iter().map(|x| x.to_bits()).collect())
+            .collect();
+        v.sort_unstable();
+        v
+    };
+    assert!(curve.len() > 4000);
+    assert_eq!(sorted(&curve), sorted(&tour), "the same dots");
+    let (a, b) = (length(&curve), length(&tour));
+    assert!(a < 1.25 * b, "unordered path {a} px against the tour's {b}");
+}
+
 #[test]
 fn tsp_order_reports_a_shorter_pen_path() {
     let dir = tempfile::tempdir().unwrap();

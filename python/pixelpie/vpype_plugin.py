@@ -746,7 +746,7 @@ def _make_command() -> Any:
     @click.option(
         "--order",
         **choice("order"),
-        help="Drawing order: as sampled, or a short plotter path [default: none].",
+        help="Drawing order: along a Hilbert curve, or a short plotter path [default: none].",
     )
     @click.option(
         "--relax",

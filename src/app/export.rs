@@ -47,8 +47,8 @@ impl PixelPieApp {
         let job = &mut self.settings.job;
         ui.horizontal(|ui| {
             ui.label("Order");
-            ui.selectable_value(&mut job.order, Order::None, "As sampled")
-                .on_hover_text("The sampler's order");
+            ui.selectable_value(&mut job.order, Order::None, "Along a curve")
+                .on_hover_text("A Hilbert curve through the dots, unplanned");
             ui.selectable_value(&mut job.order, Order::Tsp, "Plotter (TSP)")
                 .on_hover_text("A short pen path (a Hilbert curve and 2-opt), as --order tsp");
         });

@@ -166,7 +166,7 @@ pub struct Job {
     #[cfg_attr(feature = "cli", arg(long))]
     #[serde(skip_serializing_if = "Option::is_none")]
     pub relax: Option<u32>,
-    /// Drawing order: as sampled, or a short pen-plotter path (2-opt).
+    /// Drawing order: along a Hilbert curve, or a short pen-plotter path (2-opt).
     #[cfg_attr(feature = "cli", arg(long, value_enum, default_value_t = Order::None))]
     pub order: Order,
     /// PNG pixels per domain pixel (PNG output only).

@@ -129,7 +129,9 @@ impl Spacing {
 #[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum Order {
-    /// The sampler's acceptance order.
+    /// Along a Hilbert curve through the dots (once the sampler's
+    /// acceptance order): no pen path is planned, but the pen moves from
+    /// each dot to one nearby.
     #[default]
     None,
     /// A Hilbert-curve tour improved by 2-opt.

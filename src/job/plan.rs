@@ -27,7 +27,7 @@ use super::{
     Stipple, count,
 };
 use crate::importance::{Classes, MappingKind, Prepared};
-use crate::sampler::{Params, SampleSet};
+use crate::sampler::{Params, Point, SampleSet};
 use crate::stipple::relax;
 use crate::text::grouped;
 
@@ -150,6 +150,36 @@ fn relax_stage(
     Ok(())
 }
 
+/// `points` along a Hilbert curve through their pixels (ties, points in
+/// one pixel, in the sampler's order): neighbours on the paper are then
+/// neighbours in memory. The drawing's passes over its dots read the
+/// domain's maps and the correction's grids at the dots' places, so in the
+/// sampler's order (scattered) they wait on memory: at 100K and 200K dots
+/// the relaxation took about 0.9× and the size stage 0.75× the time in
+/// this order. Unordered drawings are plotted along the curve, too: a
+/// shorter path than the sampler's order.
+fn along_curve(points: Vec<Point>) -> Vec<Point> {
+    use rayon::prelude::*;
+    // Pixels of a domain at most 2^16 a side.
+    const ORDER: u32 = 16;
+    let cell = |v: f32| (v.max(0.0) as u64).min((1 << ORDER) - 1);
+    let mut keyed: Vec<(u64, u32)> = points
+        .par_iter()
+        .enumerate()
+        .map(|(i, p)| {
+            (
+                crate::stipple::tsp::hilbert(cell(p.x), cell(p.y), ORDER),
+                i as u32,
+            )
+        })
+        .collect();
+    keyed.par_sort_unstable();
+    keyed
+        .into_par_iter()
+        .map(|(_, i)| points[i as usize])
+        .collect()
+}
+
 /// A plan and what its run needs: the job, the prepared maps and the
 /// correction's grid. Made by [`Job::plan`]; [`Self::run`] draws it.
 pub struct Planned {
@@ -198,6 +228,11 @@ impl Planned {
             Maps::Grey(map) => count::sample_map(map, &base, plan.points, sample)?,
         };
         let (mut set, range) = (fitted.set, fitted.range);
+        // Along a Hilbert curve from here on: every later pass over the
+        // dots (the Lloyd steps, the correction's renders and updates, the
+        // sizes) then reads the maps near where it last read them.
+        let points = along_curve(std::mem::take(&mut set.points));
+        set = set.with_points(points);
         let t_sample = lap();
         // The correction's set-up needs the maps and the grid, no dot: it
         // is made while the dots are relaxed, as a task beside the

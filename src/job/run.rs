@@ -208,7 +208,7 @@ impl Job {
         Ok(drawing)
     }
     /// The order stage: the points pen by pen in the pens' order, each
-    /// pen's in the sampler's order or, with `--order tsp`, along its own
+    /// pen's along a Hilbert curve (the drawing's own order) or, with `--order tsp`, along its own
     /// tour (the tours joined, pen after pen).
     /// `stop` is asked every few milliseconds of a tour whether to end it
     /// early (a shorter-worked tour of every dot).
