@@ -199,8 +199,11 @@ fn vpype_reads_one_path_per_dot_and_tsp_shortens_pen_up_travel() {
         eprintln!("--order {order}: {dots} dots, vpype {s:?}");
         pen_up.push(s.pen_up);
     }
+    // The unordered drawing comes along a Hilbert curve through its dots
+    // (the sampler's order, before, took 28 times the tour); 2-opt
+    // shortens that curve by 7% more here.
     assert!(
-        pen_up[1] <= 0.5 * pen_up[0],
+        pen_up[1] < pen_up[0] && pen_up[0] <= 1.3 * pen_up[1],
         "pen-up travel: tsp {} vs none {}",
         pen_up[1],
         pen_up[0]
