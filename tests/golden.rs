@@ -34,6 +34,8 @@ const GOLDEN: &[(&str, usize, u64)] = &[
     ("grey stipple, relax 3, correction off, SVG", 2996, 0x3b401120eb2a0e5c),
     ("grey stipple, TSP", 2996, 0x271a6c43d1103081),
     ("grey stipple, TSP, SVG", 2996, 0x92de83d339f990d9),
+    ("grey stipple, periodic", 3051, 0x98b9739a888b56a6),
+    ("grey stipple, periodic, SVG", 3051, 0x2d5b136e7f4cce69),
     ("CMYK stipple", 3076, 0xe58e77225c7ad29a),
     ("CMYK stipple, SVG", 3076, 0x7891d49a2739f491),
     ("CMYK stipple, relax 0", 3076, 0xd33b8f05dac124bf),
@@ -142,8 +144,8 @@ fn sampler_cases() -> Vec<(String, Params)> {
 }
 
 /// The drawings' cases: grey, grey as earlier versions drew it, grey
-/// relaxed without the correction, grey in TSP order, CMYK, CMYK not
-/// relaxed.
+/// relaxed without the correction, grey in TSP order, grey periodic, CMYK,
+/// CMYK not relaxed.
 fn drawing_cases() -> Vec<(String, &'static str, Job)> {
     let job = |f: &dyn Fn(&mut Job)| {
         let mut j = Job::default();
@@ -165,6 +167,9 @@ fn drawing_cases() -> Vec<(String, &'static str, Job)> {
         j.correction = Correction::Off;
     });
     let tsp = job(&|j| j.order = Order::Tsp);
+    // Periodic drawings relax on pixel cells, whose ties go by the dots'
+    // order: pinned, so that a change of that order shows.
+    let periodic = job(&|j| j.sampler.periodic = true);
     let cmyk = job(&|j| j.pens = Some(PenSet::cmyk()));
     // Colour is relaxed pen by pen by default: the unrelaxed colour path
     // (the pens spread apart only) pinned on its own.
@@ -185,6 +190,11 @@ fn drawing_cases() -> Vec<(String, &'static str, Job)> {
             relaxed,
         ),
         ("grey stipple, TSP".into(), "assets/default.png", tsp),
+        (
+            "grey stipple, periodic".into(),
+            "assets/default.png",
+            periodic,
+        ),
         ("CMYK stipple".into(), "assets/astronaut.jpg", cmyk),
         (
             "CMYK stipple, relax 0".into(),

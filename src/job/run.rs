@@ -124,7 +124,7 @@ pub struct Stipple {
     /// what [`Job::dots`] scales.
     pub calibrated: Vec<f32>,
     /// The sampler's run (its points after the white cutoff and relaxation,
-    /// in acceptance order).
+    /// along a Hilbert curve: `job::plan`).
     pub set: SampleSet,
     /// The domain in pixels.
     pub domain: (u32, u32),
