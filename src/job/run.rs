@@ -208,8 +208,8 @@ impl Job {
         Ok(drawing)
     }
     /// The order stage: the points pen by pen in the pens' order, each
-    /// pen's along a Hilbert curve (the drawing's own order) or, with `--order tsp`, along its own
-    /// tour (the tours joined, pen after pen).
+    /// pen's along a Hilbert curve (the drawing's own order) or, with
+    /// `--order tsp`, along its own tour (the tours joined, pen after pen).
     /// `stop` is asked every few milliseconds of a tour whether to end it
     /// early (a shorter-worked tour of every dot).
     pub(crate) fn ordered(
