@@ -160,18 +160,10 @@ fn relax_stage(
 /// shorter path than the sampler's order.
 fn along_curve(points: Vec<Point>) -> Vec<Point> {
     use rayon::prelude::*;
-    // Pixels of a domain at most 2^16 a side.
-    const ORDER: u32 = 16;
-    let cell = |v: f32| (v.max(0.0) as u64).min((1 << ORDER) - 1);
     let mut keyed: Vec<(u64, u32)> = points
         .par_iter()
         .enumerate()
-        .map(|(i, p)| {
-            (
-                crate::stipple::tsp::hilbert(cell(p.x), cell(p.y), ORDER),
-                i as u32,
-            )
-        })
+        .map(|(i, p)| (crate::stipple::tsp::pixel_key(p.x, p.y, 0), i as u32))
         .collect();
     keyed.par_sort_unstable();
     keyed

@@ -484,6 +484,17 @@ fn hilbert_path(points: &[[f64; 2]]) -> Vec<usize> {
     keyed.into_iter().map(|(_, i)| i as usize).collect()
 }
 
+/// The place of pixel (`x`, `y`) along the Hilbert curve through a 2^16-px
+/// square, in cells of 2^`shift` px: the order of a drawing's dots
+/// (`shift` 0, `job::plan`) and of its Lloyd cells (`shift` 3). The cells'
+/// curve is the pixels' coarsened (its key the pixels' shifted right by
+/// 2·`shift`), so dots in the one order are in the other too.
+pub(crate) fn pixel_key(x: f32, y: f32, shift: u32) -> u64 {
+    let order = 16 - shift;
+    let cell = |v: f32| (v.max(0.0) as u64 >> shift).min((1 << order) - 1);
+    hilbert(cell(x), cell(y), order)
+}
+
 /// The index of cell (`x`, `y`) along the Hilbert curve through a
 /// 2^`order`-cell square (the tour's start, and the pens' assignment in
 /// `job::assign`).
@@ -506,4 +517,28 @@ pub(crate) fn hilbert(mut x: u64, mut y: u64, order: u32) -> u64 {
         s /= 2;
     }
     d
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The Lloyd cells' curve is the dots' coarsened: a cell's key is each
+    /// of its pixels' shifted right by 6, so sorted dots stay sorted; a
+    /// place off the domain's low side reads as its corner.
+    #[test]
+    fn the_cells_curve_coarsens_the_pixels_curve() {
+        let mut state = 0x1234_5678u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state % 70_000) as f32 + 0.25
+        };
+        for _ in 0..20_000 {
+            let (x, y) = (next(), next());
+            assert_eq!(pixel_key(x, y, 0) >> 6, pixel_key(x, y, 3), "({x}, {y})");
+        }
+        assert_eq!(pixel_key(-3.0, f32::NAN, 0), pixel_key(0.0, 0.0, 0));
+    }
 }

@@ -48,15 +48,12 @@ pub(super) fn polygon_step(
     };
     // Cells in the order of a Hilbert curve, so that neighbours, which
     // share buckets and pixels, are taken one after the other. In 8 px
-    // cells, the curve a drawing's dots already follow (`job::plan`, one
-    // of 2^16 px a side): their order is kept.
+    // cells, the curve a drawing's dots already follow (`job::plan`):
+    // their order is kept.
     let mut order: Vec<(u64, usize)> = points
         .par_iter()
         .enumerate()
-        .map(|(i, p)| {
-            let cell = |v: f32| (v.max(0.0) as u64 >> 3).min((1 << 13) - 1);
-            (crate::stipple::tsp::hilbert(cell(p[0]), cell(p[1]), 13), i)
-        })
+        .map(|(i, p)| (crate::stipple::tsp::pixel_key(p[0], p[1], 3), i))
         .collect();
     order.par_sort_unstable();
     let moved: Vec<[f32; 2]> = order
