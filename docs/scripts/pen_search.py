@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """How far a better pen choice could go (docs/colour.md): from `--choose K`'s
 set, every swap of one chosen pen for one of the box's others is drawn and
-measured (blurred ΔE00 at σ), the best taken, ROUNDS times. Then the choice
+measured (blurred ΔE00 at σ), the best taken, at most ROUNDS times (the
+search stops where no swap helps), at the default seed 0. Then the choice
 and the set found are drawn again at other seeds, so that the search's pick
 of its luckiest drawing does not count.
 
@@ -31,7 +32,11 @@ def main():
     a = ap.parse_args()
     box = tomllib.load(open(a.box, "rb"))["pen"]
     names = [p["name"] for p in box]
-    tmp = tempfile.mkdtemp()
+    seeds = [t.strip() for t in a.seeds.split(",") if t.strip()]
+    if "0" in seeds:
+        ap.error("--seeds: the search draws at seed 0; re-draw at other seeds")
+    work = tempfile.TemporaryDirectory()
+    tmp = work.name
     cache = {}
 
     def measure(pens, seed="0", extra=()):
@@ -41,9 +46,11 @@ def main():
         toml = os.path.join(tmp, "pens.toml")
         with open(toml, "w") as f:
             for i in sorted(pens):
-                f.write(f'[[pen]]\nname = "{box[i]["name"]}"\ncolour = "{box[i]["colour"]}"\n')
-                if "width_mm" in box[i]:
-                    f.write(f'width_mm = {box[i]["width_mm"]}\n')
+                # Every key of the box's pen (width, dot gain, opacity), as
+                # --choose draws it; JSON strings and numbers are TOML's.
+                f.write("[[pen]]\n")
+                for field, value in box[i].items():
+                    f.write(f"{field} = {json.dumps(value)}\n")
                 f.write("\n")
         svg = os.path.join(tmp, "d.svg")
         pen_arg = ["--pens", toml] if pens else list(extra)
@@ -58,8 +65,8 @@ def main():
     said = subprocess.run([a.pixelpie, "stipple", a.photo, "-o", os.path.join(tmp, "c.svg"),
                            "--pens", a.box, "--choose", str(a.k), "--points", a.points],
                           check=True, capture_output=True, text=True).stderr
-    chosen = [names.index(n) for n in
-              re.search(r"pens for .*?: (.*) \(predicted", said).group(1).split(", ")]
+    line = re.search(r"^chose \d+ of \d+ pens for .*: (.+?) \(predicted", said, re.M)
+    chosen = [names.index(n) for n in line.group(1).split(", ")]
     cur, best = chosen, measure(chosen)
     print(f"chosen: {', '.join(names[i] for i in cur)}: {best:.3f}", flush=True)
     for r in range(a.rounds):
@@ -76,7 +83,7 @@ def main():
             break
         cur = found
         print(f"round {r + 1}: {', '.join(names[i] for i in cur)}: {best:.3f}", flush=True)
-    for seed in a.seeds.split(","):
+    for seed in seeds:
         print(f"seed {seed}: chosen {measure(chosen, seed):.3f}, found {measure(cur, seed):.3f}, "
               f"cmyk {measure([], seed, ('--pens', 'cmyk')):.3f}", flush=True)
     if a.dump:
