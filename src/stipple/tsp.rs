@@ -528,15 +528,13 @@ mod tests {
     /// place off the domain's low side reads as its corner.
     #[test]
     fn the_cells_curve_coarsens_the_pixels_curve() {
-        let mut state = 0x1234_5678u64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state % 70_000) as f32 + 0.25
-        };
+        use rand::{RngExt, SeedableRng, rngs::StdRng};
+        let mut rng = StdRng::seed_from_u64(0x1234_5678);
         for _ in 0..20_000 {
-            let (x, y) = (next(), next());
+            let (x, y): (f32, f32) = (
+                rng.random_range(-2.0..70_000.0),
+                rng.random_range(-2.0..70_000.0),
+            );
             assert_eq!(pixel_key(x, y, 0) >> 6, pixel_key(x, y, 3), "({x}, {y})");
         }
         assert_eq!(pixel_key(-3.0, f32::NAN, 0), pixel_key(0.0, 0.0, 0));
