@@ -53,4 +53,4 @@ mod text;
 pub use error::{Error, Result};
 #[doc(hidden)]
 pub use text::single_line;
-pub use text::{one_line, setting_error};
+pub use text::{given, one_line, raw_line, setting, setting_error, spell_cli, spell_rust, spelled};

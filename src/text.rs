@@ -2,10 +2,18 @@
 //! modules' own error messages, and counts with their thousands apart. A
 //! leaf: it imports nothing of the crate.
 
-/// `e`'s message followed by its sources, `: `-separated: the one line the
-/// CLI prints (as anyhow's `{:#}`), for front ends without anyhow.
+/// `e`'s message followed by its sources, `: `-separated, on one line, its
+/// settings spelled as a job file and a Rust caller name them
+/// ([`spell_rust`]). A front end spells them its own way: [`spelled`].
 #[must_use]
 pub fn one_line(e: &dyn std::error::Error) -> String {
+    spelled(&raw_line(e), spell_rust)
+}
+
+/// `e`'s one line with its settings left marked ([`setting`], [`given`]),
+/// for a front end to [`spelled`] them.
+#[must_use]
+pub fn raw_line(e: &dyn std::error::Error) -> String {
     let mut text = e.to_string();
     let mut source = e.source();
     while let Some(s) = source {
@@ -14,6 +22,70 @@ pub fn one_line(e: &dyn std::error::Error) -> String {
         source = s.source();
     }
     single_line(&text)
+}
+
+/// Opens a setting named in a message ([`setting`], [`given`]).
+pub const SETTING_OPEN: char = '\u{ab}';
+/// Closes a setting named in a message.
+pub const SETTING_CLOSE: char = '\u{bb}';
+
+/// A setting named in a message or a warning, by its job-file key
+/// ([`crate::job::file::KEYS`]: `pen_mm`), for each front end to spell in
+/// its own words ([`spelled`]): the CLI's `--pen-mm`, Python's `pen_mm`,
+/// the app's control label.
+#[must_use]
+pub fn setting(key: &str) -> String {
+    format!("{SETTING_OPEN}{key}{SETTING_CLOSE}")
+}
+
+/// A setting with the value given ([`setting`]): the CLI spells it
+/// `--points 0`, Python `points=0`, the app `Points 0`.
+#[must_use]
+pub fn given(key: &str, value: impl std::fmt::Display) -> String {
+    format!("{SETTING_OPEN}{key}={value}{SETTING_CLOSE}")
+}
+
+/// `text` with each marked setting ([`setting`], [`given`]) spelled by
+/// `name(key, value)`. Unmarked text comes back as it is.
+#[must_use]
+pub fn spelled(text: &str, name: impl Fn(&str, Option<&str>) -> String) -> String {
+    let mut out = String::with_capacity(text.len());
+    let mut rest = text;
+    while let Some(start) = rest.find(SETTING_OPEN) {
+        let after = &rest[start + SETTING_OPEN.len_utf8()..];
+        let Some(end) = after.find(SETTING_CLOSE) else {
+            break;
+        };
+        out.push_str(&rest[..start]);
+        let mark = &after[..end];
+        out.push_str(&match mark.split_once('=') {
+            Some((key, value)) => name(key, Some(value)),
+            None => name(mark, None),
+        });
+        rest = &after[end + SETTING_CLOSE.len_utf8()..];
+    }
+    out.push_str(rest);
+    out
+}
+
+/// A setting as a job file and the Rust API name it: `pen_mm`, `points = 0`.
+#[must_use]
+pub fn spell_rust(key: &str, value: Option<&str>) -> String {
+    match value {
+        Some(v) => format!("{key} = {v}"),
+        None => key.to_owned(),
+    }
+}
+
+/// A setting as the command line names it: `--pen-mm`, `--points 0`, and a
+/// switch given (`true`) as the bare flag.
+#[must_use]
+pub fn spell_cli(key: &str, value: Option<&str>) -> String {
+    let flag = format!("--{}", key.replace('_', "-"));
+    match value {
+        Some("true") | None => flag,
+        Some(v) => format!("{flag} {v}"),
+    }
 }
 
 /// `text` on one line: each run of whitespace, line breaks included, becomes
@@ -141,6 +213,26 @@ fn type_parts(message: &str) -> Option<(&str, &str)> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn each_front_end_spells_a_setting() {
+        let text = format!(
+            "{} needs {} or {}; {}",
+            given("pen_mm", 0),
+            setting("width_mm"),
+            setting("paper"),
+            given("invert", true)
+        );
+        assert_eq!(
+            spelled(&text, spell_cli),
+            "--pen-mm 0 needs --width-mm or --paper; --invert"
+        );
+        assert_eq!(
+            spelled(&text, spell_rust),
+            "pen_mm = 0 needs width_mm or paper; invert = true"
+        );
+        assert_eq!(spelled("no marks «open", spell_cli), "no marks «open");
+    }
 
     #[test]
     fn serde_speaks_as_a_user() {
