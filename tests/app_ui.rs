@@ -7,7 +7,7 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use egui_kittest::Harness;
-use egui_kittest::kittest::Queryable;
+use egui_kittest::kittest::{NodeT, Queryable};
 use pixelpie::app::{self, PixelPieApp};
 
 fn gradient_png(path: &Path, w: u32, h: u32) {
@@ -1518,7 +1518,12 @@ fn the_panel_warns_when_the_dots_are_too_small_to_print_or_to_see_in_the_png() {
     h.run_steps(2);
     assert!(shows(&h, "Dots too small"), "no warning at PNG ×0.1");
     let w = h.state().dot_size_warning().unwrap();
-    assert!(w.contains("in the PNG") && !w.contains("SVG"), "{w}");
+    // The job's own PNG warning, in the app's words.
+    assert!(
+        w.contains("PNG's dots") && w.contains("PNG ×0.1") && !w.contains("SVG"),
+        "{w}"
+    );
+    assert!(!w.contains("--"), "{w}");
     // 10000 dots on 10 mm: under a tenth of a millimetre.
     h.state_mut().settings.job.scale = 1.0;
     h.state_mut().settings.job.width_mm = Some(10.0);
@@ -1807,7 +1812,13 @@ fn dots_sized_in_mm_and_warnings_that_name_a_count() {
     h.step();
     settle(&mut h);
     let w = h.state().dot_size_warning().expect("a warning");
-    assert!(w.contains("dots reach it"), "{w}");
+    // (The job's own PNG warning, as the CLI prints it: "about N dots …".)
+    let count = w
+        .split("about ")
+        .nth(1)
+        .and_then(|rest| rest.split(' ').next())
+        .and_then(|n| n.parse::<usize>().ok());
+    assert!(count.is_some_and(|n| n > 0), "{w}");
 }
 
 /// `after` has `before`'s points with other dot sizes.
@@ -2078,4 +2089,396 @@ fn the_paper_colour_reaches_the_clis_file() {
     );
     assert!(svg.contains(r##"fill="#ffffff""##), "{}", &svg[..600]);
     assert_eq!(svg, std::fs::read_to_string(&cli_svg).unwrap());
+}
+
+/// Whether the pointer over `node`'s centre hovers that very widget (not
+/// one drawn over it, not a panel beside it).
+fn hovers_itself(h: &mut Harness<'_, PixelPieApp>, name: &str) -> bool {
+    let target = h.get_all_by_label(name).next().unwrap();
+    let id = target.accesskit_node().locate().0;
+    target.hover();
+    h.run_steps(2);
+    // (A disabled control contains the pointer without being hovered.)
+    h.ctx.interaction_snapshot(|i| {
+        i.hovered
+            .iter()
+            .chain(i.contains_pointer.iter())
+            .any(|w| w.accesskit_id() == id)
+    })
+}
+
+#[test]
+fn cancel_restores_every_setting_of_the_last_drawing_the_turn_included() {
+    let (_dir, _, mut h) = ready(200, 150);
+    h.get_by_label_contains("Turn 90°").click();
+    h.step();
+    settle(&mut h);
+    assert_eq!(h.state().settings.job.rotate, Some(90));
+    let drawn = h
+        .state()
+        .outcome
+        .as_ref()
+        .unwrap()
+        .drawing
+        .set
+        .points
+        .clone();
+    let domain = h.state().outcome.as_ref().unwrap().drawing.domain;
+    assert!(domain.1 > domain.0, "turned: {domain:?}");
+    // A 2M drawing, cancelled while it samples.
+    h.state_mut().settings.job.points = Some(2_000_000);
+    let start = Instant::now();
+    while h
+        .state()
+        .progress_shown()
+        .is_none_or(|p| p.starts_with("waiting"))
+    {
+        h.step();
+        assert!(start.elapsed() < Duration::from_secs(10), "no job started");
+    }
+    h.get_by_label("Cancel").click();
+    h.run_steps(3);
+    let s = h.state();
+    assert!(
+        !s.busy() && s.status.starts_with("cancelled"),
+        "busy {}, status {:?}, error {:?}",
+        s.busy(),
+        s.status,
+        s.error
+    );
+    assert_eq!(s.settings.job.rotate, Some(90), "the turn came back");
+    assert_eq!(s.settings.job.points, Some(10_000));
+    assert_eq!(s.outcome.as_ref().unwrap().drawing.set.points, drawn);
+    assert_eq!(
+        s.source.as_ref().unwrap().map.width(),
+        150,
+        "the photo stays turned"
+    );
+    // Nothing new starts: the controls are the drawing's.
+    std::thread::sleep(Duration::from_millis(300));
+    h.run_steps(3);
+    assert!(!h.state().busy(), "a new drawing started after Cancel");
+    assert_eq!(
+        label(&h.get_by_label_contains("Turn 90°")).unwrap(),
+        "Turn 90° (90°)"
+    );
+}
+
+#[test]
+fn every_control_is_in_reach_in_an_800_by_500_window() {
+    let (_dir, _, mut h) = ready(200, 150);
+    for (w, ht) in [(800.0, 500.0), (1024.0, 700.0)] {
+        h.set_size(egui::vec2(w, ht));
+        h.run_steps(3);
+        let img = h.render().expect("render");
+        let _ = img.save(format!("{}/app-{w}x{ht}.png", env!("CARGO_TARGET_TMPDIR")));
+        let mut out_of_reach = Vec::new();
+        for name in [
+            "Undo",
+            "Redo",
+            "Reset",
+            "?",
+            "Open",
+            "Crop",
+            "Save",
+            "Load",
+            "Point count",
+            "Radius range",
+            "Points",
+            "One ink",
+            "CMYK",
+            "Pen file",
+            "Load pens",
+            "Pen box…",
+            "Landscape",
+            "Margin",
+            "Paper colour",
+            "Dots",
+            "Dot mm",
+            "Lightest / darkest dot",
+            "Size for local spacing",
+            "Correct tones by rendering",
+            "Auto relax",
+            "Relax (Lloyd steps)",
+            "Black",
+            "Red",
+            "Radius",
+            "Mapping",
+            "Tones",
+            "Policy",
+            "Exact spacing",
+            "Gamma",
+            "Black level",
+            "White level",
+            "Invert",
+            "White cutoff",
+            "Sub-pixel bits",
+            "Re-roll",
+            "Seed",
+            "Periodic (tileable)",
+            "Show 2×2 tiles",
+            "Backend",
+            "Behind",
+            "Coverage disks (Figure 4)",
+            "Pen travel",
+            "Fit view",
+            "Along a curve",
+            "Plotter (TSP)",
+            "Width mm",
+            "Pen mm",
+            "Spiral",
+            "Touch",
+            "Export to",
+            "SVG",
+            "PNG",
+            "CSV",
+            "JSON",
+        ] {
+            let Some(node) = h.get_all_by_label(name).next() else {
+                out_of_reach.push(format!("{name}: not found"));
+                continue;
+            };
+            node.scroll_to_me();
+            h.run_steps(3);
+            let r = h.get_all_by_label(name).next().unwrap().rect();
+            let inside =
+                r.min.x >= 0.0 && r.max.x <= app::PANEL_WIDTH && r.min.y >= 0.0 && r.max.y <= ht;
+            if !inside || !hovers_itself(&mut h, name) {
+                out_of_reach.push(format!("{name} at {r:?}"));
+            }
+        }
+        assert!(out_of_reach.is_empty(), "at {w}×{ht}: {out_of_reach:?}");
+    }
+    // Smaller still, the panel's parts do not overlap: the fixed bottom
+    // (progress and statistics) lies below the scrolling controls.
+    h.set_size(egui::vec2(400.0, 300.0));
+    h.run_steps(3);
+    let points = h.get_by_label("Points");
+    points.scroll_to_me();
+    h.run_steps(3);
+    let p = h.get_by_label("Points").rect();
+    let ready = h.get_by_label("ready").rect();
+    assert!(
+        p.max.y <= ready.min.y,
+        "Points {p:?} over the status {ready:?}"
+    );
+}
+
+/// Settings storage in memory, for the autosave.
+#[derive(Default)]
+struct Store(std::collections::HashMap<String, String>);
+
+impl eframe::Storage for Store {
+    fn get_string(&self, key: &str) -> Option<String> {
+        self.0.get(key).cloned()
+    }
+    fn set_string(&mut self, key: &str, value: String) {
+        self.0.insert(key.to_owned(), value);
+    }
+    fn remove_string(&mut self, key: &str) {
+        self.0.remove(key);
+    }
+    fn flush(&mut self) {}
+}
+
+/// The settings the app saves now.
+fn saved(h: &mut Harness<'_, PixelPieApp>) -> app::Settings {
+    let mut store = Store::default();
+    eframe::App::save(h.state_mut(), &mut store);
+    eframe::get_value(&store, "pixelpie-settings").expect("saved settings")
+}
+
+#[test]
+fn a_half_typed_count_is_never_drawn_or_saved() {
+    let (_dir, _, mut h) = ready(200, 150);
+    let drawn = h.state().dots_drawn();
+    // Click the field (no drag): its text is edited, the old count selected.
+    h.get_by_label("Points").click();
+    h.run_steps(2);
+    h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::A);
+    h.get_by_label("Points").type_text("20");
+    h.run_steps(2);
+    std::thread::sleep(app::DEBOUNCE * 2);
+    h.run_steps(3);
+    assert!(!h.state().busy(), "a half-typed count started a drawing");
+    assert_eq!(h.state().settings.job.points, Some(10_000));
+    assert_eq!(h.state().dots_drawn(), drawn);
+    assert_eq!(
+        saved(&mut h).job.points,
+        Some(10_000),
+        "the autosave kept 20"
+    );
+    h.get_by_label("Points").type_text("00");
+    h.run_steps(2);
+    assert_eq!(
+        saved(&mut h).job.points,
+        Some(10_000),
+        "the autosave kept 2000"
+    );
+    // Enter takes it: drawn and saved.
+    h.key_press(egui::Key::Enter);
+    h.run_steps(2);
+    assert_eq!(h.state().settings.job.points, Some(2000));
+    settle(&mut h);
+    let n = h.state().dots_drawn();
+    assert!((1900..=2100).contains(&n), "{n}");
+    assert_eq!(saved(&mut h).job.points, Some(2000));
+}
+
+/// The Export section's Pen mm width field: the number field right of the
+/// Pen mm box.
+fn pen_mm_field<'a>(h: &'a Harness<'_, PixelPieApp>) -> egui_kittest::Node<'a> {
+    let pen = h.get_by_label("Pen mm").rect();
+    h.query_all_by(|n| n.role() == egui::Role::SpinButton)
+        .find(|n| {
+            let r = n.rect();
+            r.min.x >= pen.max.x && (r.center().y - pen.center().y).abs() < 4.0
+        })
+        .expect("the pen width field")
+}
+
+#[test]
+fn a_typed_pen_box_and_pen_mm_say_what_they_do() {
+    let (_dir, _, mut h) = ready(200, 150);
+    fold(&mut h, &["Dot size", "Sampling", "View"]);
+    let pen_box = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/pens-24.toml");
+    // A pen box by its typed path (no file dialog needed).
+    h.get_by_label("Pen file").focus();
+    h.run_steps(1);
+    h.get_by_label("Pen file")
+        .type_text(&pen_box.display().to_string());
+    h.run_steps(1);
+    h.get_by_label("Load pens").click();
+    h.run_steps(2);
+    assert_eq!(h.state().pen_box.as_ref().map(|b| b.1.len()), Some(24));
+    // Ticking Pen mm says that it makes the default Sized dots Fixed.
+    h.get_by_label("Width mm").click();
+    h.run_steps(2);
+    assert_eq!(
+        h.state().settings.job.dot_mode(),
+        pixelpie::job::DotMode::Sized
+    );
+    h.get_by_label("Pen mm").click();
+    h.run_steps(2);
+    assert_eq!(
+        h.state().settings.job.dot_mode(),
+        pixelpie::job::DotMode::Fixed
+    );
+    assert!(
+        shows(&h, "the dots are Fixed now"),
+        "{:?}",
+        h.state().pen_note
+    );
+    assert!(!pen_mm_field(&h).accesskit_node().is_disabled());
+    // Pens chosen from the box carry their own widths: Pen mm's width is
+    // not used, and greyed out with the reason.
+    h.state_mut().choose_count = 2;
+    h.run_steps(1);
+    h.get_by_label("Choose 2 for this photo").click();
+    h.run_steps(2);
+    let pens = h.state().settings.job.pens.clone().expect("pens");
+    assert!(pens.pens().iter().all(|p| p.width_mm.is_some()));
+    h.ctx.all_styles_mut(|s| s.interaction.tooltip_delay = 0.0);
+    let field = pen_mm_field(&h);
+    assert!(field.accesskit_node().is_disabled());
+    field.hover();
+    h.run_steps(2);
+    assert!(shows(&h, "every pen carries its own width"));
+    settle(&mut h);
+}
+
+#[test]
+fn messages_belong_to_the_drawing_and_undo_redo_and_say_when_cleared() {
+    let (dir, png, mut h) = ready(200, 150);
+    // A job file of the present settings, to load back later.
+    let preset = dir.path().join("job.toml");
+    h.state_mut().preset_path = preset.display().to_string();
+    h.get_by_label("Save").click();
+    h.run_steps(2);
+    // A choice's note goes when another job is loaded.
+    let pen_box = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/pens-24.toml");
+    h.state_mut().load_pen_box(&pen_box);
+    h.state_mut().choose_count = 2;
+    h.run_steps(1);
+    h.get_by_label("Choose 2 for this photo").click();
+    h.run_steps(2);
+    assert!(shows(&h, "predicted ΔE00"));
+    h.get_by_label("Load").click();
+    h.run_steps(2);
+    assert_eq!(h.state().settings.job.pens, None);
+    assert!(!shows(&h, "predicted ΔE00"), "the old job's choice stayed");
+    settle(&mut h);
+    // A file that fails to open: the error names it, the path field names
+    // the picture still shown.
+    let bad = dir.path().join("bad.png");
+    std::fs::write(&bad, b"not a picture").unwrap();
+    h.state_mut().open_path = bad.display().to_string();
+    h.get_by_label("Open").click();
+    h.step();
+    finish(&mut h);
+    let e = h.state().open_error.clone().expect("an open error");
+    assert!(e.contains("bad.png"), "{e}");
+    assert_eq!(h.state().open_path, png.display().to_string());
+    // Hover texts show once: a long message cut at the panel's edge.
+    h.ctx.all_styles_mut(|s| s.interaction.tooltip_delay = 0.0);
+    h.get_by_label_contains("bad.png").hover();
+    h.run_steps(2);
+    let copies = h
+        .query_all_by(|n| n.value().is_some_and(|v| v == e) || n.label().is_some_and(|l| l == e))
+        .count();
+    assert_eq!(copies, 2, "the message and one tooltip");
+    // Undo and Redo.
+    h.get_by_label("Points").set_value_accesskit(3000.0);
+    h.run_steps(2);
+    h.get_by_label("Undo").click();
+    h.run_steps(2);
+    assert_eq!(h.state().settings.job.points, Some(10_000));
+    h.get_by_label("Redo").click();
+    h.run_steps(2);
+    assert_eq!(h.state().settings.job.points, Some(3000));
+    settle(&mut h);
+    // A new photo starts a new history, and Undo says when.
+    let other = dir.path().join("other.png");
+    gradient_png(&other, 120, 90);
+    let ctx = h.ctx.clone();
+    h.state_mut().open(&ctx, &other);
+    settle(&mut h);
+    assert!(h.get_by_label("Undo").accesskit_node().is_disabled());
+    h.get_by_label("Undo").hover();
+    h.run_steps(2);
+    assert!(shows(&h, "cleared when other.png opened"));
+}
+
+#[test]
+fn local_spacing_serves_one_pen_and_errors_name_the_controls() {
+    let (_dir, _, mut h) = ready(200, 150);
+    fold(&mut h, &["Pens", "Paper"]);
+    let one = pixelpie::colour::PenSet::new(vec![pixelpie::colour::Pen {
+        name: "sepia".into(),
+        colour: [112, 66, 20],
+        width_mm: None,
+        dot_gain: None,
+        opacity: None,
+    }])
+    .unwrap();
+    h.state_mut().settings.job.pens = Some(one);
+    h.run_steps(2);
+    let local = h.get_by_label("Size for local spacing");
+    assert!(
+        !local.accesskit_node().is_disabled(),
+        "a one-pen set draws in grey"
+    );
+    local.click();
+    h.run_steps(2);
+    assert_eq!(
+        h.state().settings.job.spacing,
+        pixelpie::job::Spacing::Radius
+    );
+    settle(&mut h);
+    // The library's refusal, in the app's words: the control's label.
+    h.state_mut().settings.job.width = Some(0);
+    h.step();
+    finish(&mut h);
+    let e = h.state().error.clone().expect("a refusal");
+    assert!(e.contains("Domain width 0") && !e.contains("--"), "{e}");
 }

@@ -12,8 +12,6 @@ use crate::stipple::svg::DotPath;
 /// Dots narrower than this, in mm, do not print (a pen or a printer's
 /// dot is wider).
 pub const MIN_PRINT_MM: f64 = 0.1;
-/// Dots narrower than this, in px, turn a PNG grey.
-pub const MIN_PNG_PX: f32 = 1.0;
 
 impl PixelPieApp {
     /// Under the Export row: the file written, or why not, on one line of
@@ -28,10 +26,15 @@ impl PixelPieApp {
                 },
                 ui.visuals().text_color(),
             ),
-            (None, None) => (String::new(), ui.visuals().text_color()),
+            (None, None) => (
+                self.pen_note.clone().unwrap_or_default(),
+                ui.visuals().text_color(),
+            ),
         };
         fixed_row(ui, true, |ui| {
-            let label = egui::Label::new(egui::RichText::new(&text).color(color)).truncate();
+            let label = egui::Label::new(egui::RichText::new(&text).color(color))
+                .truncate()
+                .show_tooltip_when_elided(false);
             let r = ui.add(label);
             if !text.is_empty() {
                 r.on_hover_text(&text);
@@ -39,18 +42,25 @@ impl PixelPieApp {
         });
     }
 
+    /// The Export section ([`Self::export_ui`]), its height measured for
+    /// the panel's layout.
+    pub(super) fn export_measured(&mut self, ui: &mut egui::Ui) {
+        self.heights.export = ui.scope(|ui| self.export_ui(ui)).response.rect.height();
+    }
+
     /// The Export section: plotter options (order, width, pen, dot path and
     /// the plot time), the path, the format buttons and the outcome. The
     /// job's `write` writes every format, as the CLI's.
-    pub(super) fn export_ui(&mut self, ui: &mut egui::Ui) {
+    fn export_ui(&mut self, ui: &mut egui::Ui) {
         let placement = self.placement();
+        let mut pen_note = None;
         let job = &mut self.settings.job;
         ui.horizontal(|ui| {
             ui.label("Order");
             ui.selectable_value(&mut job.order, Order::None, "Along a curve")
                 .on_hover_text("A Hilbert curve through the dots, unplanned");
             ui.selectable_value(&mut job.order, Order::Tsp, "Plotter (TSP)")
-                .on_hover_text("A short pen path (a Hilbert curve and 2-opt), as --order tsp");
+                .on_hover_text("A short pen path (a Hilbert curve and 2-opt)");
         });
         ui.horizontal(|ui| {
             // The paper and a width exclude each other: with paper, the
@@ -65,7 +75,7 @@ impl PixelPieApp {
             });
             let mut mm = job.width_mm.is_some() || paper;
             ui.add_enabled(!paper, egui::Checkbox::new(&mut mm, "Width mm"))
-                .on_hover_text("Size the SVG in millimetres (--width-mm); off: pixels")
+                .on_hover_text("Size the SVG in millimetres; off: pixels")
                 .on_disabled_hover_text(&why);
             let mut width = match (paper, placement) {
                 (true, Some(p)) => p.size_mm.0,
@@ -74,8 +84,8 @@ impl PixelPieApp {
             ui.add_enabled(
                 mm && !paper,
                 egui::DragValue::new(&mut width)
-                    .range(1.0..=5000.0)
                     .update_while_editing(false)
+                    .range(1.0..=5000.0)
                     .speed(1.0)
                     .max_decimals(1),
             )
@@ -89,25 +99,68 @@ impl PixelPieApp {
                 job.width_mm = mm.then_some(width);
             }
             let sized = mm || paper;
-            let mut pen = job.pen_mm.is_some();
-            ui.add_enabled(sized, egui::Checkbox::new(&mut pen, "Pen mm"))
-                .on_hover_text("Draw each dot as a pen of this width draws it (--pen-mm)")
+            let had = job.pen_mm.is_some();
+            let mut pen = had;
+            // Dots left to their default are Fixed with a pen, Sized without.
+            let moves_dots = job.dot.is_none();
+            let ticked = ui
+                .add_enabled(sized, egui::Checkbox::new(&mut pen, "Pen mm"))
+                .on_hover_text(if moves_dots {
+                    "Draw each dot as a pen of this width draws it. With the dots' mode left \
+                     to its default (Dot size), this makes them Fixed (all one size, as a pen \
+                     draws them); unticked they are Sized again"
+                } else {
+                    "Draw each dot as a pen of this width draws it"
+                })
                 .on_disabled_hover_text("Needs a width in mm or a paper");
+            // The pens' own widths beat this one: with every pen's own it
+            // is not used.
+            let (own, pens) = job.pens.as_ref().map_or((0, 0), |set| {
+                let own = set.pens().iter().filter(|p| p.width_mm.is_some()).count();
+                (own, set.len())
+            });
+            let all_own = pens > 0 && own == pens;
             let mut pen_mm = job.pen_mm.unwrap_or(0.3);
             ui.add_enabled(
-                sized && pen,
+                sized && pen && !all_own,
                 egui::DragValue::new(&mut pen_mm)
-                    .range(0.05..=5.0)
                     .update_while_editing(false)
+                    .range(0.05..=5.0)
                     .speed(0.01),
             )
-            .on_hover_text("The pen's width in mm");
+            .on_hover_text(if own > 0 {
+                format!(
+                    "The width in mm of the pens without one of their own ({own} of the {pens} \
+                     pens carry their own, Pens section)"
+                )
+            } else {
+                "The pen's width in mm".to_owned()
+            })
+            .on_disabled_hover_text(if all_own {
+                "Not used: every pen carries its own width (Pens section), and each draws at it"
+            } else if !sized {
+                "Needs a width in mm or a paper"
+            } else {
+                "Tick Pen mm to give one"
+            });
             job.pen_mm = (sized && pen).then_some(pen_mm);
+            if ticked.changed() && moves_dots && pen != had {
+                pen_note = Some(if pen {
+                    "Pen mm: the dots are Fixed now, one size as a pen draws them (Dot size's \
+                     Dots sets another mode)"
+                } else {
+                    "No Pen mm: the dots are Sized again (Dot size's Dots sets another mode)"
+                });
+            }
         });
+        if let Some(note) = pen_note {
+            self.pen_note = Some(note.to_owned());
+        }
+        let job = &mut self.settings.job;
         ui.horizontal(|ui| {
             let pen = job.pen_mm.is_some();
             ui.label("Dot path").on_hover_text(
-                "How the pen draws a dot wider than itself (--dot-path); a dot no wider than \
+                "How the pen draws a dot wider than itself; a dot no wider than \
                  the pen is one touch",
             );
             for (path, name, help) in [
@@ -166,6 +219,7 @@ impl PixelPieApp {
             }
             ui.add(
                 egui::DragValue::new(&mut self.settings.job.scale)
+                    .update_while_editing(false)
                     .range(0.1..=8.0)
                     .speed(0.05)
                     .prefix("PNG ×"),
@@ -202,7 +256,8 @@ impl PixelPieApp {
             let short = format!("Pen too wide: grey {plotted:.2}, not {asked:.2}");
             let label =
                 egui::Label::new(egui::RichText::new(short).color(Color32::from_rgb(210, 120, 20)))
-                    .truncate();
+                    .truncate()
+                    .show_tooltip_when_elided(false);
             ui.add(label).on_hover_text(text);
         });
     }
@@ -215,53 +270,42 @@ impl PixelPieApp {
             let Some(text) = &warning else { return };
             let label =
                 egui::Label::new(egui::RichText::new(text).color(Color32::from_rgb(210, 120, 20)))
-                    .truncate();
+                    .truncate()
+                    .show_tooltip_when_elided(false);
             ui.add(label).on_hover_text(format!(
-                "{text}. Half the drawing's ink lies in dots narrower than this: a printer or \
-                 plotter cannot draw dots under {MIN_PRINT_MM} mm, and a PNG turns dots under \
-                 {MIN_PNG_PX} px into a grey haze. Use fewer dots, a larger width or paper, or \
-                 a larger PNG scale."
+                "{text}. A printer or plotter cannot draw dots under {MIN_PRINT_MM} mm, and a \
+                 PNG turns dots under a pixel into a grey haze. Use fewer dots, a larger width \
+                 or paper, or a larger PNG scale."
             ));
         });
     }
 
     /// Why the dots are too small to print (under [`MIN_PRINT_MM`] across
-    /// at the SVG's size in mm) or to see in the PNG (under [`MIN_PNG_PX`]
-    /// px at its scale), or `None`. The size is that of the dots that hold
-    /// half the drawing's ink.
+    /// at the SVG's size in mm) or to see in the PNG (the job's own
+    /// warning, [`crate::job::Job::png_check`]), or `None`. The size is
+    /// that of the dots that hold half the drawing's ink, as the job
+    /// measures it for the PNG.
     #[must_use]
     pub fn dot_size_warning(&self) -> Option<String> {
         let o = self.outcome.as_ref()?;
         let job = self.settings.job();
-        // Diameter in domain px.
-        let across = 2.0
-            * match job.dot_size() {
-                DotSize::Calibrated(f) => f * o.sizes.drawn_ink_median,
-                DotSize::Proportional(f) => f * o.sizes.radius_ink_median,
-            };
         let mut why = Vec::new();
-        // Radii scale as 1/√count: the count at which a size is reached.
-        let n = o.drawing.points.len() as f64;
-        let count_for = |ratio: f64| ((n * ratio * ratio).floor() as usize).max(1);
+        // The job's PNG rule at the scale that makes one PNG pixel
+        // MIN_PRINT_MM on the page: its dots under a pixel are dots under
+        // MIN_PRINT_MM in the SVG.
         if let Ok(Some(mm)) = job.mm_per_px(o.drawing.domain) {
-            let d = f64::from(across) * mm;
-            if d < MIN_PRINT_MM {
+            let mut print = job.clone();
+            print.scale = (mm / MIN_PRINT_MM) as f32;
+            if print.png_check(&o.drawing).is_some() {
                 why.push(format!(
-                    "{d:.2} mm across in the SVG (under {MIN_PRINT_MM} mm; about {} dots reach it)",
-                    count_for(d / MIN_PRINT_MM)
+                    "half the ink in dots under {MIN_PRINT_MM} mm across in the SVG"
                 ));
             }
         }
-        let px = across * job.scale;
-        if px < MIN_PNG_PX {
-            why.push(format!(
-                "{px:.2} px across in the PNG at \u{d7}{:.2} (under {MIN_PNG_PX} px; about {} \
-                 dots reach it)",
-                job.scale,
-                count_for(f64::from(px / MIN_PNG_PX))
-            ));
+        if let Some(w) = job.png_check(&o.drawing) {
+            why.push(super::words::app_text(&w));
         }
-        (!why.is_empty()).then(|| format!("Dots too small: {}", why.join(", ")))
+        (!why.is_empty()).then(|| format!("Dots too small: {}", why.join("; ")))
     }
 
     /// Exports to the export path with extension `ext`; the outcome shows
@@ -290,10 +334,11 @@ impl PixelPieApp {
                 self.export_path = full.display().to_string();
                 self.exported = Some(full);
                 self.export_error = None;
+                self.pen_note = None;
             }
             Err(e) => {
                 self.exported = None;
-                self.export_error = Some(crate::text::one_line(&e));
+                self.export_error = Some(super::words::app_line(&e));
             }
         }
     }

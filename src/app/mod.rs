@@ -15,6 +15,7 @@ mod settings;
 pub mod shortcuts;
 mod status;
 mod view;
+pub mod words;
 mod worker;
 
 use std::path::{Path, PathBuf};
@@ -116,6 +117,13 @@ pub struct PixelPieApp {
     /// What the last choice said (the pens, the predicted error), or why
     /// there is none.
     pub choice_note: Option<Result<String, String>>,
+    /// The pens the last choice set: its note shows while the job has them.
+    choice_pens: Option<crate::colour::PenSet>,
+    /// The pen box's path typed (a pen file).
+    pub pen_box_path: String,
+    /// What ticking Pen mm changed besides (the dots' mode), shown in the
+    /// Export section's message row until the next export or job.
+    pub pen_note: Option<String>,
     /// A colour drawing's dots, pen by pen, with the pen's colour.
     pen_layers: Vec<([u8; 3], Arc<Vec<dots::DotInstance>>)>,
     view: view::ViewState,
@@ -141,6 +149,8 @@ pub struct PixelPieApp {
     /// The Points field's count, kept while the radius range or the dots'
     /// size in mm sets the radii (the job then has no count).
     pub typed_points: usize,
+    /// The heights of the panel's parts, as last drawn.
+    heights: Heights,
 }
 
 /// A picture decoding off the UI thread.
@@ -162,6 +172,29 @@ struct Decoded {
 
 /// The control panel's width, in points.
 pub const PANEL_WIDTH: f32 = 340.0;
+
+/// The least height, in points, left to the scrolling controls with the
+/// Export section fixed at the panel's bottom; a shorter window scrolls it
+/// with the controls.
+pub const MIN_CONTROLS_HEIGHT: f32 = 330.0;
+
+/// The heights of the panel's parts, as last drawn (points).
+struct Heights {
+    /// Progress and statistics.
+    stats: f32,
+    /// The Export section.
+    export: f32,
+}
+
+impl Default for Heights {
+    /// Before the first frame: about what they take.
+    fn default() -> Self {
+        Self {
+            stats: 120.0,
+            export: 330.0,
+        }
+    }
+}
 
 impl Source {
     /// The picture's size before the crop and turn.
@@ -226,6 +259,9 @@ impl PixelPieApp {
             pen_box: None,
             choose_count: 5,
             choice_note: None,
+            choice_pens: None,
+            pen_box_path: String::new(),
+            pen_note: None,
             view: view::ViewState::default(),
             gpu_dots,
             open_path: String::new(),
@@ -238,6 +274,7 @@ impl PixelPieApp {
             plot: plot::PlotTime::default(),
             crop_for_next: false,
             typed_points: settings.job.points.unwrap_or(crate::job::DEFAULT_POINTS),
+            heights: Heights::default(),
         };
         // Ctrl+plus and Ctrl+minus zoom the picture, not the whole UI.
         cc.egui_ctx.options_mut(|o| o.zoom_with_keyboard = false);
@@ -308,6 +345,19 @@ impl PixelPieApp {
                 if self.settings.image != loading.path && !self.crop_for_next {
                     self.settings.job.crop = None;
                 }
+                // Another photo starts a new undo history, and says so.
+                if self.source.is_some() && self.settings.image != loading.path {
+                    let name = loading.path.as_ref().map_or_else(
+                        || DEFAULT_IMAGE_NAME.to_owned(),
+                        |p| {
+                            p.file_name().map_or_else(
+                                || p.display().to_string(),
+                                |n| n.to_string_lossy().into_owned(),
+                            )
+                        },
+                    );
+                    self.history.clear(format!("cleared when {name} opened"));
+                }
                 self.crop_for_next = false;
                 let original = Arc::new(Original {
                     map: Arc::new(decoded.map),
@@ -350,6 +400,13 @@ impl PixelPieApp {
             }
             Err(e) => {
                 self.open_error = Some(e);
+                // The path field names the picture shown, not the one that
+                // failed (the error names that).
+                self.open_path = self
+                    .source
+                    .as_ref()
+                    .and_then(|s| s.path.as_ref())
+                    .map_or_else(String::new, |p| p.display().to_string());
                 if self.source.is_none() && loading.path.is_some() {
                     // Keep the error, but show something to work on.
                     let error = self.open_error.take();
@@ -439,7 +496,7 @@ impl PixelPieApp {
         }
         let o = src.original.clone();
         let framed = (|| -> Result<_, String> {
-            let text = |e: crate::importance::Error| crate::text::one_line(&e);
+            let text = |e: crate::importance::Error| words::app_line(&e);
             let map = o.map.framed(want.0, want.1).map_err(text)?;
             let colour = o.colour.framed(want.0, want.1).map_err(text)?;
             let image = |img: &egui::ColorImage| {
@@ -482,7 +539,7 @@ impl PixelPieApp {
             });
         self.preset_note = Some(match result {
             Ok(()) => format!("saved {}", path.display()),
-            Err(e) => format!("not saved: {}", crate::text::one_line(&e)),
+            Err(e) => format!("not saved: {}", words::app_line(&e)),
         });
     }
 
@@ -492,15 +549,23 @@ impl PixelPieApp {
         let path = typed_path(&self.preset_path);
         self.preset_note = Some(match crate::job::Job::open(&path) {
             Ok((job, warning)) => {
+                // Messages about the old job's pens go with it.
+                self.choice_note = None;
+                self.pens_error = None;
+                self.pen_note = None;
                 self.typed_points = job.points.unwrap_or(self.typed_points);
                 self.crop_for_next = job.crop.is_some();
                 self.settings.job = job;
                 match warning {
-                    Some(w) => format!("loaded {} (warning: {w})", path.display()),
+                    Some(w) => format!(
+                        "loaded {} (warning: {})",
+                        path.display(),
+                        words::app_text(&w)
+                    ),
                     None => format!("loaded {}", path.display()),
                 }
             }
-            Err(e) => format!("not loaded: {}", crate::text::one_line(&e)),
+            Err(e) => format!("not loaded: {}", words::app_line(&e)),
         });
     }
 
@@ -520,7 +585,9 @@ impl PixelPieApp {
     /// The plan of the drawing shown, in one line (the status shows it).
     #[must_use]
     pub fn plan_line(&self) -> Option<String> {
-        self.outcome.as_ref().map(|o| o.drawing.plan.line())
+        self.outcome
+            .as_ref()
+            .map(|o| words::app_text(&o.drawing.plan.line()))
     }
 
     /// The number of dots on screen.
@@ -545,10 +612,13 @@ impl PixelPieApp {
         self.relaxed = None;
         self.stage = None;
         if let Some(o) = &self.outcome {
+            // Every setting of the drawing: its job (the crop and the turn
+            // too) and its backend.
             let drawn = &o.settings;
             let s = &mut self.settings;
             s.job = drawn.job.clone();
             s.backend = drawn.backend;
+            self.typed_points = s.job.points.unwrap_or(self.typed_points);
             self.history.barrier();
         }
         self.last_key = Some(self.settings.sampling_key());
@@ -581,8 +651,9 @@ impl PixelPieApp {
             id: self.next_job,
             map: src.map.clone(),
             colour: src.colour.clone(),
-            // The source is framed already.
-            settings: self.settings.framed(),
+            // The source is framed already; the worker runs the job
+            // without the crop and turn, and keeps them for Cancel.
+            settings: self.settings.clone(),
         });
     }
 
@@ -648,7 +719,7 @@ fn decode(path: Option<&Path>) -> Result<Decoded, String> {
         Some(p) => ImportanceMap::open(p, None),
         None => ImportanceMap::from_encoded(DEFAULT_IMAGE, Path::new(DEFAULT_IMAGE_NAME), None),
     }
-    .map_err(|e| crate::text::one_line(&e))?;
+    .map_err(|e| words::app_line(&e))?;
     let (w, h) = (map.width() as usize, map.height() as usize);
     let gray: Vec<egui::Color32> = map
         .values()
@@ -680,7 +751,9 @@ fn decode(path: Option<&Path>) -> Result<Decoded, String> {
         None => map_grey(&map),
     };
     Ok(Decoded {
-        warning: path.and_then(crate::importance::cut_short),
+        warning: path
+            .and_then(crate::importance::cut_short)
+            .map(|w| words::app_text(&w)),
         map,
         colour,
         importance,
@@ -726,17 +799,31 @@ impl eframe::App for PixelPieApp {
             .resizable(false)
             .frame(panel)
             .show(ui, |ui| {
-                // Progress, statistics and the export row keep fixed places
-                // at the bottom; the controls scroll above them.
+                // Progress and statistics keep fixed places at the bottom,
+                // the export rows too where the window leaves the controls
+                // room enough above them; else the Export section scrolls
+                // with the controls, so that every control can be reached.
+                let bottom = self.heights.stats + self.heights.export;
+                let tall = ui.available_height() - bottom >= MIN_CONTROLS_HEIGHT;
                 egui::Panel::bottom("actions")
                     .resizable(false)
                     .frame(panel)
                     .show(ui, |ui| {
-                        self.stats_ui(ui);
-                        ui.separator();
-                        self.export_ui(ui);
+                        self.heights.stats =
+                            ui.scope(|ui| self.stats_ui(ui)).response.rect.height();
+                        if tall {
+                            ui.separator();
+                            self.export_measured(ui);
+                        }
                     });
-                egui::ScrollArea::vertical().show(ui, |ui| self.controls(ui));
+                egui::ScrollArea::vertical().show(ui, |ui| {
+                    self.controls(ui);
+                    if !tall {
+                        egui::CollapsingHeader::new("Export")
+                            .default_open(true)
+                            .show(ui, |ui| self.export_measured(ui));
+                    }
+                });
             });
         egui::CentralPanel::default()
             .frame(egui::Frame::NONE)
@@ -748,6 +835,11 @@ impl eframe::App for PixelPieApp {
         if job.dot_mm.is_some() && job.width_mm.is_none() && job.paper.is_none() {
             job.dot_mm = None;
             job.points = Some(self.typed_points);
+        }
+        // A choice's note describes the pens it chose, while they are the
+        // job's.
+        if matches!(self.choice_note, Some(Ok(_))) && self.settings.job.pens != self.choice_pens {
+            self.choice_note = None;
         }
         self.history.observe(&self.settings);
         let key = self.settings.sampling_key();

@@ -48,7 +48,7 @@ impl PixelPieApp {
             let turn = job.rotate.unwrap_or(0);
             if ui
                 .button(format!("Turn 90° ({turn}°)"))
-                .on_hover_text("Turn the photo a quarter clockwise (--rotate)")
+                .on_hover_text("Turn the photo a quarter clockwise")
                 .clicked()
             {
                 job.rotate = match (turn + 90) % 360 {
@@ -59,9 +59,7 @@ impl PixelPieApp {
             let mut cropped = job.crop.is_some();
             if ui
                 .checkbox(&mut cropped, "Crop")
-                .on_hover_text(
-                    "Draw a part of the photo: x, y, width, height in its pixels (--crop)",
-                )
+                .on_hover_text("Draw a part of the photo: x, y, width, height in its pixels")
                 .changed()
             {
                 let (width, height) = size.unwrap_or((1, 1));
@@ -83,9 +81,9 @@ impl PixelPieApp {
                 ] {
                     ui.add(
                         egui::DragValue::new(v)
+                            .update_while_editing(false)
                             .range(0..=most)
                             .clamp_existing_to_range(false)
-                            .update_while_editing(false)
                             .prefix(format!("{name} ")),
                     )
                     .on_hover_text("In the photo's pixels, upright");
@@ -109,8 +107,8 @@ impl PixelPieApp {
             ui.label("Preset");
             ui.add(egui::TextEdit::singleline(&mut self.preset_path).desired_width(110.0))
                 .on_hover_text(
-                    "A job file: every setting of the drawing, as pixelpie stipple --save-job \
-                     writes it and --job replays it",
+                    "A job file: every setting of the drawing; the command line's \
+                     pixelpie stipple saves and replays the same files",
                 );
             if ui
                 .button("Save")
@@ -150,9 +148,20 @@ impl PixelPieApp {
                 {
                     self.reset_settings();
                 }
+                let (undo, redo, cleared) = self.history_state();
+                let since = cleared.map_or_else(String::new, |c| format!(" (the history was {c})"));
                 if ui
-                    .button("Undo")
-                    .on_hover_text("Undo the last settings change (Ctrl+Z)")
+                    .add_enabled(redo, egui::Button::new("Redo"))
+                    .on_hover_text("Make the change undone again (Ctrl+Shift+Z)")
+                    .on_disabled_hover_text("Nothing undone to redo")
+                    .clicked()
+                {
+                    self.redo();
+                }
+                if ui
+                    .add_enabled(undo, egui::Button::new("Undo"))
+                    .on_hover_text(format!("Undo the last settings change (Ctrl+Z){since}"))
+                    .on_disabled_hover_text(format!("Nothing to undo{since}"))
                     .clicked()
                 {
                     self.undo();
@@ -260,7 +269,12 @@ impl PixelPieApp {
                 let mut n = job.points.unwrap_or(*typed);
                 // Not clamped: a count out of range is refused in words.
                 let r = ui
-                    .add(egui::DragValue::new(&mut n).range(0..=usize::MAX).speed(50))
+                    .add(
+                        egui::DragValue::new(&mut n)
+                            .update_while_editing(false)
+                            .range(0..=usize::MAX)
+                            .speed(50),
+                    )
                     .labelled_by(l.id)
                     .on_hover_text(format!(
                         "How many dots the drawing has (within 3%): 1 to {} (a photo on the \
@@ -288,8 +302,8 @@ impl PixelPieApp {
             let l = ui.label("Radius");
             ui.add(
                 egui::DragValue::new(&mut lo)
-                    .range(1.0..=500.0)
                     .update_while_editing(false)
+                    .range(1.0..=500.0)
                     .speed(0.05)
                     .prefix("min "),
             )
@@ -297,8 +311,8 @@ impl PixelPieApp {
             .on_hover_text("Disk radius in black areas: the closest dots");
             ui.add(
                 egui::DragValue::new(&mut hi)
-                    .range(1.0..=500.0)
                     .update_while_editing(false)
+                    .range(1.0..=500.0)
                     .speed(0.05)
                     .prefix("max "),
             )
@@ -363,20 +377,33 @@ impl PixelPieApp {
         let imp = &mut self.settings.job.importance;
         ui.add(
             egui::Slider::new(&mut imp.gamma, 0.2..=5.0)
+                .update_while_editing(false)
                 .logarithmic(true)
                 .text("Gamma"),
         )
         .on_hover_text("Above 1 darkens the mid tones, below 1 lightens them");
-        ui.add(egui::Slider::new(&mut imp.black_level, 0.0..=0.95).text("Black level"))
-            .on_hover_text("Greys at or below this count as black");
-        ui.add(egui::Slider::new(&mut imp.white_level, 0.05..=1.0).text("White level"))
-            .on_hover_text("Greys at or above this count as white");
+        ui.add(
+            egui::Slider::new(&mut imp.black_level, 0.0..=0.95)
+                .update_while_editing(false)
+                .text("Black level"),
+        )
+        .on_hover_text("Greys at or below this count as black");
+        ui.add(
+            egui::Slider::new(&mut imp.white_level, 0.05..=1.0)
+                .update_while_editing(false)
+                .text("White level"),
+        )
+        .on_hover_text("Greys at or above this count as white");
         imp.white_level = imp.white_level.max(imp.black_level + 0.01);
         ui.checkbox(&mut imp.invert, "Invert")
             .on_hover_text("Light parts get the dots (white ink on black paper)");
         let mut cutoff = imp.white_cutoff.unwrap_or(1.0);
-        ui.add(egui::Slider::new(&mut cutoff, 0.0..=1.0).text("White cutoff"))
-            .on_hover_text("No dots where the picture is lighter than this (1 = off)");
+        ui.add(
+            egui::Slider::new(&mut cutoff, 0.0..=1.0)
+                .update_while_editing(false)
+                .text("White cutoff"),
+        )
+        .on_hover_text("No dots where the picture is lighter than this (1 = off)");
         imp.white_cutoff = (cutoff < 1.0).then_some(cutoff);
     }
 
@@ -385,7 +412,9 @@ impl PixelPieApp {
         let sampler = &mut self.settings.job.sampler;
         ui.add_enabled(
             !sampler.exact,
-            egui::Slider::new(&mut sampler.subpixel_bits, 0..=7).text("Sub-pixel bits"),
+            egui::Slider::new(&mut sampler.subpixel_bits, 0..=7)
+                .update_while_editing(false)
+                .text("Sub-pixel bits"),
         )
         .on_hover_text(
             "Dart positions inside a pixel: 0 puts every dot on a pixel centre (the \
@@ -403,7 +432,7 @@ impl PixelPieApp {
             {
                 reroll = true;
             }
-            ui.add(egui::DragValue::new(&mut sampler.seed))
+            ui.add(egui::DragValue::new(&mut sampler.seed).update_while_editing(false))
                 .labelled_by(l.id)
                 .on_hover_text("The dart hash's seed: the same seed gives the same dots");
         });
@@ -482,14 +511,18 @@ impl PixelPieApp {
             ),
         };
         if ui
-            .add(egui::Slider::new(&mut factor, range).text(text))
+            .add(
+                egui::Slider::new(&mut factor, range)
+                    .update_while_editing(false)
+                    .text(text),
+            )
             .on_hover_text(help)
             .changed()
         {
             job.dot_factor = Some(factor);
         }
         // The darkest dots' diameter on the page, when it has a size in mm
-        // (--dot-mm): then it, not the count, sets the radii.
+        //: then it, not the count, sets the radii.
         let on_page = job.width_mm.is_some() || job.paper.is_some();
         ui.add_enabled_ui(on_page, |ui| {
             ui.horizontal(|ui| {
@@ -497,7 +530,7 @@ impl PixelPieApp {
                 if ui
                     .checkbox(&mut sized, "Dot mm")
                     .on_hover_text(
-                        "Give the darkest dots' diameter on the page in mm (--dot-mm) instead \
+                        "Give the darkest dots' diameter on the page in mm instead \
                          of a count: the count follows",
                     )
                     .on_disabled_hover_text("Needs a width in mm or paper (Paper section)")
@@ -511,8 +544,8 @@ impl PixelPieApp {
                 if let Some(d) = &mut job.dot_mm {
                     ui.add(
                         egui::DragValue::new(d)
-                            .range(0.05..=20.0)
                             .update_while_editing(false)
+                            .range(0.05..=20.0)
                             .speed(0.01)
                             .suffix(" mm"),
                     );
@@ -522,22 +555,24 @@ impl PixelPieApp {
         let job = &mut self.settings.job;
         ui.add_enabled(
             mode == DotMode::Sized,
-            egui::Slider::new(&mut job.dot_ratio, 0.1..=1.0).text("Lightest / darkest dot"),
+            egui::Slider::new(&mut job.dot_ratio, 0.1..=1.0)
+                .update_while_editing(false)
+                .text("Lightest / darkest dot"),
         )
         .on_hover_text("The lightest dots' radius as a fraction of the darkest dots'")
         .on_disabled_hover_text("Sized dots only");
         let mut local = job.spacing == crate::job::Spacing::Local;
         if ui
             .add_enabled(
-                mode == DotMode::Sized && job.pens.is_none(),
+                mode == DotMode::Sized && !job.colour(),
                 egui::Checkbox::new(&mut local, "Size for local spacing"),
             )
             .on_hover_text(
-                "Size each dot for the spacing the dots have around it (--spacing local): \
+                "Size each dot for the spacing the dots have around it: \
                  where an edge or the policy thins them out, bigger, so the tones hold. Off: \
                  for its sample radius alone, as earlier versions drew.",
             )
-            .on_disabled_hover_text("Sized dots in one ink only")
+            .on_disabled_hover_text("Sized dots of a grey drawing only (one ink or one pen)")
             .changed()
         {
             job.spacing = if local {
@@ -554,7 +589,7 @@ impl PixelPieApp {
             )
             .on_hover_text(
                 "Render the drawing, blur it by the dot spacing, compare it with the picture and \
-                 resize each dot for the ink its neighbourhood lacks (--correction on). Off: the \
+                 resize each dot for the ink its neighbourhood lacks. Off: the \
                  calibration's curves alone, as earlier versions drew.",
             )
             .on_disabled_hover_text("Sized dots only")
@@ -589,7 +624,9 @@ impl PixelPieApp {
         if ui
             .add_enabled(
                 !auto,
-                egui::Slider::new(&mut steps, 0..=30).text("Relax (Lloyd steps)"),
+                egui::Slider::new(&mut steps, 0..=30)
+                    .update_while_editing(false)
+                    .text("Relax (Lloyd steps)"),
             )
             .on_hover_text("Weighted Voronoi relaxation after sampling: more even spacing.")
             .on_disabled_hover_text("Untick Auto relax to choose the steps")
@@ -661,8 +698,12 @@ pub(super) fn message_row(ui: &mut egui::Ui, message: Option<&str>, colour: Opti
             if let Some(c) = colour {
                 rich = rich.color(c);
             }
-            ui.add(egui::Label::new(rich).truncate())
-                .on_hover_text(text);
+            ui.add(
+                egui::Label::new(rich)
+                    .truncate()
+                    .show_tooltip_when_elided(false),
+            )
+            .on_hover_text(text);
         }
     });
 }
@@ -720,8 +761,12 @@ fn ink_ui(ui: &mut egui::Ui, ink: &mut [u8; 3]) {
     });
     ui.horizontal(|ui| {
         for (i, c) in ["R ", "G ", "B "].into_iter().enumerate() {
-            ui.add(egui::DragValue::new(&mut ink[i]).prefix(c))
-                .on_hover_text("The ink's red, green and blue (0 to 255)");
+            ui.add(
+                egui::DragValue::new(&mut ink[i])
+                    .update_while_editing(false)
+                    .prefix(c),
+            )
+            .on_hover_text("The ink's red, green and blue (0 to 255)");
         }
     });
 }

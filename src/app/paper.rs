@@ -85,7 +85,7 @@ impl PixelPieApp {
                 })
                 .response
                 .on_hover_text(
-                    "The sheet the drawing is plotted on (--paper): the drawing fits inside \
+                    "The sheet the drawing is plotted on: the drawing fits inside \
                      the margins, centred, keeping its aspect, and the SVG is the whole sheet \
                      in mm",
                 );
@@ -93,7 +93,7 @@ impl PixelPieApp {
                 job.paper.is_some(),
                 egui::Checkbox::new(&mut job.landscape, "Landscape"),
             )
-            .on_hover_text("Turn the sheet wider than tall (--landscape)")
+            .on_hover_text("Turn the sheet wider than tall")
             .on_disabled_hover_text("Choose a paper first");
         });
         if picked != current {
@@ -132,14 +132,14 @@ impl PixelPieApp {
                 .add_enabled(
                     on,
                     egui::DragValue::new(&mut margin)
-                        .range(0.0..=top)
                         .update_while_editing(false)
+                        .range(0.0..=top)
                         .speed(0.5)
                         .max_decimals(1)
                         .suffix(" mm"),
                 )
                 .labelled_by(l.id)
-                .on_hover_text("Blank paper around the drawing on every side (--margin)")
+                .on_hover_text("Blank paper around the drawing on every side")
                 .on_disabled_hover_text("Choose a paper first");
             if r.changed() {
                 job.margin = Some(margin);
@@ -153,8 +153,8 @@ impl PixelPieApp {
             let (w0, h0) = (w, h);
             fn side(v: &mut f64) -> egui::DragValue<'_> {
                 egui::DragValue::new(v)
-                    .range(10.0..=10_000.0)
                     .update_while_editing(false)
+                    .range(10.0..=10_000.0)
                     .speed(1.0)
                     .max_decimals(1)
             }
@@ -187,7 +187,7 @@ impl PixelPieApp {
                 .response
                 .labelled_by(l.id)
                 .on_hover_text(
-                    "The paper's colour (--paper-colour): the inks lie on it; an ink \
+                    "The paper's colour: the inks lie on it; an ink \
                      lighter than the paper covers it (a white gel pen on black)",
                 );
         });

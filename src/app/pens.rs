@@ -71,7 +71,7 @@ impl PixelPieApp {
                 ui.spacing_mut().item_spacing.x = 3.0;
                 for (i, what) in ["red", "green", "blue"].into_iter().enumerate() {
                     if ui
-                        .add(egui::DragValue::new(&mut rgb[i]))
+                        .add(egui::DragValue::new(&mut rgb[i]).update_while_editing(false))
                         .on_hover_text(format!("The pen's ink: its {what} (0 to 255)"))
                         .changed()
                     {
@@ -97,8 +97,8 @@ impl PixelPieApp {
                         .to_owned(),
                 };
                 let drag = egui::DragValue::new(&mut width)
-                    .range(0.0..=5.0)
                     .update_while_editing(false)
+                    .range(0.0..=5.0)
                     .speed(0.01)
                     .max_decimals(2)
                     .custom_parser(|t| {
@@ -160,7 +160,7 @@ impl PixelPieApp {
                     self.settings.job.pens = Some(set);
                     self.pens_error = None;
                 }
-                Err(e) => self.pens_error = Some(e.to_string()),
+                Err(e) => self.pens_error = Some(super::words::app_line(&e)),
             }
         }
         let colour = ui.visuals().error_fg_color;
@@ -173,28 +173,35 @@ impl PixelPieApp {
     /// choose N of them for the photo (`--pens BOX.toml --choose N`).
     fn pen_box_ui(&mut self, ui: &mut egui::Ui) {
         ui.horizontal(|ui| {
+            let l = ui.label("Pen file");
+            let edit = ui
+                .add(egui::TextEdit::singleline(&mut self.pen_box_path).desired_width(80.0))
+                .labelled_by(l.id)
+                .on_hover_text(
+                    "The path of a pen file (.toml, up to 64 pens: the pens you own) to choose \
+                     the drawing's pens from; ~/ and file:// work",
+                );
+            let enter = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
+            if ui
+                .button("Load pens")
+                .on_hover_text("Load the pen box at the typed path")
+                .clicked()
+                || enter
+            {
+                let path = super::typed_path(&self.pen_box_path);
+                self.load_pen_box(&path);
+            }
             if ui
                 .button("Pen box…")
-                .on_hover_text(
-                    "Open a pen file (.toml, up to 64 pens: the pens you own) to choose \
-                     the drawing's pens from",
-                )
+                .on_hover_text("Choose a pen file with a file dialog")
                 .clicked()
             {
                 let folder = self.settings.last_dir.clone();
                 match self.dialogs.pick_pens(folder.as_deref()) {
-                    Ok(Some(path)) => match PenSet::from_file(&path) {
-                        Ok(set) => {
-                            let name = path.file_name().map_or_else(
-                                || path.display().to_string(),
-                                |n| n.to_string_lossy().into_owned(),
-                            );
-                            self.choose_count = self.choose_count.clamp(1, set.len().min(MAX_PENS));
-                            self.pen_box = Some((name, set));
-                            self.choice_note = None;
-                        }
-                        Err(e) => self.choice_note = Some(Err(e.to_string())),
-                    },
+                    Ok(Some(path)) => {
+                        self.pen_box_path = path.display().to_string();
+                        self.load_pen_box(&path);
+                    }
                     Ok(None) => {}
                     Err(why) => self.choice_note = Some(Err(why)),
                 }
@@ -213,13 +220,17 @@ impl PixelPieApp {
                 });
             ui.horizontal(|ui| {
                 let most = set.len().min(MAX_PENS);
-                ui.add(egui::DragValue::new(&mut self.choose_count).range(1..=most))
-                    .on_hover_text("How many pens to choose");
+                ui.add(
+                    egui::DragValue::new(&mut self.choose_count)
+                        .update_while_editing(false)
+                        .range(1..=most),
+                )
+                .on_hover_text("How many pens to choose");
                 if ui
                     .button(format!("Choose {} for this photo", self.choose_count))
                     .on_hover_text(
                         "The pens whose drawing the render model predicts closest to the \
-                         photo's colours (--choose)",
+                         photo's colours",
                     )
                     .clicked()
                 {
@@ -235,6 +246,28 @@ impl PixelPieApp {
             Ok(s) | Err(s) => s.as_str(),
         });
         super::panel::message_row(ui, note, colour);
+    }
+
+    /// Loads the pen box at `path` to choose from, or says why not.
+    pub fn load_pen_box(&mut self, path: &std::path::Path) {
+        if path.as_os_str().is_empty() {
+            self.choice_note = Some(Err(
+                "no pen file given: type its path or use Pen box…".into()
+            ));
+            return;
+        }
+        match PenSet::from_file(path) {
+            Ok(set) => {
+                let name = path.file_name().map_or_else(
+                    || path.display().to_string(),
+                    |n| n.to_string_lossy().into_owned(),
+                );
+                self.choose_count = self.choose_count.clamp(1, set.len().min(MAX_PENS));
+                self.pen_box = Some((name, set));
+                self.choice_note = None;
+            }
+            Err(e) => self.choice_note = Some(Err(super::words::app_line(&e))),
+        }
     }
 
     /// Sets the job's pens to those chosen from `set` for the photo.
@@ -256,10 +289,12 @@ impl PixelPieApp {
                     c.predicted
                 )));
                 self.settings.hidden_pens = vec![false; c.pens.len()];
+                // The note goes when the pens are no longer these.
+                self.choice_pens = chosen.pens.clone();
                 self.settings.job.pens = chosen.pens;
             }
             Ok((_, None)) => {}
-            Err(e) => self.choice_note = Some(Err(crate::text::one_line(&e))),
+            Err(e) => self.choice_note = Some(Err(super::words::app_line(&e))),
         }
     }
 }

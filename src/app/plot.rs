@@ -123,7 +123,7 @@ impl PixelPieApp {
             .spawn(move || {
                 let estimate = job
                     .plot_stats(&drawing, &Plotter::default())
-                    .map_err(|e| crate::text::one_line(&e));
+                    .map_err(|e| super::words::app_line(&e));
                 let _ = tx.send(estimate);
                 let plotted = plotted(&job, &drawing, scale).map(|(layers, check)| Plotted {
                     of,
@@ -209,7 +209,7 @@ impl PixelPieApp {
         text += &format!(
             "How long an AxiDraw takes, as its motion planner (saxi) plans it: drawing at \
              {} mm/s² up to {} mm/s, slowing for corners; travel at {} mm/s² up to {} mm/s; \
-             {} s to drop and {} s to lift the pen (pixelpie stipple --plot-stats).",
+             {} s to drop and {} s to lift the pen (the command line's plot statistics give the same).",
             s.pen_down.acceleration,
             s.pen_down.max_velocity,
             s.pen_up.acceleration,
@@ -230,8 +230,12 @@ impl PixelPieApp {
             if self.plot_pending() {
                 text = text.weak();
             }
-            ui.add(egui::Label::new(text).truncate())
-                .on_hover_text(self.plot_details());
+            ui.add(
+                egui::Label::new(text)
+                    .truncate()
+                    .show_tooltip_when_elided(false),
+            )
+            .on_hover_text(self.plot_details());
         });
     }
 }

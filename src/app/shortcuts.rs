@@ -16,6 +16,7 @@ pub const SHORTCUTS: &[(&str, &str)] = &[
     ("+ / −", "Zoom in / out"),
     ("R", "Re-roll the seed (another drawing)"),
     ("Ctrl+Z", "Undo the last settings change"),
+    ("Ctrl+Shift+Z, Ctrl+Y", "Redo the change undone"),
     ("F1", "Show or hide this help"),
 ];
 
@@ -24,23 +25,39 @@ pub const UNDO_GROUP: Duration = Duration::from_millis(400);
 /// Undo steps kept.
 pub const UNDO_DEPTH: usize = 100;
 
-/// Settings changes, for undo.
+/// Settings changes, for undo and redo. The picture and the last folder
+/// are not settings changes: undo keeps them as they are.
 #[derive(Default)]
 pub struct History {
     steps: Vec<Settings>,
+    undone: Vec<Settings>,
     seen: Option<Settings>,
     last_change: Option<Instant>,
+    /// When the history was last cleared ("when g.png opened"), if it held
+    /// anything then.
+    cleared: Option<String>,
+}
+
+/// `s` without what undo leaves alone (the picture, the last folder).
+fn undoable(s: &Settings) -> Settings {
+    Settings {
+        image: None,
+        last_dir: None,
+        ..s.clone()
+    }
 }
 
 impl History {
     /// Records `now` as the current settings; a change starts an undo step
-    /// unless it follows the last one within [`UNDO_GROUP`].
+    /// unless it follows the last one within [`UNDO_GROUP`], and leaves
+    /// nothing to redo.
     pub fn observe(&mut self, now: &Settings) {
+        let now = undoable(now);
         let Some(seen) = &self.seen else {
-            self.seen = Some(now.clone());
+            self.seen = Some(now);
             return;
         };
-        if seen == now {
+        if *seen == now {
             return;
         }
         let grouped = self.last_change.is_some_and(|t| t.elapsed() < UNDO_GROUP);
@@ -50,8 +67,9 @@ impl History {
                 self.steps.remove(0);
             }
         }
+        self.undone.clear();
         self.last_change = Some(Instant::now());
-        self.seen = Some(now.clone());
+        self.seen = Some(now);
     }
 
     /// Makes the next change a step of its own (a button, a key).
@@ -59,12 +77,52 @@ impl History {
         self.last_change = None;
     }
 
-    /// The settings before the last change, if any.
-    pub fn undo(&mut self) -> Option<Settings> {
+    /// The settings before the last change, if any (`now` can be redone).
+    pub fn undo(&mut self, now: &Settings) -> Option<Settings> {
         let back = self.steps.pop()?;
+        self.undone.push(undoable(now));
         self.seen = Some(back.clone());
         self.last_change = None;
         Some(back)
+    }
+
+    /// The settings the last undo left, if no change came since.
+    pub fn redo(&mut self, now: &Settings) -> Option<Settings> {
+        let next = self.undone.pop()?;
+        self.steps.push(undoable(now));
+        self.seen = Some(next.clone());
+        self.last_change = None;
+        Some(next)
+    }
+
+    /// Whether there is a change to undo.
+    #[must_use]
+    pub fn can_undo(&self) -> bool {
+        !self.steps.is_empty()
+    }
+
+    /// Whether there is an undone change to redo.
+    #[must_use]
+    pub fn can_redo(&self) -> bool {
+        !self.undone.is_empty()
+    }
+
+    /// Forgets every step, saying `why` ("when g.png opened") if there
+    /// were any.
+    pub fn clear(&mut self, why: String) {
+        if self.can_undo() || self.can_redo() {
+            self.cleared = Some(why);
+        }
+        self.steps.clear();
+        self.undone.clear();
+        self.seen = None;
+        self.last_change = None;
+    }
+
+    /// When the history was last cleared, if it held anything then.
+    #[must_use]
+    pub fn cleared(&self) -> Option<&str> {
+        self.cleared.as_deref()
     }
 }
 
@@ -79,6 +137,14 @@ impl PixelPieApp {
         }
         if pressed(cmd(Key::S)) {
             self.export_dialog();
+        }
+        // Ctrl+Shift+Z first: Ctrl+Z matches it too.
+        if pressed(KeyboardShortcut::new(
+            Modifiers::COMMAND | Modifiers::SHIFT,
+            Key::Z,
+        )) || pressed(cmd(Key::Y))
+        {
+            self.redo();
         }
         if pressed(cmd(Key::Z)) {
             self.undo();
@@ -107,12 +173,43 @@ impl PixelPieApp {
         }
     }
 
-    /// Goes back to the settings before the last change.
+    /// Goes back to the settings before the last change (the picture and
+    /// the last folder stay).
     pub fn undo(&mut self) {
-        if let Some(back) = self.history.undo() {
-            let image = self.settings.image.clone();
-            self.settings = Settings { image, ..back };
+        if let Some(back) = self.history.undo(&self.settings) {
+            self.restore(back);
         }
+    }
+
+    /// Makes the last undone change again.
+    pub fn redo(&mut self) {
+        if let Some(next) = self.history.redo(&self.settings) {
+            self.restore(next);
+        }
+    }
+
+    /// Takes `s` (from the history) as the settings, keeping the picture
+    /// and the last folder.
+    fn restore(&mut self, s: Settings) {
+        let image = self.settings.image.clone();
+        let last_dir = self.settings.last_dir.clone();
+        self.typed_points = s.job.points.unwrap_or(self.typed_points);
+        self.settings = Settings {
+            image,
+            last_dir,
+            ..s
+        };
+    }
+
+    /// Whether Undo and Redo have anything to do, and when the history was
+    /// last cleared.
+    #[must_use]
+    pub fn history_state(&self) -> (bool, bool, Option<&str>) {
+        (
+            self.history.can_undo(),
+            self.history.can_redo(),
+            self.history.cleared(),
+        )
     }
 
     /// Puts every control back to its default (the picture stays); undo

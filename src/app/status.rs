@@ -19,8 +19,9 @@ impl PixelPieApp {
                 });
                 return;
             }
-            self.busy_spinner(ui);
-            ui.label(self.progress_shown().unwrap_or_default());
+            // Cancel first: the progress line beside it changes width at
+            // every reply, and a button after it would move under the
+            // pointer.
             if ui
                 .button("Cancel")
                 .on_hover_text("Stop this sampling or relaxation; keep the last drawing.")
@@ -28,6 +29,8 @@ impl PixelPieApp {
             {
                 cancel = true;
             }
+            self.busy_spinner(ui);
+            ui.label(self.progress_shown().unwrap_or_default());
         });
         if cancel {
             self.cancel_job();
@@ -42,7 +45,11 @@ impl PixelPieApp {
                 );
                 // The plan's line: what was decided (and why, on hover).
                 (
-                    format!("{} · took {:.2} s", d.plan.line(), o.seconds),
+                    format!(
+                        "{} · took {:.2} s",
+                        super::words::app_text(&d.plan.line()),
+                        o.seconds
+                    ),
                     format!(
                         "sampler {t_sample:.2} s, relaxation {t_relax:.2} s; last run: S1 \
                          {:.1} ms, S2 {:.1} ms, PP {:.1} ms",
@@ -60,10 +67,10 @@ impl PixelPieApp {
         let hover = self.outcome.as_ref().map_or_else(String::new, |o| {
             let d = &o.drawing;
             format!(
-                "The last drawing's plan: {} ({}; {}×{} px domain; `pixelpie stipple --plan` \
+                "The last drawing's plan: {} ({}; {}×{} px domain; the command line's plan \
                  prints it whole). {} dots in {} sampler iterations, {} run(s).",
-                d.plan.line(),
-                d.plan.why,
+                super::words::app_text(&d.plan.line()),
+                super::words::app_text(&d.plan.why),
                 d.plan.domain.0,
                 d.plan.domain.1,
                 d.points.len(),
@@ -71,13 +78,26 @@ impl PixelPieApp {
                 d.runs
             )
         });
-        ui.add(egui::Label::new(a).truncate()).on_hover_text(hover);
-        ui.add(egui::Label::new(&b).truncate())
-            .on_hover_text(format!(
-                "{b}. The paper's stages: S1 throws darts, S2 culls the conflicting ones, PP \
+        ui.add(
+            egui::Label::new(a)
+                .truncate()
+                .show_tooltip_when_elided(false),
+        )
+        .on_hover_text(hover);
+        ui.add(
+            egui::Label::new(&b)
+                .truncate()
+                .show_tooltip_when_elided(false),
+        )
+        .on_hover_text(format!(
+            "{b}. The paper's stages: S1 throws darts, S2 culls the conflicting ones, PP \
              compacts the still-empty pixels"
-            ));
-        let r = ui.add(egui::Label::new(&c).truncate());
+        ));
+        let r = ui.add(
+            egui::Label::new(&c)
+                .truncate()
+                .show_tooltip_when_elided(false),
+        );
         if !c.is_empty() {
             r.on_hover_text(&c);
         }

@@ -25,7 +25,8 @@ pub struct Request {
     pub map: Arc<ImportanceMap>,
     /// The picture in colour, for drawings with pens.
     pub colour: Arc<ColourMap>,
-    /// The settings.
+    /// The settings, the crop and the turn included (the map and the
+    /// colours are framed already: the job runs without them).
     pub settings: Settings,
 }
 
@@ -34,7 +35,8 @@ pub struct Outcome {
     /// The drawing (in domain pixels), as `pixelpie stipple` makes it
     /// (shared with the plot-time estimate's thread).
     pub drawing: Arc<Stipple>,
-    /// The settings it was made with (Cancel goes back to them).
+    /// The settings it was made with, every one, the crop and the turn
+    /// included (Cancel goes back to them).
     pub settings: Settings,
     /// Domain pixels per image pixel: the sampling domain is the image
     /// scaled as `pixelpie stipple` scales it.
@@ -48,21 +50,15 @@ pub struct Outcome {
     pub dots: Arc<Vec<DotInstance>>,
     /// A colour drawing's dots, pen by pen, with the pen's colour.
     pub pen_dots: Vec<([u8; 3], Arc<Vec<DotInstance>>)>,
-    /// The sizes of the dots, for the view and the export warnings.
+    /// The sizes of the dots, for the view.
     pub sizes: DotSizes,
 }
 
-/// What the view and the warnings need to know of a drawing's dot sizes,
-/// in domain px.
+/// What the view needs to know of a drawing's dot sizes, in domain px.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct DotSizes {
     /// The median sample radius.
     pub sample_radius: f32,
-    /// The radius under which half the ink of calibrated dots lies (each
-    /// dot's ink as its area).
-    pub drawn_ink_median: f32,
-    /// The same for dots sized by their sample radius.
-    pub radius_ink_median: f32,
 }
 
 impl DotSizes {
@@ -71,12 +67,8 @@ impl DotSizes {
     #[must_use]
     pub fn of(dots: &[DotInstance], scale: f32) -> Self {
         let mut radii: Vec<f32> = dots.iter().map(|d| d.radius).collect();
-        let sample_radius = median(&mut radii) * scale;
-        let mut drawn: Vec<f32> = dots.iter().map(|d| d.drawn).collect();
         Self {
-            sample_radius,
-            drawn_ink_median: ink_median(&mut drawn) * scale,
-            radius_ink_median: ink_median(&mut radii) * scale,
+            sample_radius: median(&mut radii) * scale,
         }
     }
 }
@@ -88,21 +80,6 @@ fn median(v: &mut [f32]) -> f32 {
     }
     let mid = v.len() / 2;
     *v.select_nth_unstable_by(mid, f32::total_cmp).1
-}
-
-/// The radius under which half the ink of dots of radii `v` lies (a dot's
-/// ink is its area); sorts `v`.
-fn ink_median(v: &mut [f32]) -> f32 {
-    v.sort_unstable_by(f32::total_cmp);
-    let total: f64 = v.iter().map(|&r| f64::from(r) * f64::from(r)).sum();
-    let mut sum = 0.0;
-    for &r in v.iter() {
-        sum += f64::from(r) * f64::from(r);
-        if sum >= total / 2.0 {
-            return r;
-        }
-    }
-    0.0
 }
 
 /// A message from the worker.
@@ -257,7 +234,7 @@ fn run(
                 o.seconds = start.elapsed().as_secs_f64();
                 Ok(o)
             }
-            Err(e) => Err(crate::text::one_line(&e)),
+            Err(e) => Err(super::words::app_line(&e)),
         };
         let _ = replies.send(Reply::Done(id, Box::new(result)));
         repaint.request_repaint();
@@ -273,7 +250,8 @@ fn compute(
 ) -> crate::Result<Outcome> {
     let s = &job.settings;
     let mut note = None;
-    let run = s.job();
+    // The map is framed already: the job without its crop and turn.
+    let run = s.framed().job();
     let drawing = run.draw(
         crate::job::Picture::Both(&job.map, &job.colour),
         |params| Ok(sample(params, s.backend, gpu, ctl, &mut note)?),
@@ -284,10 +262,10 @@ fn compute(
     )?;
     ctl.check()?;
     if let Some(n) = drawing.short_of {
-        note = Some(format!(
-            "{n} points asked, {} fit within the sampler's radii (1 px to the picture's size)",
-            drawing.points.len()
-        ));
+        note = Some(super::words::app_text(&crate::job::short_of(
+            n,
+            drawing.points.len(),
+        )));
     }
     let scale = (f64::from(drawing.domain.0) / f64::from(job.map.width())) as f32;
     let dots: Vec<DotInstance> = drawing
@@ -363,7 +341,7 @@ fn sample(
     };
     crate::backend::sample_with(params, choice, runner, ctl, &mut |n| {
         if let crate::backend::Notice::Fallback(_) = n {
-            *note = Some(format!("{n}"));
+            *note = Some(super::words::app_text(&n.to_string()));
         }
     })
 }
