@@ -37,7 +37,20 @@ fn main() -> ExitCode {
             // clap's first line names the argument and the problem; the
             // rest is usage advice. Bad input gets one line.
             let text = e.to_string();
-            let line = text.lines().next().unwrap_or("error: invalid arguments");
+            let mut lines = text.lines();
+            let mut line = lines
+                .next()
+                .unwrap_or("error: invalid arguments")
+                .to_owned();
+            // "the following required arguments were not provided:" lists
+            // them on the lines below: they belong on this one.
+            if line.ends_with(':') {
+                let listed: Vec<&str> = lines
+                    .take_while(|l| l.starts_with("  "))
+                    .map(str::trim)
+                    .collect();
+                line = format!("{line} {}", listed.join(", "));
+            }
             eprintln!("{line}");
             return ExitCode::from(2);
         }
@@ -45,7 +58,10 @@ fn main() -> ExitCode {
     match cli::run(args, &matches) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {}", pixelpie::single_line(&format!("{e:#}")));
+            eprintln!(
+                "error: {}",
+                cli::said(pixelpie::single_line(&format!("{e:#}")))
+            );
             ExitCode::FAILURE
         }
     }

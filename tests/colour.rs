@@ -1064,3 +1064,56 @@ fn black_and_white_pens_on_grey_paper_keep_the_ramp() {
     }
     assert!(worst <= 0.03, "the ramp on grey paper is off by {worst}");
 }
+
+/// `--choose` chooses for the picture as drawn: after `--crop` and
+/// `--rotate`, the pens are those chosen for that part saved on its own,
+/// and not the whole picture's.
+#[test]
+fn choose_picks_the_pens_of_the_cropped_picture() {
+    let dir = tempfile::tempdir().unwrap();
+    let inventory = asset("pens-24.toml");
+    let astronaut = asset("astronaut.jpg");
+    let chose = |image: &str, extra: &[&str]| {
+        let svg = dir.path().join("c.svg");
+        let mut args = vec![
+            "stipple",
+            image,
+            "-o",
+            svg.to_str().unwrap(),
+            "--pens",
+            &inventory,
+            "--choose",
+            "4",
+            "--points",
+            "500",
+            "--backend",
+            "cpu",
+            "--relax",
+            "0",
+        ];
+        args.extend_from_slice(extra);
+        let o = pixelpie(&args);
+        let err = String::from_utf8_lossy(&o.stderr).into_owned();
+        assert!(o.status.success(), "{err}");
+        let line = err
+            .lines()
+            .find(|l| l.starts_with("chose 4 of 24 pens"))
+            .expect(&err);
+        // "chose 4 of 24 pens for FILE: a, b, c, d (predicted ..."
+        let names = line.split(": ").nth(1).unwrap().split(" (").next().unwrap();
+        names.to_owned()
+    };
+    // The flag's corner, cut out and turned by hand, saved losslessly.
+    let part = image::open(&astronaut)
+        .unwrap()
+        .crop_imm(20, 30, 180, 150)
+        .rotate90()
+        .to_rgb8();
+    let cut = dir.path().join("part.png");
+    part.save(&cut).unwrap();
+    let cropped = chose(&astronaut, &["--crop", "20,30,180,150", "--rotate", "90"]);
+    let by_hand = chose(cut.to_str().unwrap(), &[]);
+    let whole = chose(&astronaut, &[]);
+    assert_eq!(cropped, by_hand);
+    assert_ne!(cropped, whole, "the crop should change the choice");
+}

@@ -113,7 +113,6 @@ fn impossible_paper_options_end_in_one_error_line() {
     let dir = tempfile::tempdir().unwrap();
     let image = rocket();
     let svg = dir.path().join("x.svg");
-    let png = dir.path().join("x.png");
     for (out, extra, needle) in [
         (&svg, vec!["--paper", "b9"], "paper 'b9'"),
         (
@@ -126,10 +125,9 @@ fn impossible_paper_options_end_in_one_error_line() {
         (
             &svg,
             vec!["--paper", "a4", "--width-mm", "100"],
-            "cannot be used with",
+            "exclude each other",
         ),
-        (&svg, vec!["--margin", "5"], "required arguments"),
-        (&png, vec!["--paper", "a4"], "apply to SVG output"),
+        (&svg, vec!["--margin", "5"], "need --paper"),
         (
             &svg,
             vec!["--dot-path", "touch"],
@@ -152,6 +150,49 @@ fn impossible_paper_options_end_in_one_error_line() {
         assert!(!out.exists(), "{extra:?} wrote a file");
         assert!(err.trim().lines().count() <= 6, "{err}");
     }
+}
+
+/// A PNG on paper with a pen is the one the library's writer (the app's
+/// export) writes for the same job: the command line refuses none of it.
+#[test]
+fn a_png_with_paper_and_pen_is_the_writers_png() {
+    use pixelpie::job::{Job, file::JobFile};
+    use pixelpie::sampler::{Control, cpu};
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("x.png");
+    let saved = dir.path().join("x.toml");
+    let image = rocket();
+    let r = pixelpie(&[
+        "stipple",
+        &image,
+        "-o",
+        png.to_str().unwrap(),
+        "--points",
+        "800",
+        "--paper",
+        "a5",
+        "--pen-mm",
+        "0.8",
+        "--paper-colour",
+        "#f0e8d8",
+        "--backend",
+        "cpu",
+        "-q",
+        "--save-job",
+        saved.to_str().unwrap(),
+    ]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let job = Job::from_table(JobFile::read(&saved).unwrap().table).unwrap();
+    assert!(job.paper.is_some() && job.pen_mm == Some(0.8));
+    let drawing = job
+        .run(
+            Path::new(&image),
+            |p| Ok(cpu::sample(p, Control::default())?),
+            |_| true,
+        )
+        .unwrap();
+    let ours = job.encode(&drawing, pixelpie::job::Format::Png).unwrap();
+    assert_eq!(std::fs::read(&png).unwrap(), ours);
 }
 
 /// The paths of a pen SVG, as lists of points.

@@ -74,3 +74,9 @@ fn gui(_image: Option<std::path::PathBuf>) -> Result<()> {
          features to get it: cargo install --path . (from the source tree)"
     )
 }
+
+/// A library message or warning in the command line's words: each setting
+/// it names spelled as its flag (`--pen-mm`, `--points 0`).
+pub fn said(text: impl std::fmt::Display) -> String {
+    pixelpie::spelled(&text.to_string(), pixelpie::spell_cli)
+}

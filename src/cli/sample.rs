@@ -197,7 +197,7 @@ pub fn run(a: &SampleArgs) -> Result<()> {
     if let Some(n) = done.short_of
         && !a.run.quiet
     {
-        eprintln!("warning: {}", pixelpie::job::short_of(n, got));
+        eprintln!("warning: {}", super::said(pixelpie::job::short_of(n, got)));
     }
     write_outputs(a, &done.set)
 }
@@ -215,7 +215,7 @@ fn write_outputs(a: &SampleArgs, set: &SampleSet) -> Result<()> {
     if let Some(w) = pixelpie::job::not_maximal(set, a.job.max_iterations)
         && !a.run.quiet
     {
-        eprintln!("warning: {w}");
+        eprintln!("warning: {}", super::said(w));
     }
     Ok(())
 }

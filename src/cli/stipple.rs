@@ -92,7 +92,7 @@ fn job(a: &StippleArgs, matches: Option<&clap::ArgMatches>) -> Result<Job> {
     if let Some(w) = &file.warning
         && !a.run.quiet
     {
-        eprintln!("warning: {}: {w}", path.display());
+        eprintln!("warning: {}: {}", path.display(), super::said(w));
     }
     let on_line = KEYS.iter().copied().filter(|key| {
         matches.is_some_and(|m| m.value_source(key) == Some(ValueSource::CommandLine))
@@ -144,7 +144,10 @@ pub fn run(a: &StippleArgs, matches: Option<&clap::ArgMatches>) -> Result<()> {
         for image in &a.images {
             let picture = Decoded::open(&o, image)?;
             let (o, _) = o.chosen(picture.picture())?;
-            println!("{}", o.plan(picture.picture())?.plan.to_json()?);
+            println!(
+                "{}",
+                super::said(o.plan(picture.picture())?.plan.to_json()?)
+            );
         }
         return Ok(());
     }
@@ -188,7 +191,7 @@ pub fn run(a: &StippleArgs, matches: Option<&clap::ArgMatches>) -> Result<()> {
                 eprintln!(
                     "error: {}: {}",
                     image.display(),
-                    pixelpie::single_line(&format!("{e:#}"))
+                    super::said(pixelpie::single_line(&format!("{e:#}")))
                 );
             }
         }
@@ -351,7 +354,7 @@ fn draw(
     if let Some(w) = pixelpie::importance::cut_short(image)
         && !a.run.quiet
     {
-        eprintln!("warning: {w}");
+        eprintln!("warning: {}", super::said(w));
     }
     let got = drawing.set.points.len();
     if a.run.verbose {
@@ -376,7 +379,7 @@ fn draw(
     }
     if !a.run.quiet {
         for w in o.warnings(&drawing, Format::from_path(output).ok())? {
-            eprintln!("warning: {w}");
+            eprintln!("warning: {}", super::said(w));
         }
     }
     if let Some(path) = &a.save_points {

@@ -214,7 +214,7 @@ pub fn choose(
     let n = inventory.len();
     if k == 0 || k > n || k > MAX_PENS {
         return Err(PenError(format!(
-            "--choose {k}: choose 1 to {} of the {n} pens",
+            "«choose={k}»: choose 1 to {} of the {n} pens",
             n.min(MAX_PENS)
         )));
     }
@@ -445,7 +445,7 @@ mod tests {
                 .unwrap_err()
                 .to_string();
             assert!(
-                e.contains(&format!("--choose {k}")) && e.contains("1 to 7"),
+                e.contains(&format!("«choose={k}»")) && e.contains("1 to 7"),
                 "{e}"
             );
         }

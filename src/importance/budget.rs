@@ -147,7 +147,7 @@ pub(crate) fn check(name: &Path, size: (u32, u32), per_pixel: u64) -> Result<()>
         path: name.to_owned(),
         message: format!(
             "is {}×{} ({count}): drawing it needs about {}, more than the {} allowed; \
-             pass --max-memory (Python: max_memory=) or shrink it",
+             pass «max_memory» or shrink it",
             size.0,
             size.1,
             said(needed),
@@ -176,7 +176,7 @@ pub fn check_pixels(what: &str, domain: (u32, u32), per_pixel: u64) -> Result<()
     }
     Err(Error::Memory(format!(
         "{what} on a {}×{} domain needs about {}, more than the {} allowed; give a \
-         smaller --width/--height or fewer --points, or pass --max-memory (Python: max_memory=)",
+         smaller «width»/«height» or fewer «points», or pass «max_memory»",
         domain.0,
         domain.1,
         said(needed),

@@ -83,7 +83,7 @@ impl ColourMap {
             (Range::Float, Some(w)) if w.is_finite() && w > 0.0 => w,
             (Range::Float, Some(w)) => {
                 return Err(Error::InvalidParameter(format!(
-                    "HDR white point {w} must be a positive number"
+                    "«hdr_white={w}» must be a positive number"
                 )));
             }
             (Range::Float, None) => lum.white_point(),

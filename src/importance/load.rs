@@ -383,7 +383,7 @@ impl Luminance {
             && !(w.is_finite() && w > 0.0)
         {
             return Err(Error::InvalidParameter(format!(
-                "HDR white point {w} must be a positive number"
+                "«hdr_white={w}» must be a positive number"
             )));
         }
         let white = match (self.range, hdr_white) {

@@ -197,13 +197,13 @@ impl Adjust {
             && self.white <= 1.0;
         if !ok {
             return Err(Error::InvalidParameter(format!(
-                "levels black {} and white {} must satisfy 0 <= black < white <= 1",
+                "«black_level={}» and «white_level={}» must satisfy 0 <= black < white <= 1",
                 self.black, self.white
             )));
         }
         if !(self.gamma.is_finite() && self.gamma > 0.0) {
             return Err(Error::InvalidParameter(format!(
-                "gamma {} must be a positive number",
+                "«gamma={}» must be a positive number",
                 self.gamma
             )));
         }

@@ -101,35 +101,35 @@ impl Default for ImportanceOptions {
 impl ImportanceOptions {
     /// Loads `path`, applies the adjustments and reads it at `size` (given
     /// the image's own size: resized when smaller, read bilinearly when
-    /// larger, [`Self::prepare_map_on`]). `count_target`: a point count will scale
+    /// larger, [`Self::prepare_map_on`]). `radii_scaled`: a point count will scale
     /// the radii, so a missing radius range may default.
     pub fn prepare(
         &self,
         path: &Path,
         size: impl FnOnce(u32, u32) -> (u32, u32),
         default_mapping: Mapping,
-        count_target: bool,
+        radii_scaled: bool,
     ) -> Result<Prepared> {
         self.prepare_map(
             &ImportanceMap::open(path, self.hdr_white)?,
             size,
             default_mapping,
-            count_target,
+            radii_scaled,
         )
     }
 
     /// The radius range at scale 1: the given ends, the other at
     /// [`DEFAULT_RADIUS_RATIO`] from it; with a count target (a point count
     /// will scale the radii) a missing range defaults to 1..8 px.
-    pub fn radius_range(&self, count_target: bool) -> Result<RadiusRange> {
+    pub fn radius_range(&self, radii_scaled: bool) -> Result<RadiusRange> {
         let ratio = DEFAULT_RADIUS_RATIO;
         match (self.min_radius, self.max_radius) {
             (Some(lo), Some(hi)) => RadiusRange::new(lo, hi),
             (Some(lo), None) => RadiusRange::new(lo, lo * ratio),
-            (None, Some(hi)) if count_target => RadiusRange::new(hi / ratio, hi),
-            (None, _) if count_target => RadiusRange::new(1.0, ratio),
+            (None, Some(hi)) if radii_scaled => RadiusRange::new(hi / ratio, hi),
+            (None, _) if radii_scaled => RadiusRange::new(1.0, ratio),
             (None, _) => Err(Error::InvalidParameter(
-                "give --points or --min-radius with an importance map".into(),
+                "give «points» or «min_radius» with an importance map".into(),
             )),
         }
     }
@@ -142,7 +142,7 @@ impl ImportanceOptions {
             && !(0.0..=1.0).contains(&c)
         {
             return Err(Error::InvalidParameter(format!(
-                "--white-cutoff {c} must be between 0 and 1"
+                "«white_cutoff={c}» must be between 0 and 1"
             )));
         }
         Ok(())
@@ -166,9 +166,9 @@ impl ImportanceOptions {
         map: &ImportanceMap,
         size: impl FnOnce(u32, u32) -> (u32, u32),
         default_mapping: Mapping,
-        count_target: bool,
+        radii_scaled: bool,
     ) -> Result<Prepared> {
-        self.prepare_map_on(map, size, default_mapping, count_target, None)
+        self.prepare_map_on(map, size, default_mapping, radii_scaled, None)
     }
 
     /// [`Self::prepare_map`] for an ink on a paper that is not white:
@@ -181,7 +181,7 @@ impl ImportanceOptions {
         map: &ImportanceMap,
         size: impl FnOnce(u32, u32) -> (u32, u32),
         default_mapping: Mapping,
-        count_target: bool,
+        radii_scaled: bool,
         paper: Option<(f32, f32)>,
     ) -> Result<Prepared> {
         self.check()?;
@@ -213,7 +213,7 @@ impl ImportanceOptions {
                 inked.resized_with(tw, th, |v| tones.tone(v))?
             }
         };
-        let range = self.radius_range(count_target)?;
+        let range = self.radius_range(radii_scaled)?;
         let mapping = match (self.mapping, default_mapping) {
             (Some(MappingKind::Linear), _) => Mapping::Linear,
             // Calibrated for the drawing's dots: a job's own tone mapping

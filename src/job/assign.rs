@@ -17,7 +17,7 @@ use rayon::prelude::*;
 
 use crate::colour::pens::MAX_PENS;
 use crate::sampler::Point;
-use crate::stipple::tsp::hilbert;
+use crate::stipple::spatial::{Buckets, hilbert};
 
 /// Hilbert-curve cells per pixel side (points lie at least 1 px apart).
 const CELLS_PER_PX: f32 = 4.0;
@@ -53,20 +53,7 @@ pub(crate) fn pens(
         let cy = ((p.y.max(0.0) / cell) as usize).min(rows - 1);
         cy * cols + cx
     };
-    let mut start = vec![0u32; cols * rows + 1];
-    for p in &curve {
-        start[cell_of(p) + 1] += 1;
-    }
-    for c in 0..cols * rows {
-        start[c + 1] += start[c];
-    }
-    let mut fill = start.clone();
-    let mut items = vec![0u32; n];
-    for (k, p) in curve.iter().enumerate() {
-        let c = cell_of(p);
-        items[fill[c] as usize] = k as u32;
-        fill[c] += 1;
-    }
+    let grid = Buckets::new(&curve, cols * rows, cell_of);
     // The curve in PARTS runs of equal length (near points are near on
     // the curve, so most neighbours share a run), diffused in parallel,
     // each within its own run: the same pens for any thread count.
@@ -135,8 +122,7 @@ pub(crate) fn pens(
                         continue;
                     }
                     let row = cy * cols;
-                    let (a, b) = (start[row + rx0] as usize, start[row + rx1 + 1] as usize);
-                    for &j in &items[a..b] {
+                    for &j in grid.span(row + rx0, row + rx1) {
                         let j = j as usize;
                         if j <= first + k || j >= first + pen.len() {
                             continue;
@@ -275,14 +261,22 @@ pub(crate) fn spread_pens(
     }
 }
 
+/// The cell (column, row) of (`x`, `y`) in a grid of `size` cells `cell`
+/// wide from `origin`; places off the grid read as its edge cells.
+fn cell_at(origin: (f32, f32), cell: f32, size: (usize, usize), x: f32, y: f32) -> (usize, usize) {
+    (
+        (((x - origin.0).max(0.0) / cell) as usize).min(size.0 - 1),
+        (((y - origin.1).max(0.0) / cell) as usize).min(size.1 - 1),
+    )
+}
+
 /// The points of one run in a grid of cells `cell` wide.
 struct Local {
     origin: (f32, f32),
     cell: f32,
     cols: usize,
     rows: usize,
-    start: Vec<u32>,
-    items: Vec<u32>,
+    grid: Buckets,
 }
 
 impl Local {
@@ -299,36 +293,22 @@ impl Local {
             .max((span.0 * span.1 / (4.0 * points.len().max(1) as f32)).sqrt());
         let along = |s: f32| ((s / cell).min(4095.0) as usize + 1).max(1);
         let (cols, rows) = (along(span.0), along(span.1));
-        let mut grid = Self {
-            origin: (x0, y0),
+        let origin = (x0, y0);
+        let grid = Buckets::new(points, cols * rows, |p| {
+            let c = cell_at(origin, cell, (cols, rows), p.x, p.y);
+            c.1 * cols + c.0
+        });
+        Self {
+            origin,
             cell,
             cols,
             rows,
-            start: vec![0; cols * rows + 1],
-            items: vec![0; points.len()],
-        };
-        for p in points {
-            let c = grid.cell_of(p.x, p.y);
-            grid.start[c.1 * cols + c.0 + 1] += 1;
+            grid,
         }
-        for c in 0..cols * rows {
-            grid.start[c + 1] += grid.start[c];
-        }
-        let mut fill = grid.start.clone();
-        for (k, p) in points.iter().enumerate() {
-            let c = grid.cell_of(p.x, p.y);
-            let c = c.1 * cols + c.0;
-            grid.items[fill[c] as usize] = k as u32;
-            fill[c] += 1;
-        }
-        grid
     }
 
     fn cell_of(&self, x: f32, y: f32) -> (usize, usize) {
-        (
-            (((x - self.origin.0).max(0.0) / self.cell) as usize).min(self.cols - 1),
-            (((y - self.origin.1).max(0.0) / self.cell) as usize).min(self.rows - 1),
-        )
+        cell_at(self.origin, self.cell, (self.cols, self.rows), x, y)
     }
 
     /// Calls `f(j)` for the points in the cells within `reach` of `p`.
@@ -337,11 +317,7 @@ impl Local {
         let (x1, y1) = self.cell_of(p.x + reach, p.y + reach);
         for cy in y0..=y1 {
             let row = cy * self.cols;
-            let (a, b) = (
-                self.start[row + x0] as usize,
-                self.start[row + x1 + 1] as usize,
-            );
-            for &j in &self.items[a..b] {
+            for &j in self.grid.span(row + x0, row + x1) {
                 f(j as usize);
             }
         }

@@ -16,7 +16,7 @@ use crate::importance::ink::K_MAX;
 use crate::importance::{Adjust, ColourMap, Mapping, MappingKind, Prepared, RadiusRange, Tones};
 use crate::sampler::Point;
 
-use super::correct::Correction;
+use super::correct::ColourCorrection;
 
 /// A colour picture prepared for drawing: one map per pen, and what the
 /// size stage's correction compares the drawing with.
@@ -46,6 +46,9 @@ impl Job {
             return Ok((self.clone(), None));
         };
         self.check()?;
+        // Chosen for the picture as drawn: cropped and turned.
+        let framed = self.frame(picture)?;
+        let picture = framed.as_ref().map_or(picture, super::run::Framed::picture);
         let colours = picture.colour();
         let (w, h) = (colours.width(), colours.height());
         let f = (f64::from(PALETTE_SIDE) / f64::from(w.max(h))).min(1.0);
@@ -85,11 +88,11 @@ impl Job {
         &self,
         picture: &ColourMap,
         domain: (u32, u32),
-        count_target: bool,
+        radii_scaled: bool,
     ) -> crate::Result<Separated> {
         let Some(model) = self.render_model() else {
             return Err(crate::stipple::Error::InvalidParameter(
-                "a colour drawing needs --pens".into(),
+                "a colour drawing needs «pens»".into(),
             )
             .into());
         };
@@ -124,7 +127,7 @@ impl Job {
             Some(MappingKind::Linear) => Mapping::Linear,
             _ => self.dot_mode().mapping(self.dot_ratio),
         };
-        let range = self.dot_range(imp.radius_range(count_target)?, domain)?;
+        let range = self.dot_range(imp.radius_range(radii_scaled)?, domain)?;
         let maps = inks
             .into_iter()
             .map(|map| Prepared::new(map, mapping, range, None).stretched(domain))
@@ -149,7 +152,7 @@ impl Job {
         separated: &Separated,
         points: &[Point],
         range: RadiusRange,
-        correction: Option<&Correction>,
+        correction: Option<&ColourCorrection>,
         stage: &mut dyn FnMut(Stage) -> crate::Result<()>,
     ) -> crate::Result<Vec<f32>> {
         let maps = &separated.maps;

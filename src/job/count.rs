@@ -25,7 +25,7 @@ pub(crate) fn fit_scale<T, E: From<Error>>(
     mut run: impl FnMut(f64) -> Result<(usize, T), E>,
 ) -> Result<(f64, T, usize), E> {
     if target == 0 {
-        return Err(Error::InvalidParameter("the point count must be positive".into()).into());
+        return Err(Error::InvalidParameter("«points=0»: ask for at least 1".into()).into());
     }
     let target_f = target as f64;
     let mut scale = initial;

@@ -177,7 +177,7 @@ impl JobFile {
             _ => {
                 return Err(format!(
                     "not a job file: it has no `{VERSION_KEY} = \"<version>\"` line (write one \
-                     with --save-job)"
+                     with «save_job»)"
                 ));
             }
         };

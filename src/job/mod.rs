@@ -136,10 +136,7 @@ pub struct Job {
     pub dot_radius: Option<f32>,
     /// Diameter in mm of the darkest dots on the page (needs --width-mm or
     /// --paper); as --dot-radius, the radii and the count follow from it.
-    #[cfg_attr(
-        feature = "cli",
-        arg(long, value_name = "MM", conflicts_with = "dot_radius")
-    )]
+    #[cfg_attr(feature = "cli", arg(long, value_name = "MM"))]
     #[serde(skip_serializing_if = "Option::is_none")]
     pub dot_mm: Option<f64>,
     /// The spacing sized dots are calibrated for: local (the dots' own
@@ -173,7 +170,7 @@ pub struct Job {
     #[cfg_attr(feature = "cli", arg(long, default_value_t = 1.0))]
     pub scale: f32,
     /// SVG page width in millimetres (height follows the aspect) [default: px].
-    #[cfg_attr(feature = "cli", arg(long, conflicts_with = "paper"))]
+    #[cfg_attr(feature = "cli", arg(long))]
     pub width_mm: Option<f64>,
     /// Paper for the SVG: a1 to a6, letter, legal, tabloid or WxHmm. The
     /// drawing fits inside the margins, centred, keeping its aspect; the
@@ -182,11 +179,11 @@ pub struct Job {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub paper: Option<Paper>,
     /// Margin around the drawing on the paper, mm [default: 10 with --paper].
-    #[cfg_attr(feature = "cli", arg(long, requires = "paper"))]
+    #[cfg_attr(feature = "cli", arg(long))]
     #[serde(skip_serializing_if = "Option::is_none")]
     pub margin: Option<f64>,
     /// Turn the paper to landscape (wider than tall); portrait by default.
-    #[cfg_attr(feature = "cli", arg(long, requires = "paper"))]
+    #[cfg_attr(feature = "cli", arg(long))]
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub landscape: bool,
     /// Write the SVG's width and height in CSS px (96 per inch) instead of
@@ -211,7 +208,7 @@ pub struct Job {
     /// drawing, labelled "L name k/n" with L the layer's place (vpype and
     /// plotter tools number layers by a label's first digits), in order, to
     /// change pens between them (needs --pen-mm).
-    #[cfg_attr(feature = "cli", arg(long, value_name = "MM", requires = "pen_mm"))]
+    #[cfg_attr(feature = "cli", arg(long, value_name = "MM"))]
     #[serde(skip_serializing_if = "Option::is_none")]
     pub refill_mm: Option<f64>,
     /// The order of the pens' layers in the SVG, the order they plot in.
@@ -232,7 +229,7 @@ pub struct Job {
     /// picture: the K whose drawing the render model predicts closest to
     /// its colours (docs/colour.md). The drawing, and --save-job, use the
     /// pens chosen.
-    #[cfg_attr(feature = "cli", arg(long, value_name = "K", requires = "pens"))]
+    #[cfg_attr(feature = "cli", arg(long, value_name = "K"))]
     #[serde(skip_serializing_if = "Option::is_none")]
     pub choose: Option<usize>,
     /// The paper's colour: white (the default), black, kraft, grey or
@@ -314,11 +311,7 @@ impl Job {
         key.ink = Ink::BLACK;
         key.size_px = false;
         // The pen sets the radii only when nothing else does.
-        let pen_sized = self.pen_mm.is_some()
-            && self.points.is_none()
-            && self.importance.min_radius.is_none()
-            && self.dot_radius.is_none()
-            && self.dot_mm.is_none();
+        let pen_sized = self.pen_sized();
         key.dot_path = DotPath::Spiral;
         // Dots sized in mm take their radii from the page's size.
         if !pen_sized && self.dot_mm.is_none() {

@@ -51,6 +51,10 @@ pub struct Plan {
     pub radius: (f32, f32),
     /// How the dots are sized.
     pub dot: DotMode,
+    /// Whether sized dots take the spacing they have, not the one their
+    /// tone asks ([`super::Spacing::Local`]: a grey drawing of sized dots
+    /// on a tone mapping).
+    pub local_spacing: bool,
     /// Weighted Lloyd steps after sampling.
     pub relax: u32,
     /// Whether a colour drawing's pens are spread apart after they are
@@ -99,16 +103,18 @@ impl Maps {
 /// A correction's set-up, made from the maps and the grid alone.
 enum Setup<'a> {
     Grey(correct::GreyCorrection<'a>),
-    Colour(correct::Correction),
+    Colour(correct::ColourCorrection),
 }
 
 impl<'a> Setup<'a> {
     fn new(maps: &'a Maps, grid: correct::Grid) -> crate::Result<Self> {
         Ok(match maps {
             Maps::Grey(map) => Self::Grey(correct::GreyCorrection::new(grid, map)),
-            Maps::Colour(s) => {
-                Self::Colour(correct::Correction::new(&s.picture, &s.separation, grid)?)
-            }
+            Maps::Colour(s) => Self::Colour(correct::ColourCorrection::new(
+                &s.picture,
+                &s.separation,
+                grid,
+            )?),
         })
     }
 }
@@ -163,7 +169,7 @@ fn along_curve(points: Vec<Point>) -> Vec<Point> {
     let mut keyed: Vec<(u64, u32)> = points
         .par_iter()
         .enumerate()
-        .map(|(i, p)| (crate::stipple::tsp::pixel_key(p.x, p.y, 0), i as u32))
+        .map(|(i, p)| (crate::stipple::spatial::pixel_key(p.x, p.y, 0), i as u32))
         .collect();
     keyed.par_sort_unstable();
     keyed
@@ -264,9 +270,7 @@ impl Planned {
             Maps::Grey(map) => {
                 let mut radii = map.dot_radii(&points, range);
                 // Sized dots for the spacing they have ([`Spacing::Local`]).
-                if job.spacing == super::Spacing::Local
-                    && matches!(map.mapping, crate::importance::Mapping::ToneSized(_))
-                {
+                if plan.local_spacing {
                     super::density::local_spacing(map, &points, range, domain, &mut radii);
                 }
                 if let Some(Setup::Grey(correction)) = &setup {
@@ -316,17 +320,14 @@ impl Job {
         self.check()?;
         if let Some(k) = self.choose {
             return Err(crate::stipple::Error::InvalidParameter(format!(
-                "--choose {k}: the pens are chosen for the picture before it is drawn \
+                "«choose={k}»: the pens are chosen for the picture before it is drawn \
                  (Job::chosen), and the job drawn and written is the one with the pens chosen"
             ))
             .into());
         }
-        let (points, count_target) = self.count();
+        let (points, radii_scaled) = self.count();
         // The crop and the turn, first: the rest sees the framed picture.
-        let framed = match (self.crop, self.rotate) {
-            (None, None) => None,
-            (crop, turn) => Some(picture.framed(crop, turn.unwrap_or(0))?),
-        };
+        let framed = self.frame(picture)?;
         let picture = framed.as_ref().map_or(picture, Framed::picture);
         let (maps, size) = if self.colour() {
             let colour = picture.colour();
@@ -334,7 +335,7 @@ impl Job {
             let domain = self.domain_for(size, points);
             crate::importance::budget::check_domain(domain)?;
             (
-                Maps::Colour(self.separate(&colour, domain, count_target)?),
+                Maps::Colour(self.separate(&colour, domain, radii_scaled)?),
                 size,
             )
         } else {
@@ -345,7 +346,7 @@ impl Job {
                 &map,
                 |w, h| self.domain_for((w, h), points),
                 self.dot_mode().mapping(self.dot_ratio),
-                count_target,
+                radii_scaled,
                 self.paper_levels(),
             )?;
             prepared.range = self.dot_range(prepared.range, prepared.domain())?;
@@ -377,6 +378,8 @@ impl Job {
                 _ => (range.min, range.max),
             },
             dot: self.dot_mode(),
+            local_spacing: self.spacing == super::Spacing::Local
+                && matches!(&maps, Maps::Grey(m) if matches!(m.mapping, crate::importance::Mapping::ToneSized(_))),
             relax: decided.relax,
             spread: colour && dots <= AUTO_RELAX_DOTS,
             corrected: decided.grid.is_some(),
@@ -426,7 +429,7 @@ fn decide(job: &Job, colour: bool, domain: (u32, u32), dots: usize) -> Decided {
         .unwrap_or(if wants && !dense { AUTO_RELAX_STEPS } else { 0 });
     if !wants {
         let why = if job.correction == super::Correction::Off {
-            "--correction off"
+            "the correction is off"
         } else if job.dot_mode() != DotMode::Sized {
             "only sized dots are corrected"
         } else {

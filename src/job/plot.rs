@@ -14,7 +14,7 @@ impl Job {
         let (Some(scale), Some(pen_mm)) = (self.mm_per_px(drawing.domain)?, self.pen_width())
         else {
             return Err(Error::InvalidParameter(
-                "plot statistics need --pen-mm and --width-mm or --paper: a plotter draws pen paths"
+                "plot statistics need «pen_mm» and «width_mm» or «paper»: a plotter draws pen paths"
                     .into(),
             )
             .into());

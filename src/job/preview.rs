@@ -338,7 +338,7 @@ impl Job {
         }
         if let Some(check) = self.pen_check(drawing)? {
             out.push(format!(
-                "{}: give --points {}",
+                "{}: give «points={}»",
                 check.message(),
                 check.true_count
             ));
@@ -373,8 +373,8 @@ impl Job {
         (across < 1.0).then(|| {
             let count = ((radii.len() as f64 * across * across).floor() as usize).max(1);
             format!(
-                "the PNG's dots are {across:.2} px across at --scale {} (half the ink in dots \
-                 under 1 px: a grey haze); about {count} dots, or a larger --scale, draw them",
+                "the PNG's dots are {across:.2} px across at «scale={}» (half the ink in dots \
+                 under 1 px: a grey haze); about {count} dots, or a larger «scale», draw them",
                 self.scale
             )
         })
@@ -402,7 +402,7 @@ fn mean_grey(layers: &[Vec<Dot>], domain: (u32, u32), model: &RenderModel) -> cr
 pub fn short_of(asked: usize, got: usize) -> String {
     format!(
         "asked for {asked} points, got {got}: the radii are at the sampler's limits \
-         (1 px at the darkest, the domain's size at the lightest); change --width/--height"
+         (1 px at the darkest, the domain's size at the lightest); change «width»/«height»"
     )
 }
 

@@ -49,12 +49,13 @@ impl Job {
         })
     }
 
-    /// Whether the dots' own radius or the pen sets the sample radii (else
-    /// the count does, or the minimum radius).
-    fn pen_sized(&self) -> bool {
+    /// Whether the pen sets the sample radii: it does only when nothing
+    /// else does (a count, the minimum radius, the dots' own size).
+    pub(crate) fn pen_sized(&self) -> bool {
         self.pen_mm.is_some()
             && self.points.is_none()
             && self.importance.min_radius.is_none()
+            && self.dot_radius.is_none()
             && self.dot_mm.is_none()
     }
 
@@ -135,7 +136,7 @@ impl Job {
         if pen_dot.is_some() && self.dot_radius.is_none() && min < 1.0 {
             return Err(Error::InvalidParameter(format!(
                 "the pen's dots are {:.2} px wide on this {} px wide domain, too small to \
-                 sample: give --points, or a wider domain with --width",
+                 sample: give «points», or a wider domain with «width»",
                 2.0 * rho,
                 domain.0
             ))

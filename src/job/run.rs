@@ -85,6 +85,18 @@ impl Framed {
     }
 }
 
+impl Job {
+    /// `picture` cropped and turned as this job asks (`crop`, `rotate`):
+    /// what every stage sees, the pen choice as the drawing. `None` when
+    /// the picture is drawn as it is.
+    pub(crate) fn frame(&self, picture: Picture<'_>) -> crate::Result<Option<Framed>> {
+        Ok(match (self.crop, self.rotate) {
+            (None, None) => None,
+            (crop, turn) => Some(picture.framed(crop, turn.unwrap_or(0))?),
+        })
+    }
+}
+
 impl<'a> Picture<'a> {
     /// The picture cropped to `crop` and turned `degrees` clockwise.
     pub(crate) fn framed(self, crop: Option<Crop>, degrees: u16) -> crate::Result<Framed> {
@@ -248,24 +260,6 @@ impl Job {
             all.moves += t.moves;
         }
         (ordered, Some(all))
-    }
-}
-
-impl Job {
-    /// [`Self::run`] on the chosen backend (the CLI's fallback policy,
-    /// [`crate::backend::sample`]); `notice` hears which backend runs.
-    pub fn run_on(
-        &self,
-        image: &Path,
-        backend: crate::backend::BackendChoice,
-        ctl: crate::sampler::Control<'_>,
-        notice: &mut dyn FnMut(crate::backend::Notice),
-    ) -> crate::Result<Stipple> {
-        self.run(
-            image,
-            |params| Ok(crate::backend::sample(params, backend, ctl, &mut *notice)?),
-            |_| ctl.check().is_ok(),
-        )
     }
 }
 

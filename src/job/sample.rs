@@ -162,7 +162,7 @@ impl SampleJob {
     pub fn check(&self, radii: &Radii) -> Result<(), Error> {
         let bad = |m: String| Err(Error::InvalidParameter(m));
         if self.radius_map.is_some() && self.importance.is_some() {
-            return bad("give a radius map or an importance map, not both".into());
+            return bad("give «radius_map» or «importance», not both".into());
         }
         let uniform = matches!(radii, Radii::Uniform)
             && self.radius_map.is_none()
@@ -170,29 +170,29 @@ impl SampleJob {
         if let Some(r) = self.radius
             && !(r.is_finite() && r > 0.0)
         {
-            return bad(format!("radius {r} must be a positive number"));
+            return bad(format!("«radius={r}» must be a positive number"));
         }
         if self.points == Some(0) {
-            return bad("the point count must be positive".into());
+            return bad("«points=0»: ask for at least 1 point".into());
         }
         if !uniform {
             if self.radius.is_some() {
                 return bad(
-                    "radius gives a uniform set: a radius map holds the radii (points scales \
-                     it), and with an importance map min_radius is the black pixels' radius"
+                    "«radius» gives a uniform set: a radius map holds the radii («points» scales \
+                     it), and with an importance map «min_radius» is the black pixels' radius"
                         .into(),
                 );
             }
         } else {
             if self.radius.is_some() && self.points.is_some() {
-                return bad("give radius or points, not both".into());
+                return bad("give «radius» or «points», not both".into());
             }
             if self.radius.is_none() && self.points.is_none() {
-                return bad("give radius, points, a radius map or an importance map".into());
+                return bad("give «radius», «points», «radius_map» or «importance»".into());
             }
             if self.width.is_none() || self.height.is_none() {
                 return bad(
-                    "width and height are needed without a radius or importance map".into(),
+                    "«width» and «height» are needed without «radius_map» or «importance»".into(),
                 );
             }
         }

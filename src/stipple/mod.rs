@@ -11,6 +11,7 @@ pub mod plot;
 pub mod raster;
 pub mod read;
 pub mod relax;
+pub(crate) mod spatial;
 pub mod svg;
 pub mod tsp;
 
@@ -80,7 +81,7 @@ impl DotSize {
             Ok(())
         } else {
             Err(Error::InvalidParameter(format!(
-                "dot size {v} must be a positive number"
+                "«dot_factor={v}» must be a positive number"
             )))
         }
     }

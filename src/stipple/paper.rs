@@ -157,13 +157,13 @@ impl Paper {
         let (sw, sh) = self.oriented(landscape);
         if !(margin_mm.is_finite() && margin_mm >= 0.0) {
             return Err(Error::InvalidParameter(format!(
-                "--margin {margin_mm} must be a number of mm, at least 0"
+                "«margin={margin_mm}» must be a number of mm, at least 0"
             )));
         }
         let (aw, ah) = (sw - 2.0 * margin_mm, sh - 2.0 * margin_mm);
         if aw <= 0.0 || ah <= 0.0 {
             return Err(Error::InvalidParameter(format!(
-                "--margin {margin_mm} mm leaves no room on {} paper ({sw} × {sh} mm)",
+                "«margin={margin_mm}» mm leaves no room on {} paper ({sw} × {sh} mm)",
                 self.name
             )));
         }

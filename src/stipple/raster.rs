@@ -245,7 +245,7 @@ fn scaled_size(domain: (u32, u32), scale: f32) -> Result<(u32, u32)> {
     let h = (f64::from(domain.1) * f64::from(scale)).round().max(1.0);
     if w * h > MAX_PIXELS as f64 {
         return Err(Error::InvalidParameter(format!(
-            "a {w}x{h} PNG is too large (at most {MAX_PIXELS} pixels); lower --scale"
+            "a {w}x{h} PNG is too large (at most {MAX_PIXELS} pixels); lower «scale»"
         )));
     }
     Ok((w as u32, h as u32))

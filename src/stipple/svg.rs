@@ -311,7 +311,7 @@ impl SvgOptions {
         match self.size_mm {
             Some(size) => Ok(Some((pen, size))),
             None => Err(Error::InvalidParameter(
-                "--pen-mm needs --width-mm or --paper".into(),
+                "«pen_mm» needs «width_mm» or «paper»".into(),
             )),
         }
     }
@@ -1187,7 +1187,7 @@ mod tests {
             .with_pen_mm(0.3)
             .expect_err("needs a page size")
             .to_string();
-        assert!(e.contains("--pen-mm needs --width-mm"), "{e}");
+        assert!(e.contains("«pen_mm» needs «width_mm»"), "{e}");
         let opts = SvgOptions {
             pen_mm: Some(0.3),
             ..SvgOptions::new((100, 50))

@@ -23,7 +23,7 @@ use super::super::Stage;
 /// model's Jacobian (damped least norm), and each dot is resized by the ink
 /// curve to put down its pen's new ink, in the rounds of
 /// [`Schedule::colour`].
-pub(crate) struct Correction {
+pub(crate) struct ColourCorrection {
     /// The render and work grids.
     grid: Grid,
     /// Pens.
@@ -50,7 +50,7 @@ const MIN_INK: f64 = 0.005;
 /// The side, in `src` cells, of the blocks the gains are made on.
 const GAIN_BLOCK: u32 = 2;
 
-impl Correction {
+impl ColourCorrection {
     pub(crate) fn new(
         picture: &ColourMap,
         separation: &Separation,

@@ -12,7 +12,7 @@ mod colour;
 mod grey;
 mod grid;
 
-pub(crate) use colour::Correction;
+pub(crate) use colour::ColourCorrection;
 pub(crate) use grey::GreyCorrection;
 pub(crate) use grid::{Grid, GridSpec};
 

@@ -53,7 +53,7 @@ pub(super) fn polygon_step(
     let mut order: Vec<(u64, usize)> = points
         .par_iter()
         .enumerate()
-        .map(|(i, p)| (crate::stipple::tsp::pixel_key(p[0], p[1], 3), i))
+        .map(|(i, p)| (crate::stipple::spatial::pixel_key(p[0], p[1], 3), i))
         .collect();
     order.par_sort_unstable();
     let moved: Vec<[f32; 2]> = order
