@@ -1116,4 +1116,32 @@ fn choose_picks_the_pens_of_the_cropped_picture() {
     let whole = chose(&astronaut, &[]);
     assert_eq!(cropped, by_hand);
     assert_ne!(cropped, whole, "the crop should change the choice");
+    // The plan makes the choice as its first step, and records it.
+    let o = pixelpie(&[
+        "stipple",
+        &astronaut,
+        "-o",
+        "x.svg",
+        "--plan",
+        "--pens",
+        &inventory,
+        "--choose",
+        "4",
+        "--points",
+        "500",
+        "--crop",
+        "20,30,180,150",
+        "--rotate",
+        "90",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let plan: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let names: Vec<&str> = plan["chosen"]["pens"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_str().unwrap())
+        .collect();
+    assert_eq!(names.join(", "), cropped);
+    assert_eq!(plan["pens"], 4);
 }

@@ -143,7 +143,6 @@ pub fn run(a: &StippleArgs, matches: Option<&clap::ArgMatches>) -> Result<()> {
     if a.plan {
         for image in &a.images {
             let picture = Decoded::open(&o, image)?;
-            let (o, _) = o.chosen(picture.picture())?;
             println!(
                 "{}",
                 super::said(o.plan(picture.picture())?.plan.to_json()?)

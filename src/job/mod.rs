@@ -37,7 +37,7 @@ mod write;
 
 pub use layers::{LayerPaths, PageTransform, PenLayer};
 pub use options::{Correction, DotMode, Format, Ink, LayerOrder, Order, PaperColour, Spacing};
-pub use plan::{Plan, Planned};
+pub use plan::{PenChoice, Plan, Planned};
 pub use preview::{PenCheck, PlotPen, plotted_dot, short_of};
 pub use radii::default_domain;
 pub use ramp::{RampError, ramp_error, ramp_error_sized};
