@@ -217,12 +217,22 @@ def sample(
     return points, stats
 
 
+#: The range of a whole number an option takes (the library's 64 bits).
+_WHOLE = (-(2**63), 2**64 - 1)
+
+
 def _finite(options: Dict[str, Any]) -> Dict[str, Any]:
-    """``options`` with every float checked: NaN and infinities raise
-    ``ValueError`` naming the option (JSON has no word for them)."""
+    """``options`` with every number checked: NaN and infinities raise
+    ``ValueError`` naming the option (JSON has no word for them), and so
+    does a whole number beyond 64 bits (JSON would carry it as a float)."""
     for name, v in options.items():
         if isinstance(v, float) and not math.isfinite(v):
-            raise ValueError(f"{name} {v} must be a finite number")
+            raise ValueError(f"{name}={v} must be a finite number")
+        if isinstance(v, (int, np.integer)) and not isinstance(v, bool):
+            if v > _WHOLE[1]:
+                raise ValueError(f"{name}={v} is too large: at most {_WHOLE[1]}")
+            if v < _WHOLE[0]:
+                raise ValueError(f"{name}={v} is too small: at least {_WHOLE[0]}")
     return options
 
 
@@ -478,7 +488,10 @@ def stipple(
         progress,
         _max_memory(max_memory),
     )
+    # The warnings first, the file after: a warning turned into an error
+    # (warnings.filterwarnings("error")) leaves no file.
     _warn(native.warnings())
+    native.write_output()
     drawing = Drawing(native)
     if svg:
         return drawing.svg().decode("utf-8")
@@ -580,12 +593,20 @@ class Drawing:
     """
 
     __slots__ = (
-        "_native", "dots", "domain", "asked", "reached", "plan", "pens", "warnings", "stages",
+        "_native", "_dots", "domain", "asked", "reached", "plan", "pens", "warnings", "stages",
     )
+
+    #: Drawings of up to this many dots show as SVG in Jupyter, larger ones
+    #: as PNG (an SVG of a million circles is more than a notebook wants).
+    SVG_REPR_DOTS = 50_000
 
     def __init__(self, native: Any) -> None:
         self._native = native
-        self.dots: np.ndarray = native.dots()
+        dots: np.ndarray = native.dots()
+        # Read-only: the files (svg(), png(), save()) are made from the
+        # library's drawing, so an edit here would silently not be drawn.
+        dots.flags.writeable = False
+        self._dots = dots
         self.domain: Tuple[int, int] = tuple(native.domain)  # type: ignore[assignment]
         self.asked: Optional[int] = native.asked
         self.reached: int = native.reached
@@ -598,6 +619,38 @@ class Drawing:
     def __repr__(self) -> str:
         w, h = self.domain
         return f"<pixelpie.Drawing: {self.reached} dots on {w}x{h} px>"
+
+
+    @property
+    def dots(self) -> np.ndarray:
+        """(N, 3) float32 x, y and drawn radius in domain pixels, in drawing
+        order; in colour (N, 4), the fourth column each dot's pen. Read-only
+        (what ``svg()``, ``png()`` and ``save()`` draw): edit a copy,
+        ``d.dots.copy()``."""
+        return self._dots
+
+    def __copy__(self) -> "Drawing":
+        # The library's drawing is immutable: a copy shares it.
+        return Drawing(self._native)
+
+    def __deepcopy__(self, memo: Dict[int, Any]) -> "Drawing":
+        copied = Drawing(self._native)
+        memo[id(self)] = copied
+        return copied
+
+    def _repr_svg_(self) -> Optional[str]:
+        """Jupyter's picture of the drawing: its SVG, up to
+        :attr:`SVG_REPR_DOTS` dots (``None`` above: the PNG shows)."""
+        if self.reached > self.SVG_REPR_DOTS:
+            return None
+        return self.svg().decode("utf-8")
+
+    def _repr_png_(self) -> Optional[bytes]:
+        """Jupyter's picture of a drawing of over :attr:`SVG_REPR_DOTS`
+        dots: its PNG (``None`` below: the SVG shows)."""
+        if self.reached <= self.SVG_REPR_DOTS:
+            return None
+        return self.png()
 
     def __reduce__(self) -> Any:
         raise TypeError(

@@ -38,12 +38,14 @@ use pixelpie::stipple::plot::Plotter;
 /// The Python exception for a library error.
 fn py_err(e: &pixelpie::Error) -> PyErr {
     use pixelpie::Error as E;
-    let text = pixelpie::one_line(e);
+    let text = said(&pixelpie::raw_line(e));
     if let Some(err) = os_error(e, &text) {
         return err;
     }
     match e {
-        E::Sampler(sampler::Error::Cancelled) => PyKeyboardInterrupt::new_err(text),
+        E::Sampler(sampler::Error::Cancelled) | E::Analyze(pixelpie::analyze::Error::Cancelled) => {
+            PyKeyboardInterrupt::new_err(text)
+        }
         E::Importance(importance::Error::TooLarge { .. } | importance::Error::Memory(_)) => {
             PyMemoryError::new_err(text)
         }
@@ -82,6 +84,78 @@ fn os_error(e: &pixelpie::Error, text: &str) -> Option<PyErr> {
     })
 }
 
+/// A library message in Python's words: each setting it names
+/// ([`pixelpie::setting`], [`pixelpie::given`]) spelled as a keyword
+/// argument ([`spell_python`]).
+fn said(text: &str) -> String {
+    pixelpie::spelled(text, spell_python)
+}
+
+/// A setting as Python names it: the keyword `pen_mm`, and with its value
+/// `points=0`, `invert=True`, `paper='a4'`: the value as Python writes the
+/// literal (True and False, numbers as they are, text quoted as `repr`
+/// quotes it).
+fn spell_python(key: &str, value: Option<&str>) -> String {
+    let Some(v) = value else {
+        return key.to_owned();
+    };
+    let literal = match v {
+        "true" => "True".to_owned(),
+        "false" => "False".to_owned(),
+        "none" | "null" => "None".to_owned(),
+        _ if v.parse::<f64>().is_ok_and(f64::is_finite)
+            && !v.trim().is_empty()
+            && v.trim() == v
+            && !v.starts_with('+') =>
+        {
+            v.to_owned()
+        }
+        _ => python_repr(v),
+    };
+    format!("{key}={literal}")
+}
+
+/// `text` as Python's `repr` of a `str` writes it: in single quotes, or in
+/// double quotes when it holds a single quote and no double one.
+fn python_repr(text: &str) -> String {
+    let quote = if text.contains('\'') && !text.contains('"') {
+        '"'
+    } else {
+        '\''
+    };
+    let mut out = String::with_capacity(text.len() + 2);
+    out.push(quote);
+    for c in text.chars() {
+        match c {
+            '\\' => out.push_str("\\\\"),
+            '\n' => out.push_str("\\n"),
+            '\r' => out.push_str("\\r"),
+            '\t' => out.push_str("\\t"),
+            c if c == quote => {
+                out.push('\\');
+                out.push(c);
+            }
+            c => out.push(c),
+        }
+    }
+    out.push(quote);
+    out
+}
+
+/// A plan's JSON (`to_json`) in Python's words ([`said`]), its keys'
+/// order and layout kept: each mark is spelled inside its JSON string.
+fn plan_said(json: &str) -> String {
+    pixelpie::spelled(json, |key, value| {
+        let text = spell_python(key, value);
+        let quoted = serde_json::to_string(&text).unwrap_or_default();
+        quoted
+            .strip_prefix('"')
+            .and_then(|q| q.strip_suffix('"'))
+            .unwrap_or(&text)
+            .to_owned()
+    })
+}
+
 fn bad(text: impl Into<String>) -> PyErr {
     PyValueError::new_err(text.into())
 }
@@ -90,7 +164,7 @@ fn bad(text: impl Into<String>) -> PyErr {
 /// command-line names), such as a policy or a backend.
 fn named<T: serde::de::DeserializeOwned>(name: &str, what: &str) -> PyResult<T> {
     serde_json::from_value(serde_json::Value::String(name.to_owned()))
-        .map_err(|e| bad(format!("{what}: {e}")))
+        .map_err(|e| bad(pixelpie::setting_error(what, &e.to_string())))
 }
 
 /// How often the waiting thread checks for signals while the library
@@ -217,6 +291,54 @@ fn cancellable<T: Send>(
     }
 }
 
+/// Runs `work`, which owns its data, on a thread of its own in this
+/// process's pool ([`pool`]), without the GIL, as [`cancellable`] does; but
+/// a signal's exception is raised at once, without waiting for the work to
+/// end. The work is told to stop (its control's cancel) and ends on its own
+/// at its next check, its result dropped: a step it cannot stop inside (a
+/// Delaunay triangulation of millions of points, a second) does not hold
+/// the interrupt back. A panic becomes `RuntimeError`.
+fn detached<T: Send + 'static>(
+    py: Python<'_>,
+    work: impl FnOnce(Control<'_>) -> pixelpie::Result<T> + Send + 'static,
+) -> PyResult<T> {
+    let pool = pool()?;
+    let cancel = Arc::new(AtomicBool::new(false));
+    let (done, finished) = mpsc::channel();
+    let flag = Arc::clone(&cancel);
+    std::thread::Builder::new()
+        .name("pixelpie-detached".into())
+        .spawn(move || {
+            let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                pool.install(|| work(Control::new().with_cancel(&flag)))
+            }));
+            let _ = done.send(result);
+        })
+        .map_err(|e| PyRuntimeError::new_err(format!("cannot start pixelpie's thread: {e}")))?;
+    let outcome = py.detach(move || {
+        loop {
+            match finished.recv_timeout(POLL) {
+                Ok(result) => return Ok(result),
+                Err(mpsc::RecvTimeoutError::Disconnected) => {
+                    return Err(PyRuntimeError::new_err(
+                        "pixelpie's thread ended without a result",
+                    ));
+                }
+                Err(mpsc::RecvTimeoutError::Timeout) => {
+                    if let Err(e) = Python::attach(|py| py.check_signals()) {
+                        cancel.store(true, Ordering::Relaxed);
+                        return Err(e);
+                    }
+                }
+            }
+        }
+    })?;
+    match outcome {
+        Ok(result) => result.map_err(|e| py_err(&e)),
+        Err(payload) => Err(PyRuntimeError::new_err(panic_text(&*payload))),
+    }
+}
+
 /// Points as an (N, 3) float32 array of x, y and radius.
 fn points_array<'py>(
     py: Python<'py>,
@@ -309,11 +431,16 @@ fn sample<'py>(
     job.check(&radii).map_err(|e| py_err(&e.into()))?;
     let cap = job.max_iterations;
     let target = job.points;
+    let too_many = too_many(&job, &radii);
     let done = cancellable(py, progress, move |ctl| {
         budget::within(max_memory, || {
             job.run(&radii, |p| {
                 Ok(backend::sample(p, choice, ctl, &mut |_| {})?)
             })
+        })
+        .map_err(|e| match (&e, too_many) {
+            (pixelpie::Error::Sampler(sampler::Error::InvalidRadius(_)), Some(said)) => said,
+            _ => e,
         })
     })?;
     let rows = done.set.points.iter().map(|p| [p.x, p.y, p.radius]);
@@ -325,8 +452,32 @@ fn sample<'py>(
     Ok((
         points_array(py, rows)?,
         to_python(py, &stats)?,
-        done.warnings(cap),
+        done.warnings(cap).iter().map(|w| said(w)).collect(),
     ))
+}
+
+/// The error to give when a uniform set's count target, more than the
+/// domain holds at 1 px, asks for a radius under the sampler's 1 px: said
+/// in points, as the user asked, not in the radius found for them.
+fn too_many(job: &SampleJob, radii: &Radii) -> Option<pixelpie::Error> {
+    let (Radii::Uniform, Some(n), None) = (radii, job.points, job.radius) else {
+        return None;
+    };
+    let (w, h) = (job.width.unwrap_or(1), job.height.unwrap_or(1));
+    let most = sampler::Params::new(w, h)
+        .with_radius(1.0)
+        .plan()
+        .map_or(0.0, |p| p.expected_points());
+    if (n as f64) <= most {
+        return None;
+    }
+    Some(pixelpie::Error::Sampler(sampler::Error::InvalidParameter(
+        format!(
+            "{}: a {w}x{h} domain holds about {} points at the smallest radius, 1 px",
+            pixelpie::given("points", n),
+            most.round()
+        ),
+    )))
 }
 
 /// The point-set job's options and their defaults, as JSON (the names
@@ -390,9 +541,22 @@ fn from_options<T: serde::de::DeserializeOwned>(
             let text = e.to_string();
             let wrong_type = text.starts_with("invalid type:");
             let text = match culprit {
+                // A bool where a number or a name belongs, in Python's
+                // words: "points must be a whole number, at least 0, not
+                // True (a bool)".
+                Some((name, serde_json::Value::Bool(b))) if wrong_type => {
+                    let text = pixelpie::setting_error(name, &text);
+                    let word = if *b { "True" } else { "False" };
+                    match text.strip_suffix(if *b { ", not true" } else { ", not false" }) {
+                        Some(head) => format!("{head}, not {word} (a bool)"),
+                        None => text,
+                    }
+                }
                 Some((name, _)) => pixelpie::setting_error(name, &text),
                 None => text,
             };
+            // Python's words for a bool's values.
+            let text = said(&text).replace("must be true or false", "must be True or False");
             Err(if wrong_type {
                 PyTypeError::new_err(text)
             } else {
@@ -405,9 +569,9 @@ fn from_options<T: serde::de::DeserializeOwned>(
 /// The drawing job of `options` ([`from_options`]), over the job file at
 /// `job_file` when given ([`Job::with_overrides`], as the CLI's `--job`
 /// takes its options), checked.
-fn job_from(options: &str, job_file: Option<&std::path::Path>) -> PyResult<Job> {
+fn job_from(options: &str, job_file: Option<&std::path::Path>, function: &str) -> PyResult<Job> {
     let known = job_options().map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
-    let job: Job = from_options(options, "stipple", &known)?;
+    let job: Job = from_options(options, function, &known)?;
     let job = match job_file {
         None => job,
         Some(path) => {
@@ -450,7 +614,7 @@ fn plan_py(
     job_file: Option<PathBuf>,
     max_memory: Option<u64>,
 ) -> PyResult<String> {
-    let job = job_from(options, job_file.as_deref())?;
+    let job = job_from(options, job_file.as_deref(), "plan")?;
     let encoded = pixels
         .as_ref()
         .map(|a| encoded_png(a, "image"))
@@ -463,6 +627,7 @@ fn plan_py(
             job.plan(picture.picture())?.plan.to_json()
         })
     })
+    .map(|json| plan_said(&json))
 }
 
 /// The settings of the job file at `path` (`pixelpie stipple
@@ -476,7 +641,7 @@ fn read_job(path: PathBuf) -> PyResult<(String, Option<String>)> {
     Job::from_table(file.table.clone()).map_err(|e| py_err(&e))?;
     let json =
         serde_json::to_string(&file.table).map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
-    Ok((json, file.warning))
+    Ok((json, file.warning.map(|w| said(&w))))
 }
 
 /// The drawing job's options and their defaults, as JSON (the names
@@ -578,7 +743,7 @@ fn stipple_py(
     progress: Option<Py<PyAny>>,
     max_memory: Option<u64>,
 ) -> PyResult<Drawing> {
-    let job = job_from(options, job_file.as_deref())?;
+    let job = job_from(options, job_file.as_deref(), "stipple")?;
     let choice: BackendChoice = named(backend_name, "backend")?;
     let format = match &output {
         Some(out) => {
@@ -606,22 +771,25 @@ fn stipple_py(
         })?;
         drop(picture);
         ctl.check()?;
-        if let (Some(out), Some(format)) = (&output, format) {
-            let bytes = job.encode(&drawing, format)?;
-            // The last moment an interrupt leaves no file.
-            ctl.check()?;
-            pixelpie::io::write_atomic(out, |w| Ok(std::io::Write::write_all(w, &bytes)?))?;
-        }
+        // The file's bytes, written by `write_output` once the warnings
+        // have been given: a warning turned into an error leaves no file.
+        let pending = match (&output, format) {
+            (Some(out), Some(format)) => Some((out.clone(), job.encode(&drawing, format)?)),
+            _ => None,
+        };
+        ctl.check()?;
         let mut warnings: Vec<String> = image
             .as_deref()
             .and_then(pixelpie::importance::cut_short)
             .into_iter()
             .collect();
         warnings.extend(job.warnings(&drawing, format)?);
+        let warnings = warnings.iter().map(|w| said(w)).collect();
         Ok(Drawing {
             job,
             drawing,
             warnings,
+            pending: Mutex::new(pending),
         })
     })?;
     Ok(drawing)
@@ -634,6 +802,9 @@ struct Drawing {
     job: Job,
     drawing: Stipple,
     warnings: Vec<String>,
+    /// The output file `stipple` was given and its bytes, until
+    /// `write_output` writes them.
+    pending: Mutex<Option<(PathBuf, Vec<u8>)>>,
 }
 
 #[pymethods]
@@ -676,7 +847,11 @@ impl Drawing {
 
     /// The plan the drawing was made by, as JSON.
     fn plan(&self) -> PyResult<String> {
-        self.drawing.plan.to_json().map_err(|e| py_err(&e))
+        self.drawing
+            .plan
+            .to_json()
+            .map(|json| plan_said(&json))
+            .map_err(|e| py_err(&e))
     }
 
     /// The pens of a colour drawing, in their order: (name, "#rrggbb",
@@ -721,6 +896,26 @@ impl Drawing {
         })?;
         let bytes = cancellable(py, None, |_| self.job.encode(&self.drawing, format))?;
         Ok(PyBytes::new(py, &bytes))
+    }
+
+    /// Writes the file `stipple` was asked for (its `output`), atomically;
+    /// nothing when there is none or it is written. `stipple` calls it
+    /// after its warnings, so that one turned into an error leaves no file.
+    fn write_output(&self, py: Python<'_>) -> PyResult<()> {
+        let pending = self
+            .pending
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .take();
+        let Some((out, bytes)) = pending else {
+            return Ok(());
+        };
+        cancellable(py, None, |ctl| {
+            // The last moment an interrupt leaves no file.
+            ctl.check()?;
+            pixelpie::io::write_atomic(&out, |w| Ok(std::io::Write::write_all(w, &bytes)?))?;
+            Ok(())
+        })
     }
 
     /// Writes the drawing to `path` as its extension says, atomically.
@@ -840,13 +1035,13 @@ fn analyze_py<'py>(
         height,
         periodic,
     };
-    let report = cancellable(py, None, |_| {
+    let report = detached(py, move |ctl| {
         let cover = match (radius, &radii) {
             (Some(r), _) => Some(CoverRadius::Uniform(r)),
             (None, Some(r)) => Some(CoverRadius::PerPoint(r)),
             (None, None) => None,
         };
-        Ok(pixelpie::analyze::report(&xy, domain, cover)?)
+        Ok(pixelpie::analyze::report_with(&xy, domain, cover, ctl)?)
     })?;
     to_python(py, &report)
 }

@@ -300,7 +300,7 @@ def test_an_unwritable_output_raises_its_os_error(tmp_path):
         (dict(pens=3), TypeError, "pens must be"),
         (dict(points="100"), TypeError, "points must be a whole number"),
         (dict(relax="tsp"), TypeError, 'relax must be a whole number, at least 0, not the text "tsp"'),
-        (dict(width=0), ValueError, "--width 0 must be at least 1 px"),
+        (dict(width=0), ValueError, "width=0 must be at least 1 px"),
         (dict(order="random"), ValueError, "order"),
     ],
 )

@@ -17,6 +17,7 @@
 //!   covered".
 
 use super::{CoverRadius, Domain, Result};
+use crate::sampler::Control;
 use crate::sampler::exact::union::{self, Disk};
 
 /// The largest empty circle centred in the domain.
@@ -95,8 +96,20 @@ fn augmented(points: &[[f64; 2]], domain: Domain, margin: f64) -> Vec<[f64; 2]> 
 /// ```
 #[must_use]
 pub fn largest_gap(points: &[[f64; 2]], domain: Domain) -> Option<Gap> {
+    largest_gap_with(points, domain, &Control::new())
+        .ok()
+        .flatten()
+}
+
+/// [`largest_gap`], polling `ctl`'s cancel flag between its steps
+/// ([`super::report_with`]).
+pub(crate) fn largest_gap_with(
+    points: &[[f64; 2]],
+    domain: Domain,
+    ctl: &Control<'_>,
+) -> Result<Option<Gap>> {
     if points.is_empty() {
-        return None;
+        return Ok(None);
     }
     let corners = [
         [0.0, 0.0],
@@ -120,6 +133,7 @@ pub fn largest_gap(points: &[[f64; 2]], domain: Domain) -> Option<Gap> {
     // domain then has its three points, or their images, in the set.
     let mut margin = 4.0 * (domain.area() / points.len() as f64).sqrt();
     loop {
+        super::heed(ctl)?;
         let all = augmented(points, domain, margin.min(domain.width.max(domain.height)));
         let mut found = best;
         if all.len() >= 3 {
@@ -127,7 +141,9 @@ pub fn largest_gap(points: &[[f64; 2]], domain: Domain) -> Option<Gap> {
                 .iter()
                 .map(|p| delaunator::Point { x: p[0], y: p[1] })
                 .collect();
+            super::heed(ctl)?;
             let t = delaunator::triangulate(&pts);
+            super::heed(ctl)?;
             for tri in t.triangles.chunks_exact(3) {
                 let (a, b, c) = (all[tri[0]], all[tri[1]], all[tri[2]]);
                 let Some(centre) = circumcentre(a, b, c) else {
@@ -163,7 +179,7 @@ pub fn largest_gap(points: &[[f64; 2]], domain: Domain) -> Option<Gap> {
             }
         }
         if 2.0 * found.radius <= margin || margin >= domain.width.max(domain.height) {
-            return Some(found);
+            return Ok(Some(found));
         }
         margin = 2.0 * found.radius + 1.0;
         best = found;
@@ -191,6 +207,17 @@ pub fn uncovered_cells(
     points: &[[f64; 2]],
     radius: CoverRadius<'_>,
     domain: Domain,
+) -> Result<u64> {
+    uncovered_cells_with(points, radius, domain, &Control::new())
+}
+
+/// [`uncovered_cells`], polling `ctl`'s cancel flag: each row of cells
+/// first ([`super::report_with`]).
+pub(crate) fn uncovered_cells_with(
+    points: &[[f64; 2]],
+    radius: CoverRadius<'_>,
+    domain: Domain,
+    ctl: &Control<'_>,
 ) -> Result<u64> {
     domain.validate()?;
     if domain.area() > super::metrics::MAX_PIXELS {
@@ -237,10 +264,14 @@ pub fn uncovered_cells(
         bins[bin(d.y, gr) * gc + bin(d.x, gc)].push(k);
     }
     use rayon::prelude::*;
+    super::heed(ctl)?;
     let count = (0..rows)
         .into_par_iter()
         .map(|j| {
             let mut missed = 0u64;
+            if ctl.cancelled() {
+                return missed;
+            }
             let mut disks = Vec::new();
             for i in 0..cols {
                 let (x0, y0) = (i as f64, j as f64);
@@ -264,5 +295,8 @@ pub fn uncovered_cells(
             missed
         })
         .sum();
+    // A row skipped for a cancel would make the count wrong: it is not
+    // returned.
+    super::heed(ctl)?;
     Ok(count)
 }

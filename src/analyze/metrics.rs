@@ -5,6 +5,7 @@
 //! the sum of the disks' areas, not points × pixels).
 
 use super::{CoverRadius, Domain, Result};
+use crate::sampler::Control;
 
 /// The most pixels [`uncovered_pixels`] agrees to rasterize.
 pub const MAX_PIXELS: f64 = (1u64 << 31) as f64;
@@ -43,9 +44,20 @@ pub fn distance(a: [f64; 2], b: [f64; 2], domain: Domain) -> f64 {
 /// ```
 #[must_use]
 pub fn min_distance(points: &[[f64; 2]], domain: Domain) -> Option<f64> {
+    min_distance_with(points, domain, &Control::new())
+        .ok()
+        .flatten()
+}
+
+/// [`min_distance`], polling `ctl`'s cancel flag ([`super::report_with`]).
+pub(crate) fn min_distance_with(
+    points: &[[f64; 2]],
+    domain: Domain,
+    ctl: &Control<'_>,
+) -> Result<Option<f64>> {
     let n = points.len();
     if n < 2 {
-        return None;
+        return Ok(None);
     }
     // Cells of about two points each, over the points' bounding box (the
     // domain's box when periodic, so that cells wrap).
@@ -85,6 +97,9 @@ pub fn min_distance(points: &[[f64; 2]], domain: Domain) -> Option<f64> {
     let mut best = f64::INFINITY;
     let reach = nx.max(ny) as isize;
     for (i, p) in points.iter().enumerate() {
+        if i % super::POLL_EVERY == 0 {
+            super::heed(ctl)?;
+        }
         let (cx, cy) = cell_of(*p);
         let (cx, cy) = (cx as isize, cy as isize);
         for r in 0..=reach {
@@ -113,7 +128,7 @@ pub fn min_distance(points: &[[f64; 2]], domain: Domain) -> Option<f64> {
             }
         }
     }
-    Some(best)
+    Ok(Some(best))
 }
 
 /// ρ = d_min / d_hex, d_hex = sqrt(2A / (√3 N)) the spacing of N points in a
@@ -158,6 +173,17 @@ pub fn uncovered_pixels(
     radius: CoverRadius<'_>,
     domain: Domain,
 ) -> Result<u64> {
+    uncovered_pixels_with(points, radius, domain, &Control::new())
+}
+
+/// [`uncovered_pixels`], polling `ctl`'s cancel flag
+/// ([`super::report_with`]).
+pub(crate) fn uncovered_pixels_with(
+    points: &[[f64; 2]],
+    radius: CoverRadius<'_>,
+    domain: Domain,
+    ctl: &Control<'_>,
+) -> Result<u64> {
     domain.validate()?;
     let (wf, hf) = (domain.width.ceil(), domain.height.ceil());
     if wf * hf > MAX_PIXELS {
@@ -168,6 +194,9 @@ pub fn uncovered_pixels(
     let (w, h) = (wf as i64, hf as i64);
     let mut covered = vec![false; (w * h) as usize];
     for (i, p) in points.iter().enumerate() {
+        if i % super::POLL_EVERY == 0 {
+            super::heed(ctl)?;
+        }
         let r = radius.of(i);
         if r.is_nan() || r <= 0.0 {
             continue;

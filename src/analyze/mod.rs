@@ -17,6 +17,8 @@ pub mod spectrum;
 
 use serde::Serialize;
 
+use crate::sampler::Control;
+
 /// What can go wrong in an analysis.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
@@ -35,6 +37,9 @@ pub enum Error {
     /// Drawing a plot failed.
     #[error("cannot draw plot: {0}")]
     Plot(String),
+    /// The caller cancelled the analysis ([`report_with`]).
+    #[error("cancelled")]
+    Cancelled,
 }
 
 /// The result type of this module.
@@ -122,6 +127,18 @@ pub struct Report {
     pub angle_edges: usize,
 }
 
+/// [`Error::Cancelled`] once `ctl`'s cancel flag is set.
+pub(crate) fn heed(ctl: &Control<'_>) -> Result<()> {
+    if ctl.cancelled() {
+        Err(Error::Cancelled)
+    } else {
+        Ok(())
+    }
+}
+
+/// Points between two polls of the cancel flag in a serial loop.
+pub(crate) const POLL_EVERY: usize = 1 << 14;
+
 /// Computes the report for `points` on `domain`, covering with `radius`.
 ///
 /// ```
@@ -137,6 +154,31 @@ pub fn report(
     domain: Domain,
     radius: Option<CoverRadius<'_>>,
 ) -> Result<Report> {
+    report_with(points, domain, radius, Control::new())
+}
+
+/// [`report`], cancellable: each stage, and the long loops inside the
+/// stages, poll `ctl`'s cancel flag and end with [`Error::Cancelled`] once
+/// it is set (a Delaunay triangulation, which cannot be stopped inside,
+/// runs to its end first). A report that is not cancelled is [`report`]'s.
+///
+/// ```
+/// use std::sync::atomic::AtomicBool;
+/// use pixelpie::analyze::{Domain, Error, report_with};
+/// use pixelpie::sampler::Control;
+/// let d = Domain { width: 4.0, height: 4.0, periodic: false };
+/// let cancel = AtomicBool::new(true);
+/// let r = report_with(&[[1.0, 1.0], [3.0, 3.0]], d, None, Control::new().with_cancel(&cancel));
+/// assert!(matches!(r, Err(Error::Cancelled)));
+/// ```
+pub fn report_with(
+    points: &[[f64; 2]],
+    domain: Domain,
+    radius: Option<CoverRadius<'_>>,
+    ctl: Control<'_>,
+) -> Result<Report> {
+    let check = || heed(&ctl);
+    check()?;
     domain.validate()?;
     if let Some(CoverRadius::PerPoint(r)) = radius
         && r.len() != points.len()
@@ -147,21 +189,25 @@ pub fn report(
             points.len()
         )));
     }
-    let min_distance = metrics::min_distance(points, domain);
+    let min_distance = metrics::min_distance_with(points, domain, &ctl)?;
     let rho = min_distance.map(|d| metrics::rho(d, points.len(), domain.area()));
     let (uncovered_pixels, density) = match radius {
         Some(r) => (
-            Some(metrics::uncovered_pixels(points, r, domain)?),
+            Some(metrics::uncovered_pixels_with(points, r, domain, &ctl)?),
             Some(metrics::density(points.len(), r, domain.area())),
         ),
         None => (None, None),
     };
-    let largest_gap = gaps::largest_gap(points, domain);
+    check()?;
+    let largest_gap = gaps::largest_gap_with(points, domain, &ctl)?;
+    check()?;
     let continuous_maximal = match radius {
-        Some(r) => Some(gaps::uncovered_cells(points, r, domain)? == 0),
+        Some(r) => Some(gaps::uncovered_cells_with(points, r, domain, &ctl)? == 0),
         None => None,
     };
+    check()?;
     let angles = angles::delaunay_angles(points);
+    check()?;
     let angle_std =
         (!angles.is_empty()).then(|| angles::histogram_std(&angles::histogram(&angles, 360)));
     Ok(Report {

@@ -37,7 +37,11 @@
 //! * **Batch size.** By default half the expected count, the sum over pixels of
 //!   0.547 / (π r²/4), RSA's saturation density (paper §5.1).
 //! * **The loop.** [`run::run`] drives a backend's [`Stepper`], one iteration
-//!   at a time; cancellation is checked before every iteration.
+//!   at a time; cancellation is checked before every iteration, and the CPU
+//!   backend's stages poll it inside (throw, grid, cull, cover; exact mode's
+//!   phases), so that a cancel lands within milliseconds of being set. A
+//!   cancelled stage's unfinished work is thrown away: a run that is not
+//!   cancelled gives the same points.
 //!
 //! # Exact mode
 //!
@@ -151,8 +155,9 @@ pub struct Progress {
 pub struct Control<'a> {
     /// Called after every iteration.
     pub progress: Option<&'a (dyn Fn(Progress) + Sync)>,
-    /// Checked before every iteration, the first included; when set the run
-    /// ends with [`Error::Cancelled`].
+    /// Checked before every iteration, the first included, and polled
+    /// inside the CPU backend's stages; when set the run ends with
+    /// [`Error::Cancelled`].
     pub cancel: Option<&'a AtomicBool>,
 }
 
@@ -180,10 +185,18 @@ impl<'a> Control<'a> {
 
     /// [`Error::Cancelled`] when the cancel flag is set.
     pub fn check(&self) -> Result<()> {
-        if self.cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
+        if self.cancelled() {
             return Err(Error::Cancelled);
         }
         Ok(())
+    }
+
+    /// Whether the cancel flag is set: long loops inside a stage poll it
+    /// and stop early (their work is then thrown away, so the results of a
+    /// run that is not cancelled are the same).
+    #[must_use]
+    pub fn cancelled(&self) -> bool {
+        self.cancel.is_some_and(|c| c.load(Ordering::Relaxed))
     }
 
     /// Reports progress.

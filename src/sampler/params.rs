@@ -332,26 +332,29 @@ impl Plan {
         check_size(p.width, p.height)?;
         if p.subpixel_bits > MAX_SUBPIXEL_BITS {
             return Err(Error::InvalidParameter(format!(
-                "sub-pixel bits {} out of range 0..={MAX_SUBPIXEL_BITS}",
-                p.subpixel_bits
+                "{}: sub-pixel bits range from 0 to {MAX_SUBPIXEL_BITS}",
+                crate::given("subpixel_bits", p.subpixel_bits)
             )));
         }
         if p.batch == Some(0) {
-            return Err(Error::InvalidParameter(
-                "the batch must hold at least one dart".into(),
-            ));
+            return Err(Error::InvalidParameter(format!(
+                "{}: the batch must hold at least one dart",
+                crate::given("batch", 0)
+            )));
         }
         if p.max_iterations == 0 {
-            return Err(Error::InvalidParameter(
-                "at least one iteration is needed".into(),
-            ));
+            return Err(Error::InvalidParameter(format!(
+                "{}: at least one iteration is needed",
+                crate::given("max_iterations", 0)
+            )));
         }
         let (map, radius_range, expected_points) = match &p.radius {
             Radius::Uniform(r) => {
                 let r = *r;
                 if !r.is_finite() || r < 1.0 {
                     return Err(Error::InvalidRadius(format!(
-                        "radius {r} px: it must be a number of at least 1 px"
+                        "{} px: it must be a number of at least 1 px",
+                        crate::given("radius", r)
                     )));
                 }
                 let fx = radius_to_fx(r);

@@ -107,9 +107,12 @@ impl RadiusMap {
                 .position_first(|&r| r < MIN_RADIUS_FX)
                 .unwrap_or(0);
             let (x, y) = at(i);
+            // The value as given (−3, 0.4), not as quantized (0).
+            let mut row = vec![0.0f32; w];
+            fill(y, &mut row);
             return Err(Error::InvalidRadius(format!(
                 "radius map holds {} px at pixel ({x}, {y}); radii must be at least 1 px",
-                fixed::fx_to_radius(radii[i]),
+                row[x as usize],
             )));
         }
         Ok(Self {

@@ -15,7 +15,7 @@ use crate::sampler::coverage::{
     BAND_ROWS, BLOCK, Blocks, Disk, fill_span, for_each_bucket, isqrt, set_bits,
 };
 use crate::sampler::fixed::{POS_FRAC_BITS, RADIUS_FRAC_BITS};
-use crate::sampler::{Dart, Plan, Policy};
+use crate::sampler::{Control, Dart, Plan, Policy};
 
 /// The largest distance (1/64 px) at which disk `s` can cover a pixel: its
 /// radius under Prior and Smaller; under Current and Bigger, f(r_s, r) for
@@ -278,12 +278,14 @@ fn radius_row<'p>(plan: &'p Plan, s: &Disk, y: u32) -> &'p [u32] {
 
 /// Marks the slots that the survivors cover, on every class's layer. Each
 /// band of [`BAND_ROWS`] slot rows is one task: the map is the same for any
-/// thread count.
+/// thread count. Each band first polls `ctl`'s cancel: a cancelled map is
+/// left unfinished, and the caller throws the iteration away.
 pub(crate) fn cover(
     plan: &Plan,
     blocks: Option<&Blocks>,
     survivors: &[Dart],
     coverage: &mut [u64],
+    ctl: &Control<'_>,
 ) {
     let bands = plan.slot_rows().div_ceil(BAND_ROWS) as usize;
     // Copies, not indices: a band then reads its disks in sequence.
@@ -324,6 +326,9 @@ pub(crate) fn cover(
     // few disks ahead, so that they arrive while the disks before are
     // covered (half the ring's time was spent waiting on them).
     for_each_bucket(plan, coverage, &buckets, |list, rows, cov| {
+        if ctl.cancelled() {
+            return;
+        }
         for (k, s) in list.iter().enumerate() {
             if let (Some(b), Some(ahead)) = (blocks, list.get(k + PREFETCH_AHEAD)) {
                 b.prefetch(plan, ahead);
@@ -381,7 +386,13 @@ mod tests {
             })
             .collect();
         let mut cov = new_map(w * h);
-        cover(&plan, Blocks::new(&plan).as_ref(), &samples, &mut cov);
+        cover(
+            &plan,
+            Blocks::new(&plan).as_ref(),
+            &samples,
+            &mut cov,
+            &Control::new(),
+        );
         let (px, py) = plan.periods();
         for p in 0..w * h {
             let want = samples.iter().any(|s| {

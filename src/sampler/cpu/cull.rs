@@ -9,7 +9,7 @@ use rayon::prelude::*;
 
 use super::throw::{DartGrid, GridEntry};
 use crate::sampler::fixed::{POS_FRAC_BITS, RADIUS_ONE, axis_delta, inside, pixel_centre};
-use crate::sampler::{Dart, Plan, Policy};
+use crate::sampler::{Control, Dart, Plan, Policy};
 
 /// The grid columns (or rows) that hold pixels within `reach` pixels of pixel
 /// `p` along an axis of `n` pixels, wrapping when periodic. At most 4, since
@@ -136,12 +136,21 @@ impl Culler {
     ///
     /// The test runs over the grid's entries in cell order, so that the
     /// neighbouring cells it reads are close in memory; the flags are then
-    /// put back in dart order, read from the low bits of each key.
-    pub fn survivors(&mut self, plan: &Plan, darts: &[Dart], grid: &DartGrid, out: &mut Vec<Dart>) {
+    /// put back in dart order, read from the low bits of each key. Once
+    /// `ctl`'s cancel is set the test stops (every dart left counts as
+    /// occluded), and the caller throws the iteration away.
+    pub fn survivors(
+        &mut self,
+        plan: &Plan,
+        darts: &[Dart],
+        grid: &DartGrid,
+        out: &mut Vec<Dart>,
+        ctl: &Control<'_>,
+    ) {
         grid.entries
             .par_iter()
             .with_min_len(1024)
-            .map(|e| occluded(plan, grid, e))
+            .map(|e| ctl.cancelled() || occluded(plan, grid, e))
             .collect_into_vec(&mut self.by_entry);
         // index_bits <= KEY_BITS (29), so the shift cannot overflow.
         let index_mask = (1u32 << plan.layout.index_bits) - 1;

@@ -28,17 +28,22 @@ pub(crate) use super::coverage::prefetch;
 /// assert!(set.maximal() && !set.points.is_empty());
 /// ```
 pub fn sample(params: &Params, ctl: Control<'_>) -> Result<SampleSet> {
+    ctl.check()?;
     let plan = params.plan()?;
+    ctl.check()?;
     let stats = Stats {
         backend: crate::sampler::BackendKind::Cpu,
         device: format!("{} threads", rayon::current_num_threads()),
         ..Stats::default()
     };
     if plan.exact {
-        let mut stepper = super::exact::ExactStepper::new(&plan);
+        let mut stepper = super::exact::ExactStepper::new(&plan).with_control(ctl);
         return run::run(&plan, &mut stepper, stats, ctl);
     }
-    let mut stepper = CpuStepper::new(&plan);
+    let mut stepper = CpuStepper::new(&plan).with_control(ctl);
+    // Before the first iteration, after the maps the run needs (a large
+    // domain's take a while).
+    ctl.check()?;
     run::run(&plan, &mut stepper, stats, ctl)
 }
 
@@ -55,6 +60,8 @@ pub struct CpuStepper<'p> {
     /// The radius map's blocks, for coverage under a policy that reads it.
     blocks: Option<coverage::Blocks>,
     peak_bytes: usize,
+    /// Polled between the stages of an iteration ([`Self::with_control`]).
+    ctl: Control<'p>,
 }
 
 impl<'p> CpuStepper<'p> {
@@ -74,7 +81,19 @@ impl<'p> CpuStepper<'p> {
             culler: cull::Culler::default(),
             blocks: coverage::Blocks::new(plan),
             peak_bytes: 0,
+            ctl: Control::new(),
         }
+    }
+
+    /// The run heeds `ctl`'s cancel between the stages of an iteration as
+    /// well as before it (an iteration of a large batch takes a second on
+    /// two cores): a cancelled step ends with
+    /// [`crate::sampler::Error::Cancelled`], and a run not cancelled is the
+    /// same.
+    #[must_use]
+    pub fn with_control(mut self, ctl: Control<'p>) -> Self {
+        self.ctl = ctl;
+        self
     }
 }
 
@@ -103,17 +122,25 @@ impl Stepper for CpuStepper<'_> {
     fn step(&mut self, iteration: u32, darts: u32) -> Result<Step> {
         let plan = self.plan;
         let t0 = Instant::now();
-        throw::throw(plan, iteration, darts, &self.empty, &mut self.darts);
-        self.grid.rebuild(plan, &self.darts);
+        // Each stage polls the cancel inside too: a cancelled stage leaves
+        // its work unfinished, and the step ends here with the error.
+        let ctl = &self.ctl;
+        throw::throw(plan, iteration, darts, &self.empty, &mut self.darts, ctl);
+        ctl.check()?;
+        self.grid.rebuild(plan, &self.darts, ctl);
+        ctl.check()?;
         let t1 = Instant::now();
         self.culler
-            .survivors(plan, &self.darts, &self.grid, &mut self.survivors);
+            .survivors(plan, &self.darts, &self.grid, &mut self.survivors, ctl);
+        ctl.check()?;
         cover::cover(
             plan,
             self.blocks.as_ref(),
             &self.survivors,
             &mut self.coverage,
+            ctl,
         );
+        ctl.check()?;
         let t2 = Instant::now();
         self.empty.compact(&self.coverage);
         let t3 = Instant::now();

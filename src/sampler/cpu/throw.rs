@@ -8,7 +8,7 @@ use rayon::prelude::*;
 
 use super::compact::EmptyList;
 use crate::sampler::fixed::{self, POS_FRAC_BITS, RADIUS_ONE};
-use crate::sampler::{Dart, KeyLayout, Plan};
+use crate::sampler::{Control, Dart, KeyLayout, Plan};
 
 /// Dart `k` of the iteration with key `iteration_key`, as [`throw`] makes
 /// it (in two passes): the tests' reference.
@@ -42,7 +42,17 @@ fn place(plan: &Plan, h: u32, slot: u32) -> Dart {
 /// are at random into arrays larger than the cache: each is asked for
 /// [`THROW_AHEAD`] darts ahead, chunk by chunk, so that many are in flight
 /// at once (measured: the throw in 0.5–0.65× the time it took without).
-pub fn throw(plan: &Plan, iteration: u32, count: u32, empty: &EmptyList, out: &mut Vec<Dart>) {
+///
+/// Each chunk first polls `ctl`'s cancel: a cancelled throw leaves darts
+/// unthrown, and the caller throws the iteration away.
+pub fn throw(
+    plan: &Plan,
+    iteration: u32,
+    count: u32,
+    empty: &EmptyList,
+    out: &mut Vec<Dart>,
+    ctl: &Control<'_>,
+) {
     let ik = fixed::iteration_key(plan.seed_key, iteration);
     let n = empty.len();
     out.clear();
@@ -50,6 +60,9 @@ pub fn throw(plan: &Plan, iteration: u32, count: u32, empty: &EmptyList, out: &m
     out.par_chunks_mut(THROW_CHUNK)
         .enumerate()
         .for_each(|(c, chunk)| {
+            if ctl.cancelled() {
+                return;
+            }
             let first = (c * THROW_CHUNK) as u32;
             // The hash waits in `x`, the list index in `pixel`.
             for (k, d) in (first..).zip(chunk.iter_mut()) {
@@ -74,6 +87,10 @@ pub fn throw(plan: &Plan, iteration: u32, count: u32, empty: &EmptyList, out: &m
             }
         });
 }
+
+/// Darts between two polls of the cancel flag in a serial loop of
+/// [`DartGrid::rebuild`].
+pub const POLL_DARTS: usize = 1 << 16;
 
 /// Darts per task of [`throw`].
 const THROW_CHUNK: usize = 2048;
@@ -201,7 +218,10 @@ impl DartGrid {
     /// by its own task: every task reads the whole list of cell numbers,
     /// keeps its band's darts in dart order, and writes only its band's
     /// counts and entries. The result does not depend on the band count.
-    pub fn rebuild(&mut self, plan: &Plan, darts: &[Dart]) {
+    /// Each task polls `ctl`'s cancel every [`POLL_DARTS`] darts: a
+    /// cancelled grid is left unfinished, and the caller throws the
+    /// iteration away.
+    pub fn rebuild(&mut self, plan: &Plan, darts: &[Dart], ctl: &Control<'_>) {
         let r_max = darts
             .par_iter()
             .map(|d| d.radius)
@@ -246,6 +266,9 @@ impl DartGrid {
         // The darts in winning order, so that each cell's darts land in it
         // in that order: the cull stops at the first that cannot beat the
         // dart it tests.
+        if ctl.cancelled() {
+            return;
+        }
         winning_order(plan.layout, darts, &mut self.order);
         let order = &self.order;
         tasks
@@ -254,9 +277,14 @@ impl DartGrid {
                 let lo = (b * band_cells) as u32;
                 let hi = lo + start.len() as u32;
                 start.fill(0);
-                for &c in cell_of {
-                    if (lo..hi).contains(&c) {
-                        start[(c - lo) as usize] += 1;
+                for part in cell_of.chunks(POLL_DARTS) {
+                    if ctl.cancelled() {
+                        return;
+                    }
+                    for &c in part {
+                        if (lo..hi).contains(&c) {
+                            start[(c - lo) as usize] += 1;
+                        }
                     }
                 }
                 // Exclusive prefix sum, offset by the band's first entry.
@@ -265,7 +293,10 @@ impl DartGrid {
                     (*s, at) = (at, at + *s);
                 }
                 // Place the band's darts, then restore the starts.
-                for &k in order {
+                for (i, &k) in order.iter().enumerate() {
+                    if i % POLL_DARTS == 0 && ctl.cancelled() {
+                        return;
+                    }
                     let (c, d) = (cell_of[k as usize], &darts[k as usize]);
                     if (lo..hi).contains(&c) {
                         let slot = &mut start[(c - lo) as usize];
@@ -358,7 +389,7 @@ mod tests {
                 .unwrap();
             let empty = EmptyList::all(w * h, w);
             let mut darts = Vec::new();
-            throw(&plan, 2, 900, &empty, &mut darts);
+            throw(&plan, 2, 900, &empty, &mut darts, &Control::new());
             let layout = plan.layout;
             let mut want: Vec<u32> = (0..darts.len() as u32).collect();
             want.sort_by_key(|&k| layout.rank(layout.key(k, darts[k as usize].radius)));
@@ -392,7 +423,7 @@ mod tests {
                     empty.compact(&coverage);
                 }
                 let mut out = Vec::new();
-                throw(&plan, 4, 3000, &empty, &mut out);
+                throw(&plan, 4, 3000, &empty, &mut out, &Control::new());
                 let ik = fixed::iteration_key(plan.seed_key, 4);
                 assert_eq!(out.len(), 3000);
                 for (k, d) in out.iter().enumerate() {

@@ -77,7 +77,7 @@ use super::coverage::{BAND_ROWS, fill_span, for_each_band, isqrt, new_map};
 use super::cpu::compact::EmptyList;
 use super::fixed::{self, RADIUS_FRAC_BITS, axis_delta, iteration_key};
 use super::run::{StageTimes, Step, Stepper};
-use super::{Plan, Point, Policy, Result};
+use super::{Control, Plan, Point, Policy, Result};
 use grid::SampleGrid;
 #[cfg(feature = "gpu")]
 use rules::Handover;
@@ -138,6 +138,9 @@ pub struct ExactStepper<'p> {
     batch_start: Vec<u32>,
     batch_entries: Vec<u32>,
     peak_bytes: usize,
+    /// Polled between the phases of an iteration and inside the long ones
+    /// ([`Self::with_control`]).
+    ctl: Control<'p>,
 }
 
 impl<'p> ExactStepper<'p> {
@@ -160,7 +163,19 @@ impl<'p> ExactStepper<'p> {
             batch_start: Vec::new(),
             batch_entries: Vec::new(),
             peak_bytes: 0,
+            ctl: Control::new(),
         }
+    }
+
+    /// The run heeds `ctl`'s cancel inside an iteration as well as before
+    /// it: between its phases and within the long ones (the refinement, the
+    /// finest level's cells, a repair). A cancelled step ends with
+    /// [`crate::sampler::Error::Cancelled`] and its state is thrown away; a
+    /// run not cancelled is the same.
+    #[must_use]
+    pub fn with_control(mut self, ctl: Control<'p>) -> Self {
+        self.ctl = ctl;
+        self
     }
 
     /// The run after iterations done elsewhere: the GPU backend
@@ -281,7 +296,11 @@ impl<'p> ExactStepper<'p> {
     fn accept(&mut self, darts: &[Sample]) -> Vec<Sample> {
         let policy = self.plan.policy;
         let this = &*self;
-        let valid: Vec<bool> = darts.par_iter().map(|d| this.free(d)).collect();
+        // Cancelled: no dart is valid, and the step's result is thrown away.
+        let valid: Vec<bool> = darts
+            .par_iter()
+            .map(|d| !this.ctl.cancelled() && this.free(d))
+            .collect();
         // The valid darts by grid cell (counting sort: dart order per cell).
         let (g, cols) = (self.grid.cell(), self.grid.cols());
         let cell_of = |d: &Sample| {
@@ -311,7 +330,7 @@ impl<'p> ExactStepper<'p> {
         let pairs: Vec<(u32, u32)> = (0..darts.len() as u32)
             .into_par_iter()
             .with_min_len(256)
-            .filter(|&k| valid[k as usize])
+            .filter(|&k| valid[k as usize] && !this.ctl.cancelled())
             .flat_map_iter(|k| {
                 let d = darts[k as usize];
                 let (px, py) = (d.pixel % this.plan.width, d.pixel / this.plan.width);
@@ -404,7 +423,10 @@ impl<'p> ExactStepper<'p> {
         let this = &*self;
         let uniform_f = plan.map.is_none() || !plan.policy.reads_pixel_radius();
         for_each_band(plan, &mut coverage, &buckets, |s, rows, cov| {
-            this.cover_band(s, rows, cov, reach_max(s), uniform_f, one);
+            // Cancelled: the map is left unfinished, the step thrown away.
+            if !this.ctl.cancelled() {
+                this.cover_band(s, rows, cov, reach_max(s), uniform_f, one);
+            }
         });
         self.coverage = coverage;
     }
@@ -487,7 +509,8 @@ impl<'p> ExactStepper<'p> {
                 let r_cell = this.r_at(py * this.plan.width + px);
                 let xs = [x0, x0 + half, x0 + 2 * half];
                 let ys = [y0, y0 + half, y0 + 2 * half];
-                let mut covered = [false; 4];
+                // Cancelled: no child, the step's result is thrown away.
+                let mut covered = [this.ctl.cancelled(); 4];
                 this.grid.any_near(px, py, 0, |_, s| {
                     for (n, cov) in covered.iter_mut().enumerate() {
                         let (a, b) = (n % 2, n / 2);
@@ -515,6 +538,9 @@ impl<'p> ExactStepper<'p> {
         let this = &*self;
         let policy = self.plan.policy;
         let (open, taken): (Vec<Cell>, Vec<Cell>) = self.cells.par_iter().partition(|&&c| {
+            if this.ctl.cancelled() {
+                return false;
+            }
             let k = this.corners(c);
             let (px, py) = this.pixel_xy(k.0, k.1);
             let r_cell = this.r_at(py * this.plan.width + px);
@@ -528,6 +554,9 @@ impl<'p> ExactStepper<'p> {
         let pending = pending
             .into_par_iter()
             .filter(|&c| {
+                if this.ctl.cancelled() {
+                    return false;
+                }
                 let k = this.corners(c);
                 let (px, py) = this.pixel_xy(k.0, k.1);
                 !this.union_covers(k, this.r_at(py * this.plan.width + px))
@@ -636,7 +665,9 @@ impl<'p> ExactStepper<'p> {
         let this = &*self;
         let open: Vec<u32> = reopen
             .into_par_iter()
-            .filter(|&p| !this.cell_covered(Cell { x: p % w, y: p / w }, 0))
+            .filter(|&p| {
+                !this.ctl.cancelled() && !this.cell_covered(Cell { x: p % w, y: p / w }, 0)
+            })
             .collect();
         for word in &mut self.coverage {
             *word = !0;
@@ -676,8 +707,10 @@ impl Stepper for ExactStepper<'_> {
             .into_par_iter()
             .map(|k| self.dart(ik, k))
             .collect();
+        self.ctl.check()?;
         let t1 = Instant::now();
         let accepted = self.accept(&batch);
+        self.ctl.check()?;
         let from = self.samples.len();
         for s in &accepted {
             self.grid.insert(*s);
@@ -693,19 +726,24 @@ impl Stepper for ExactStepper<'_> {
                 .cells
                 .par_iter()
                 .copied()
-                .filter(|&c| !this.cell_covered(c, from as u32))
+                .filter(|&c| !this.ctl.cancelled() && !this.cell_covered(c, from as u32))
                 .collect();
+            self.ctl.check()?;
             self.cells = cells;
         }
+        self.ctl.check()?;
         let t3 = Instant::now();
         if rules::refines(self.level, self.frac, accepted.len(), batch.len()) {
             self.refine();
+            self.ctl.check()?;
         }
         if self.level == self.frac {
             self.settle_finest();
+            self.ctl.check()?;
         }
         let t4 = Instant::now();
         let removed = self.repair_voids();
+        self.ctl.check()?;
         let t5 = Instant::now();
         self.peak_bytes = self.peak_bytes.max(
             self.empty.bytes()
