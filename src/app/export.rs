@@ -235,9 +235,10 @@ impl PixelPieApp {
     /// button that asks for the count that draws the tones true; a row of
     /// fixed height, empty without a warning.
     fn pen_warning_ui(&mut self, ui: &mut egui::Ui) {
-        let warning = self
-            .pen_warning()
-            .map(|c| (c.message(), c.true_count, c.plotted, c.asked));
+        let warning = self.pen_warning().map(|c| {
+            let text = super::words::app_text(&c.message());
+            (text, c.true_count, c.plotted, c.asked)
+        });
         // Mean greys: the plot's, and the picture's as the tones ask.
         fixed_row(ui, true, |ui| {
             let Some((text, count, plotted, asked)) = warning else {
