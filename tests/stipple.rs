@@ -57,7 +57,14 @@ fn parse_svg(text: &str) -> Vec<(String, HashMap<String, String>)> {
 #[test]
 fn svg_parses_as_xml_with_one_circle_per_dot() {
     let points = uniform_set(256, 5.0);
-    let dots = DotSize::Proportional(0.5).dots(&points, |_| 0.0);
+    let dots: Vec<Dot> = points
+        .iter()
+        .map(|p| Dot {
+            x: p.x,
+            y: p.y,
+            radius: DotSize::Proportional(0.5).radius(p.radius, 0.0, 1.0),
+        })
+        .collect();
     let mut out = Vec::new();
     let opts = svg::SvgOptions::with_width_mm((256, 128), 200.0).unwrap();
     svg::write(&mut out, &dots, &opts).unwrap();
@@ -181,9 +188,19 @@ fn ramp_greys(mapping: Mapping, r_min: f32) -> Vec<(f64, f64)> {
         .with_radius_map(Arc::new(RadiusMap::from_pixels(w, h, &radii).unwrap()))
         .with_policy(Policy::Smaller);
     let set = cpu::sample(&params, Default::default()).unwrap();
-    let dots = DotSize::Calibrated(1.0).dots(&set.points, |p| {
-        mapping.dot_radius(map.value_at(p.x, p.y), range)
-    });
+    let dots: Vec<Dot> = set
+        .points
+        .iter()
+        .map(|p| Dot {
+            x: p.x,
+            y: p.y,
+            radius: DotSize::Calibrated(1.0).radius(
+                p.radius,
+                mapping.dot_radius(map.value_at(p.x, p.y), range),
+                1.0,
+            ),
+        })
+        .collect();
     let img = raster::render(&dots, (w, h), 1.0).unwrap();
     (0..w / 32)
         .map(|band| {

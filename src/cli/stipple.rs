@@ -368,7 +368,7 @@ fn draw(
             0.0
         };
         eprintln!(
-            "tsp: pen travel {:.0} px (Hilbert curve) -> {:.0} px (2-opt, {} moves, -{saved:.1}%)",
+            "tsp: pen travel {:.0} px (Hilbert curve) -> {:.0} px (2-opt, Or-opt: {} moves, -{saved:.1}%)",
             tour.start_length, tour.length, tour.moves,
         );
     }

@@ -86,33 +86,16 @@ impl DotSize {
         }
     }
 
-    /// The dots of `points`, in their order; `calibrated` gives a point's
-    /// calibrated dot radius (used by [`DotSize::Calibrated`] only).
-    ///
-    /// ```
-    /// use pixelpie::sampler::Point;
-    /// use pixelpie::stipple::DotSize;
-    /// let p = [Point { x: 1.0, y: 2.0, radius: 4.0, class: 0 }];
-    /// let cal = |_: &Point| 3.0;
-    /// assert_eq!(DotSize::Proportional(0.5).dots(&p, cal)[0].radius, 2.0);
-    /// assert_eq!(DotSize::Calibrated(0.5).dots(&p, cal)[0].radius, 1.5);
-    /// ```
-    #[must_use]
-    pub fn dots(self, points: &[Point], calibrated: impl Fn(&Point) -> f32) -> Vec<Dot> {
-        points
-            .iter()
-            .map(|p| Dot {
-                x: p.x,
-                y: p.y,
-                radius: self.radius(p.radius, calibrated(p), 1.0),
-            })
-            .collect()
-    }
-
     /// The drawn radius of a dot of sample radius `sample` and calibrated
     /// radius `calibrated`, drawn by a pen whose dots spread by `gain` (the
     /// calibrated dot is the one on paper: drawn smaller by the gain). The
     /// one rule every drawing's dots follow.
+    ///
+    /// ```
+    /// use pixelpie::stipple::DotSize;
+    /// assert_eq!(DotSize::Proportional(0.5).radius(4.0, 3.0, 1.0), 2.0);
+    /// assert_eq!(DotSize::Calibrated(0.5).radius(4.0, 3.0, 1.0), 1.5);
+    /// ```
     #[must_use]
     pub fn radius(self, sample: f32, calibrated: f32, gain: f32) -> f32 {
         match self {
