@@ -11,8 +11,9 @@
 //! * Errors map to Python's: bad values to `ValueError`, bad types to
 //!   `TypeError`, files that cannot be read or written to `OSError` with
 //!   its errno and file name (so `FileNotFoundError`, `PermissionError`,
-//!   ...), with the CLI's messages. A panic becomes `RuntimeError`: none
-//!   reaches Python as pyo3's `PanicException`.
+//!   ...), with the library's messages in Python's words: each setting
+//!   named as its keyword argument, `points=0` ([`said`]). A panic becomes
+//!   `RuntimeError`: none reaches Python as pyo3's `PanicException`.
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -881,7 +882,7 @@ impl Drawing {
             .collect()
     }
 
-    /// The warnings of the run, in the CLI's words.
+    /// The warnings of the run, in Python's words ([`said`]).
     fn warnings(&self) -> Vec<String> {
         self.warnings.clone()
     }
