@@ -95,7 +95,7 @@ fn said(text: &str) -> String {
 /// A setting as Python names it: the keyword `pen_mm`, and with its value
 /// `points=0`, `invert=True`, `paper='a4'`: the value as Python writes the
 /// literal (True and False, numbers as they are, text quoted as `repr`
-/// quotes it).
+/// quotes it), but for a placeholder (`choose=K`).
 fn spell_python(key: &str, value: Option<&str>) -> String {
     let Some(v) = value else {
         return key.to_owned();
@@ -104,6 +104,10 @@ fn spell_python(key: &str, value: Option<&str>) -> String {
         "true" => "True".to_owned(),
         "false" => "False".to_owned(),
         "none" | "null" => "None".to_owned(),
+        // A placeholder ("add «choose=K»"), not a value.
+        _ if (1..=2).contains(&v.len()) && v.chars().all(|c| c.is_ascii_uppercase()) => {
+            v.to_owned()
+        }
         _ if v.parse::<f64>().is_ok_and(f64::is_finite)
             && !v.trim().is_empty()
             && v.trim() == v

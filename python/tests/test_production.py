@@ -418,7 +418,7 @@ def test_pens_chosen_from_an_inventory_are_the_clis(tmp_path):
     )
     said = next(l for l in run.stderr.splitlines() if l.startswith("chose 3 of 24 pens"))
     assert all(p.name in said for p in d.pens), said
-    with pytest.raises(ValueError, match="--choose K"):
+    with pytest.raises(ValueError, match="add choose=K to pick"):
         pixelpie.stipple(ASSETS / "rocket.jpg", points=2000, pens=inventory)
 
 
