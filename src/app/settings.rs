@@ -94,7 +94,8 @@ impl Settings {
     #[must_use]
     pub fn refused_count(&self) -> Option<String> {
         match self.job.points? {
-            0 => Some("a drawing needs at least 1 dot".into()),
+            // The job's own rule, in the app's words.
+            0 => self.job.check().err().map(|e| super::words::app_line(&e)),
             n if n > MAX_POINTS as usize => Some(format!(
                 "{n} dots is more than the app draws: at most {MAX_POINTS} (the drawing's \
                  domain is at most 4096×4096 px with dots at least 1 px in radius, which \
