@@ -107,6 +107,25 @@ _NUMBER = re.compile(r"[-+]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)")
 _HUNDREDTHS = "scale(0.01)"
 
 
+#: A setting the library names in a message, still marked («pen_mm»,
+#: «points=0»): an exception's ``_pixelpie_raw``.
+_SETTING = re.compile("\u00ab([^\u00bb=]+)(?:=([^\u00bb]*))?\u00bb")
+
+
+def _flag(m: "re.Match[str]") -> str:
+    flag = "--" + m.group(1).replace("_", "-")
+    value = m.group(2)
+    return flag if value in (None, "true") else f"{flag} {value}"
+
+
+def _flags_said(e: BaseException) -> str:
+    """The library's message of ``e`` with its settings named as this
+    command's options (``--pen-mm -1``, as the command line names them),
+    not as Python's keywords; the message as it is when it names none."""
+    raw = getattr(e, "_pixelpie_raw", None)
+    return _SETTING.sub(_flag, raw) if isinstance(raw, str) else str(e)
+
+
 def _parse_value(text: str) -> Any:
     """A ``--option`` value: JSON (a number, true/false, a list), else the text."""
     try:
@@ -876,9 +895,9 @@ def _make_command() -> Any:
                 redraw=lambda m: stipple_document(image, **{**opts, "margin": m}),
             )
         except (ValueError, TypeError) as e:
-            raise click.UsageError(f"pixelpie: {e}") from None
+            raise click.UsageError(f"pixelpie: {_flags_said(e)}") from None
         except OSError as e:
-            raise click.BadParameter(f"pixelpie: {e}", param_hint="IMAGE") from None
+            raise click.BadParameter(f"pixelpie: {_flags_said(e)}", param_hint="IMAGE") from None
 
         first = 1
         if layer is not None:

@@ -38,8 +38,15 @@ use pixelpie::stipple::plot::Plotter;
 
 /// The Python exception for a library error.
 fn py_err(e: &pixelpie::Error) -> PyErr {
+    let raw = pixelpie::raw_line(e);
+    with_raw(py_err_said(e, &said(&raw)), &raw)
+}
+
+/// The Python exception for a library error whose message, in Python's
+/// words, is `text`.
+fn py_err_said(e: &pixelpie::Error, text: &str) -> PyErr {
     use pixelpie::Error as E;
-    let text = said(&pixelpie::raw_line(e));
+    let text = text.to_owned();
     if let Some(err) = os_error(e, &text) {
         return err;
     }
@@ -83,6 +90,19 @@ fn os_error(e: &pixelpie::Error, text: &str) -> Option<PyErr> {
         Some(path) => PyOSError::new_err((errno, text.to_owned(), path.to_path_buf())),
         None => PyOSError::new_err((errno, text.to_owned())),
     })
+}
+
+/// `err` with the message's settings still marked in its attribute
+/// `_pixelpie_raw`, when it names any: for a front end built on the
+/// package to spell them its own way (the vpype plugin's flags, as the
+/// command line's).
+fn with_raw(err: PyErr, raw: &str) -> PyErr {
+    if raw.contains('\u{ab}') {
+        Python::attach(|py| {
+            let _ = err.value(py).setattr("_pixelpie_raw", raw);
+        });
+    }
+    err
 }
 
 /// A library message in Python's words: each setting it names
@@ -561,12 +581,14 @@ fn from_options<T: serde::de::DeserializeOwned>(
                 None => text,
             };
             // Python's words for a bool's values.
-            let text = said(&text).replace("must be true or false", "must be True or False");
-            Err(if wrong_type {
+            let raw = text;
+            let text = said(&raw).replace("must be true or false", "must be True or False");
+            let err = if wrong_type {
                 PyTypeError::new_err(text)
             } else {
                 bad(text)
-            })
+            };
+            Err(with_raw(err, &raw))
         }
     }
 }

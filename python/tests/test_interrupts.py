@@ -73,9 +73,11 @@ def _late(name: str, delay: float) -> float:
     )
     assert run.returncode == 0, run.stderr
     assert "PanicException" not in run.stderr and "panicked" not in run.stderr
-    said = dict(line.split(" ", 1) for line in run.stdout.splitlines())
-    assert "finished" not in said, f"{name} ended before the interrupt at {delay:.2f} s"
-    return float(said["late"])
+    lines = run.stdout.splitlines()
+    assert "finished" not in lines, f"{name} ended before the interrupt at {delay:.2f} s"
+    late = [line.split(" ", 1)[1] for line in lines if line.startswith("late ")]
+    assert late, f"{name} at {delay:.2f} s said: {run.stdout} {run.stderr}"
+    return float(late[0])
 
 
 @pytest.mark.parametrize("name", list(CALLS))
