@@ -65,19 +65,23 @@ _SCRIPT = textwrap.dedent(
 
 def _late(name: str, delay: float) -> float:
     """Seconds from SIGINT, sent ``delay`` s into call ``name`` in a fresh
-    process, to its KeyboardInterrupt."""
+    process, to its KeyboardInterrupt. A call that ends first (the machine
+    was busier while it was timed) is tried again with the signal sooner."""
     setup, call = CALLS[name]
-    run = subprocess.run(
-        [sys.executable, "-c", _SCRIPT, setup, call, str(delay)],
-        capture_output=True, text=True, timeout=300,
-    )
-    assert run.returncode == 0, run.stderr
-    assert "PanicException" not in run.stderr and "panicked" not in run.stderr
-    lines = run.stdout.splitlines()
-    assert "finished" not in lines, f"{name} ended before the interrupt at {delay:.2f} s"
-    late = [line.split(" ", 1)[1] for line in lines if line.startswith("late ")]
-    assert late, f"{name} at {delay:.2f} s said: {run.stdout} {run.stderr}"
-    return float(late[0])
+    for _ in range(4):
+        run = subprocess.run(
+            [sys.executable, "-c", _SCRIPT, setup, call, str(delay)],
+            capture_output=True, text=True, timeout=300,
+        )
+        assert run.returncode == 0, run.stderr
+        assert "PanicException" not in run.stderr and "panicked" not in run.stderr
+        lines = run.stdout.splitlines()
+        late = [line.split(" ", 1)[1] for line in lines if line.startswith("late ")]
+        if late:
+            return float(late[0])
+        assert "finished" in lines, f"{name} at {delay:.2f} s said: {run.stdout} {run.stderr}"
+        delay /= 2
+    pytest.fail(f"{name} ended before every interrupt, the last at {delay * 2:.2f} s")
 
 
 @pytest.mark.parametrize("name", list(CALLS))
