@@ -456,16 +456,11 @@ fn sample<'py>(
     job.check(&radii).map_err(|e| py_err(&e.into()))?;
     let cap = job.max_iterations;
     let target = job.points;
-    let too_many = too_many(&job, &radii);
     let done = cancellable(py, progress, move |ctl| {
         budget::within(max_memory, || {
             job.run(&radii, |p| {
                 Ok(backend::sample(p, choice, ctl, &mut |_| {})?)
             })
-        })
-        .map_err(|e| match (&e, too_many) {
-            (pixelpie::Error::Sampler(sampler::Error::InvalidRadius(_)), Some(said)) => said,
-            _ => e,
         })
     })?;
     let rows = done.set.points.iter().map(|p| [p.x, p.y, p.radius]);
@@ -479,30 +474,6 @@ fn sample<'py>(
         to_python(py, &stats)?,
         done.warnings(cap).iter().map(|w| said(w)).collect(),
     ))
-}
-
-/// The error to give when a uniform set's count target, more than the
-/// domain holds at 1 px, asks for a radius under the sampler's 1 px: said
-/// in points, as the user asked, not in the radius found for them.
-fn too_many(job: &SampleJob, radii: &Radii) -> Option<pixelpie::Error> {
-    let (Radii::Uniform, Some(n), None) = (radii, job.points, job.radius) else {
-        return None;
-    };
-    let (w, h) = (job.width.unwrap_or(1), job.height.unwrap_or(1));
-    let most = sampler::Params::new(w, h)
-        .with_radius(1.0)
-        .plan()
-        .map_or(0.0, |p| p.expected_points());
-    if (n as f64) <= most {
-        return None;
-    }
-    Some(pixelpie::Error::Sampler(sampler::Error::InvalidParameter(
-        format!(
-            "{}: a {w}x{h} domain holds about {} points at the smallest radius, 1 px",
-            pixelpie::given("points", n),
-            most.round()
-        ),
-    )))
 }
 
 /// The point-set job's options and their defaults, as JSON (the names

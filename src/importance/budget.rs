@@ -123,8 +123,10 @@ fn said(bytes: u64) -> String {
     let gb = bytes as f64 / f64::from(1u32 << 30);
     if gb >= 1.0 {
         format!("{gb:.1} GB").replace(".0 GB", " GB")
+    } else if bytes >= 1 << 20 {
+        format!("{} MB", bytes >> 20)
     } else {
-        format!("{} MB", (bytes >> 20).max(1))
+        format!("{bytes} bytes")
     }
 }
 

@@ -134,10 +134,33 @@ impl ImportanceOptions {
         }
     }
 
-    /// Checks the tone adjustments and the white cutoff, which grey and
-    /// colour pictures share.
+    /// Checks the radii, the tone adjustments and the white cutoff, which
+    /// grey and colour pictures and the point-set job share.
     pub fn check(&self) -> Result<()> {
         self.adjust().validate()?;
+        let bad = |m: String| Err(Error::InvalidParameter(m));
+        for (key, r) in [
+            ("min_radius", self.min_radius),
+            ("max_radius", self.max_radius),
+        ] {
+            if let Some(r) = r
+                && !(r.is_finite() && r > 0.0)
+            {
+                return bad(format!(
+                    "{} must be a positive number of px",
+                    crate::given(key, r)
+                ));
+            }
+        }
+        if let (Some(lo), Some(hi)) = (self.min_radius, self.max_radius)
+            && lo > hi
+        {
+            return bad(format!(
+                "{} is larger than {}",
+                crate::given("min_radius", lo),
+                crate::given("max_radius", hi)
+            ));
+        }
         if let Some(c) = self.white_cutoff
             && !(0.0..=1.0).contains(&c)
         {

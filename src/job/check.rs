@@ -45,29 +45,6 @@ impl Job {
         if let Err(crate::importance::Error::InvalidParameter(m)) = self.importance.check() {
             return bad(m);
         }
-        let imp = &self.importance;
-        for (key, r) in [
-            ("min_radius", imp.min_radius),
-            ("max_radius", imp.max_radius),
-        ] {
-            if let Some(r) = r
-                && !(r.is_finite() && r > 0.0)
-            {
-                return bad(format!(
-                    "{} must be a positive number of px",
-                    crate::given(key, r)
-                ));
-            }
-        }
-        if let (Some(lo), Some(hi)) = (imp.min_radius, imp.max_radius)
-            && lo > hi
-        {
-            return bad(format!(
-                "{} is larger than {}",
-                crate::given("min_radius", lo),
-                crate::given("max_radius", hi)
-            ));
-        }
         let bits = self.sampler.subpixel_bits;
         if bits > crate::sampler::fixed::MAX_SUBPIXEL_BITS {
             return bad(format!(

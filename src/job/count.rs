@@ -66,6 +66,30 @@ pub fn sample_scaled<E: From<Error>>(
     };
     let expected = make(1.0)?.plan()?.expected_points();
     let initial = (expected / n.max(1) as f64).sqrt();
+    let valid = |s: f64| make(s).ok().is_some_and(|p| p.plan().is_ok());
+    if n > 0 && !valid(initial) {
+        // More points than the domain holds: said in points, as asked,
+        // with the most it holds at the smallest scale the sampler takes.
+        let mut hi = initial.max(1.0);
+        while !valid(hi) && hi < 1e9 {
+            hi *= 2.0;
+        }
+        let mut lo = initial;
+        for _ in 0..40 {
+            let mid = 0.5 * (lo + hi);
+            if valid(mid) {
+                hi = mid
+            } else {
+                lo = mid
+            }
+        }
+        return Err(Error::InvalidParameter(format!(
+            "{}: this domain holds about {} points at the sampler's smallest radii (1 px)",
+            crate::given("points", n),
+            (expected / (hi * hi)).floor() as u64
+        ))
+        .into());
+    }
     let (_, set, runs) = fit_scale(n, initial, |s| -> Result<_, E> {
         let set = run(&make(s)?)?;
         Ok((set.points.len(), set))

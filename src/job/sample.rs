@@ -161,6 +161,10 @@ impl SampleJob {
     /// has a domain.
     pub fn check(&self, radii: &Radii) -> Result<(), Error> {
         let bad = |m: String| Err(Error::InvalidParameter(m));
+        if let Err(crate::importance::Error::InvalidParameter(m)) = self.importance_options.check()
+        {
+            return bad(m);
+        }
         if self.radius_map.is_some() && self.importance.is_some() {
             return bad("give «radius_map» or «importance», not both".into());
         }

@@ -7,7 +7,8 @@
 //! turned or not) found through each dot's nearest neighbours (from a grid
 //! of cells, in parallel) with "don't look" bits (Bentley 1992; Johnson &
 //! McGeoch 1997), then perturbations of that local optimum kept only when
-//! they shorten it (iterated local search: [`KICKS_PER`], [`MAX_KICKS`]).
+//! they shorten it (iterated local search: [`KICKS_PER`], [`MAX_KICKS`]),
+//! both up to [`FULL_SEARCH_UP_TO`] dots.
 //! On photos' 2K-6K dots the path is about 1.5% longer than fast_tsp's
 //! (within 0.1% of LKH-3), where 2-opt alone left it 6-7% longer
 //! (docs/benchmarks.md). The path ends nearer the origin (the plotter's
@@ -126,11 +127,14 @@ pub fn plan_until(points: &[[f64; 2]], opts: TspOptions, stop: &mut dyn FnMut() 
     let neighbours = nearest_lists(&sorted, opts.neighbours, stop);
     let along: Vec<usize> = (0..n).collect();
     let mut opt = TwoOpt::new(&sorted, &along, opts.max_reversal.max(1));
+    // Past FULL_SEARCH_UP_TO dots, 2-opt alone: drawings that large are
+    // not plotted, and Or-opt would double the order stage (1M dots: the
+    // TSP drawing 2.39x the unordered one instead of 1.63x, for a tour
+    // 5.7% shorter); the perturbations would cost 0.26 s for 0.3%.
+    opt.use_or_opt = n <= FULL_SEARCH_UP_TO;
     let moves = neighbours.map_or(0, |lists| {
         let moves = opt.run(&lists, stop);
-        // Past KICKS_UP_TO dots a kick gains little beside the drawing's
-        // cost (1M dots: 0.26 s for 0.3%).
-        let kicks = if n <= KICKS_UP_TO {
+        let kicks = if opt.use_or_opt {
             (n / KICKS_PER).min(MAX_KICKS)
         } else {
             0
@@ -316,8 +320,9 @@ const KICK_SPAN: usize = 50;
 /// nearly all of 8's gain at 1M dots (-11.9% against -12.0% of the
 /// curve's length), 5 all of it.
 const OR_NEIGHBOURS: usize = 5;
-/// The most dots a tour is perturbed for.
-const KICKS_UP_TO: usize = 200_000;
+/// The most dots a tour takes Or-opt moves and perturbations for (past
+/// them 2-opt alone, where a drawing stops being relaxed by default).
+pub const FULL_SEARCH_UP_TO: usize = 200_000;
 /// Dots per perturbation: n/5 kicks.
 const KICKS_PER: usize = 5;
 /// The most perturbations of one tour: about 26 µs each on two cores,
@@ -334,6 +339,8 @@ struct TwoOpt<'a> {
     /// The reversals made since a perturbation, to undo it: (first
     /// position, last position, length).
     log: Option<Vec<(u32, u32, u32)>>,
+    /// Whether Or-opt moves are tried beside 2-opt.
+    use_or_opt: bool,
 }
 
 impl<'a> TwoOpt<'a> {
@@ -350,6 +357,7 @@ impl<'a> TwoOpt<'a> {
             pos,
             max_reversal,
             log: None,
+            use_or_opt: true,
         }
     }
 
@@ -477,6 +485,7 @@ impl<'a> TwoOpt<'a> {
             }
             let touched: Option<Vec<u32>> = match touched {
                 Some(cities) => Some(cities.to_vec()),
+                None if !self.use_or_opt => None,
                 None => self.or_opt(a, neighbours).map(|(cities, gain)| {
                     saved += gain;
                     cities
