@@ -148,7 +148,7 @@ impl ImportanceOptions {
             {
                 return bad(format!(
                     "{} must be a positive number of px",
-                    crate::given(key, r)
+                    crate::text::given(key, r)
                 ));
             }
         }
@@ -157,8 +157,8 @@ impl ImportanceOptions {
         {
             return bad(format!(
                 "{} is larger than {}",
-                crate::given("min_radius", lo),
-                crate::given("max_radius", hi)
+                crate::text::given("min_radius", lo),
+                crate::text::given("max_radius", hi)
             ));
         }
         if let Some(c) = self.white_cutoff

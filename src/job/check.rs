@@ -24,7 +24,7 @@ impl Job {
         if let (Some(k), None) = (self.choose, &self.pens) {
             return bad(format!(
                 "{} needs «pens»: the pen box to choose from",
-                crate::given("choose", k)
+                crate::text::given("choose", k)
             ));
         }
         if let Some(set) = &self.pens {
@@ -49,21 +49,21 @@ impl Job {
         if bits > crate::sampler::fixed::MAX_SUBPIXEL_BITS {
             return bad(format!(
                 "{} must be 0 to {}",
-                crate::given("subpixel_bits", bits),
+                crate::text::given("subpixel_bits", bits),
                 crate::sampler::fixed::MAX_SUBPIXEL_BITS
             ));
         }
         if self.points == Some(0) {
             return bad(format!(
                 "{}: ask for at least 1 dot",
-                crate::given("points", 0)
+                crate::text::given("points", 0)
             ));
         }
         for (name, size) in [("width", self.width), ("height", self.height)] {
             if size == Some(0) {
                 return bad(format!(
                     "{} must be at least 1 px (or left out: the picture's aspect sets it)",
-                    crate::given(name, 0)
+                    crate::text::given(name, 0)
                 ));
             }
         }

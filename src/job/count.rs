@@ -77,15 +77,11 @@ pub fn sample_scaled<E: From<Error>>(
         let mut lo = initial;
         for _ in 0..40 {
             let mid = 0.5 * (lo + hi);
-            if valid(mid) {
-                hi = mid
-            } else {
-                lo = mid
-            }
+            if valid(mid) { hi = mid } else { lo = mid }
         }
         return Err(Error::InvalidParameter(format!(
             "{}: this domain holds about {} points at the sampler's smallest radii (1 px)",
-            crate::given("points", n),
+            crate::text::given("points", n),
             (expected / (hi * hi)).floor() as u64
         ))
         .into());

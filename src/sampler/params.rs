@@ -333,19 +333,19 @@ impl Plan {
         if p.subpixel_bits > MAX_SUBPIXEL_BITS {
             return Err(Error::InvalidParameter(format!(
                 "{}: sub-pixel bits range from 0 to {MAX_SUBPIXEL_BITS}",
-                crate::given("subpixel_bits", p.subpixel_bits)
+                crate::text::given("subpixel_bits", p.subpixel_bits)
             )));
         }
         if p.batch == Some(0) {
             return Err(Error::InvalidParameter(format!(
                 "{}: the batch must hold at least one dart",
-                crate::given("batch", 0)
+                crate::text::given("batch", 0)
             )));
         }
         if p.max_iterations == 0 {
             return Err(Error::InvalidParameter(format!(
                 "{}: at least one iteration is needed",
-                crate::given("max_iterations", 0)
+                crate::text::given("max_iterations", 0)
             )));
         }
         let (map, radius_range, expected_points) = match &p.radius {
@@ -354,7 +354,7 @@ impl Plan {
                 if !r.is_finite() || r < 1.0 {
                     return Err(Error::InvalidRadius(format!(
                         "{} px: it must be a number of at least 1 px",
-                        crate::given("radius", r)
+                        crate::text::given("radius", r)
                     )));
                 }
                 let fx = radius_to_fx(r);
