@@ -564,7 +564,7 @@ impl PixelPieApp {
         let mut local = job.spacing == crate::job::Spacing::Local;
         if ui
             .add_enabled(
-                mode == DotMode::Sized && !job.colour(),
+                job.spacing_applies(),
                 egui::Checkbox::new(&mut local, "Size for local spacing"),
             )
             .on_hover_text(
@@ -572,7 +572,9 @@ impl PixelPieApp {
                  where an edge or the policy thins them out, bigger, so the tones hold. Off: \
                  for its sample radius alone, as earlier versions drew.",
             )
-            .on_disabled_hover_text("Sized dots of a grey drawing only (one ink or one pen)")
+            .on_disabled_hover_text(
+                "Sized dots of a grey drawing on a tone mapping only (one ink or one pen)",
+            )
             .changed()
         {
             job.spacing = if local {

@@ -198,8 +198,7 @@ impl Job {
                 _ => (range.min, range.max),
             },
             dot: self.dot_mode(),
-            local_spacing: self.spacing == super::Spacing::Local
-                && matches!(&maps, Maps::Grey(m) if matches!(m.mapping, crate::importance::Mapping::ToneSized(_))),
+            local_spacing: self.spacing == super::Spacing::Local && self.spacing_applies(),
             relax: decided.relax,
             spread: colour && dots <= AUTO_RELAX_DOTS,
             corrected: decided.grid.is_some(),

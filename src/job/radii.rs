@@ -49,6 +49,17 @@ impl Job {
         })
     }
 
+    /// Whether [`super::Spacing`] matters: a grey drawing of sized dots on
+    /// a tone mapping (the plan takes `Spacing::Local` only then,
+    /// [`super::Plan::local_spacing`]; the app greys the control out
+    /// otherwise).
+    #[must_use]
+    pub fn spacing_applies(&self) -> bool {
+        !self.colour()
+            && self.dot_mode() == DotMode::Sized
+            && self.importance.mapping != Some(crate::importance::MappingKind::Linear)
+    }
+
     /// Whether the pen sets the sample radii: it does only when nothing
     /// else does (a count, the minimum radius, the dots' own size).
     pub(crate) fn pen_sized(&self) -> bool {
