@@ -31,6 +31,8 @@ pub fn label(key: &str) -> &str {
         "dot_mm" => "Dot mm",
         "relax" => "Relax (Lloyd steps)",
         "order" => "Order",
+        "style" => "Style",
+        "line_smooth" => "Smooth line",
         "scale" => "PNG ×",
         "width_mm" => "Width mm",
         "paper" => "Paper",

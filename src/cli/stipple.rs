@@ -425,6 +425,14 @@ fn draw(
             drawing.range.max,
             t0.elapsed().as_secs_f64()
         );
+        if let (Some(line), Some(tour)) = (&drawing.plan.line, &drawing.tour) {
+            eprintln!(
+                "one line through {} points, {:.2} px wide, {:.0} px long",
+                drawing.points.len(),
+                line.width_px,
+                tour.length
+            );
+        }
         let stages: Vec<String> = drawing
             .stages
             .iter()

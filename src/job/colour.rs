@@ -235,6 +235,7 @@ impl Job {
                 pen_mm: l.pen_mm,
                 opaque: l.opacity >= 0.5,
                 dots: &l.dots,
+                strokes: &l.strokes,
             })
             .collect();
         svg::write_layers(out, &svg_layers, &opts)?;

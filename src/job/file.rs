@@ -38,6 +38,8 @@ pub const KEYS: &[&str] = &[
     "dot_mm",
     "relax",
     "order",
+    "style",
+    "line_smooth",
     "scale",
     "width_mm",
     "paper",

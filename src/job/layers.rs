@@ -4,7 +4,7 @@
 
 use super::{Job, LayerOrder, Stipple};
 use crate::colour::luminance;
-use crate::stipple::{Dot, svg};
+use crate::stipple::{Dot, Stroke, svg};
 
 /// One layer of the SVG: a pen's dots, or a part of them.
 #[derive(Clone, Debug, PartialEq)]
@@ -22,7 +22,10 @@ pub struct PenLayer {
     pub opacity: f64,
     /// The dots, in drawing order.
     pub dots: Vec<Dot>,
-    /// The pen-down length in mm of these dots' paths (with a pen).
+    /// The strokes, in drawing order (a line drawing's line, or its part).
+    pub strokes: Vec<Stroke>,
+    /// The pen-down length in mm of these dots' and strokes' paths (with a
+    /// pen).
     pub pen_down_mm: f64,
 }
 
@@ -101,9 +104,20 @@ impl Job {
                 )),
                 _ => 0.0,
             };
-            let parts = split(&dots[k], refill_mm, length);
+            let parts: Vec<(Vec<Dot>, Vec<Stroke>, f64)> = match drawing.strokes.get(k) {
+                Some(stroke) if drawing.pens.is_some() || k == 0 => {
+                    split_stroke(stroke, refill_mm.zip(scale).map(|(l, mm)| l / mm))
+                        .into_iter()
+                        .map(|(s, px)| (Vec::new(), vec![s], px * scale.unwrap_or(0.0)))
+                        .collect()
+                }
+                _ => split(&dots[k], refill_mm, length)
+                    .into_iter()
+                    .map(|(d, l)| (d, Vec::new(), l))
+                    .collect(),
+            };
             let n = parts.len();
-            for (i, (part, pen_down_mm)) in parts.into_iter().enumerate() {
+            for (i, (part, strokes, pen_down_mm)) in parts.into_iter().enumerate() {
                 layers.push(PenLayer {
                     name: if n > 1 {
                         format!("{} {name} {}/{n}", layers.len() + 1, i + 1)
@@ -114,6 +128,7 @@ impl Job {
                     pen_mm: *own,
                     opacity: *opacity,
                     dots: part,
+                    strokes,
                     pen_down_mm,
                 });
             }
@@ -149,6 +164,14 @@ impl Job {
             .into_iter()
             .map(|l| {
                 let pen = l.pen_mm.unwrap_or(default_pen);
+                let strokes = l.strokes.iter().map(|s| {
+                    // Curves within a hundredth of a mm, as the file holds
+                    // them.
+                    s.path(0.01 / page.scale)
+                        .into_iter()
+                        .map(|[x, y]| page.mm([x as f32, y as f32]))
+                        .collect()
+                });
                 let paths = l
                     .dots
                     .iter()
@@ -159,6 +182,7 @@ impl Job {
                             .map(|(x, y)| [x, y])
                             .collect()
                     })
+                    .chain(strokes)
                     .collect();
                 LayerPaths {
                     name: l.name,
@@ -210,6 +234,42 @@ fn path_length(points: &[(f64, f64)]) -> f64 {
         .windows(2)
         .map(|w| (w[1].0 - w[0].0).hypot(w[1].1 - w[0].1))
         .sum()
+}
+
+/// `stroke` cut into consecutive parts of at most `limit` px of length
+/// each (a segment longer than the limit alone in its part), each part
+/// starting where the one before ended; one part without a limit. Each
+/// part with its length in px.
+fn split_stroke(stroke: &Stroke, limit: Option<f64>) -> Vec<(Stroke, f64)> {
+    let mut parts: Vec<(Stroke, f64)> = Vec::new();
+    let mut now = Stroke {
+        points: Vec::new(),
+        ..stroke.clone()
+    };
+    let mut length = 0.0;
+    for p in &stroke.points {
+        let step = now.points.last().map_or(0.0, |q: &[f32; 2]| {
+            f64::from(p[0] - q[0]).hypot(f64::from(p[1] - q[1]))
+        });
+        if let (Some(limit), Some(&last)) = (limit, now.points.last())
+            && now.points.len() > 1
+            && length + step > limit
+        {
+            let done = std::mem::replace(
+                &mut now,
+                Stroke {
+                    points: vec![last],
+                    ..stroke.clone()
+                },
+            );
+            parts.push((done, length));
+            length = 0.0;
+        }
+        now.points.push(*p);
+        length += step;
+    }
+    parts.push((now, length));
+    parts
 }
 
 /// `dots` in consecutive parts of at most `limit` of `length` each (a dot

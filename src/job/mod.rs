@@ -25,6 +25,7 @@ pub mod count;
 mod density;
 pub mod file;
 mod layers;
+mod line;
 mod options;
 mod plan;
 mod plot;
@@ -36,7 +37,9 @@ mod sample;
 mod write;
 
 pub use layers::{LayerPaths, PageTransform, PenLayer};
-pub use options::{Correction, DotMode, Format, Ink, LayerOrder, Order, PaperColour, Spacing};
+pub use options::{
+    Correction, DotMode, Format, Ink, LayerOrder, Order, PaperColour, Spacing, Style,
+};
 pub use plan::{PenChoice, Plan, Planned};
 pub use preview::{PenCheck, PlotPen, plotted_dot, short_of};
 pub use radii::default_domain;
@@ -166,6 +169,17 @@ pub struct Job {
     /// Drawing order: along a Hilbert curve, or a short pen-plotter path (2-opt).
     #[cfg_attr(feature = "cli", arg(long, value_enum, default_value_t = Order::None))]
     pub order: Order,
+    /// What the pen draws: dots, or one continuous line per pen through
+    /// the points (TSP art), whose ink reproduces the tones; its count
+    /// follows from the pen and the page as the dots' does.
+    #[cfg_attr(feature = "cli", arg(long, value_enum, default_value_t = Style::Dots))]
+    #[serde(skip_serializing_if = "Style::is_default")]
+    pub style: Style,
+    /// With --style line: the line as smooth curves through its points
+    /// (centripetal Catmull-Rom, written as cubic Béziers).
+    #[cfg_attr(feature = "cli", arg(long))]
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub line_smooth: bool,
     /// PNG pixels per domain pixel (PNG output only).
     #[cfg_attr(feature = "cli", arg(long, default_value_t = 1.0))]
     pub scale: f32,
@@ -270,6 +284,8 @@ impl Default for Job {
             relax: None,
             correction: Correction::On,
             order: Order::None,
+            style: Style::Dots,
+            line_smooth: false,
             scale: 1.0,
             width_mm: None,
             paper: None,
@@ -310,11 +326,12 @@ impl Job {
         key.scale = 1.0;
         key.ink = Ink::BLACK;
         key.size_px = false;
+        key.line_smooth = false;
         // The pen sets the radii only when nothing else does.
         let pen_sized = self.pen_sized();
         key.dot_path = DotPath::Spiral;
         // Dots sized in mm take their radii from the page's size.
-        if !pen_sized && self.dot_mm.is_none() {
+        if !pen_sized && self.dot_mm.is_none() && self.style == Style::Dots {
             key.pen_mm = None;
             key.width_mm = None;
             key.paper = None;

@@ -138,6 +138,27 @@ pub enum Order {
     Tsp,
 }
 
+/// What the pen draws (`--style`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
+#[serde(rename_all = "lowercase")]
+pub enum Style {
+    /// Dots (stipples), one mark per point.
+    #[default]
+    Dots,
+    /// One continuous pen-down line per pen through its points (TSP art),
+    /// its ink calibrated to the picture's tones (`crate::job` `line.rs`).
+    Line,
+}
+
+impl Style {
+    /// Whether this is the default (left out of the job's files).
+    #[must_use]
+    pub fn is_default(&self) -> bool {
+        *self == Self::default()
+    }
+}
+
 /// A drawing's file format, by extension (case-insensitive).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "cli", derive(clap::ValueEnum))]

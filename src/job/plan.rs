@@ -76,6 +76,11 @@ pub struct Plan {
     /// The predicted peak memory of the run in MB (the picture's decoding
     /// or the domain's maps, [`crate::importance::budget`]).
     pub memory_mb: u64,
+    /// What the pen draws.
+    pub style: super::Style,
+    /// A line drawing's width and why its count is what it is.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub line: Option<super::line::LinePlan>,
 }
 
 /// The pens a plan chose from a pen box.
@@ -116,6 +121,8 @@ pub struct Planned {
     pub(crate) maps: Maps,
     /// How the correction's render is sized, when it runs.
     pub(crate) grid: Option<GridSpec>,
+    /// A line drawing's darkness, for its run.
+    pub(crate) line: Option<super::line::LineSetup>,
 }
 
 impl Planned {
@@ -144,6 +151,9 @@ impl Job {
                 predicted_de00: c.predicted,
             });
             return Ok(planned);
+        }
+        if self.style == super::Style::Line {
+            return self.plan_line(picture);
         }
         let (points, radii_scaled) = self.count();
         // The crop and the turn, first: the rest sees the framed picture.
@@ -209,6 +219,8 @@ impl Job {
             chosen: None,
             seconds: 0.0,
             memory_mb: crate::importance::budget::peak_mb(size, domain, colour),
+            style: super::Style::Dots,
+            line: None,
         };
         let plan = Plan {
             seconds: plan.estimate(),
@@ -219,6 +231,7 @@ impl Job {
             job: self.clone(),
             maps,
             grid: decided.grid,
+            line: None,
         })
     }
 
@@ -305,7 +318,7 @@ impl Plan {
     /// Decoding and preparing the picture, by its pixels, comes first: a
     /// 10000² photo takes 2.5 s as a JPEG, 3.9 s as a grey PNG, whatever
     /// the drawing (the 2-core VM).
-    fn estimate(&self) -> f64 {
+    pub(crate) fn estimate(&self) -> f64 {
         let dots = self.dots as f64;
         let picture = f64::from(self.picture.0) * f64::from(self.picture.1);
         let decode = picture / 35e6;
@@ -322,6 +335,12 @@ impl Plan {
             Order::Tsp => dots / 0.5e6,
             Order::None => 0.0,
         };
+        // A line: its tour made twice, its render for the correction.
+        let order = if self.line.is_some() {
+            2.0 * order + domain / 100e6
+        } else {
+            order
+        };
         let write = dots / 3.5e6;
         decode + sample + relax + correct + colour + spread + order + write
     }
@@ -330,7 +349,14 @@ impl Plan {
     /// ≈0.8 s".
     #[must_use]
     pub fn line(&self) -> String {
-        let mut parts = vec![format!("{} dots", grouped(self.dots))];
+        let mut parts = vec![match &self.line {
+            Some(l) => format!(
+                "one line through {} points, {:.2} px wide",
+                grouped(self.dots),
+                l.width_px
+            ),
+            None => format!("{} dots", grouped(self.dots)),
+        }];
         if self.pens > 1 {
             parts.push(format!("{} pens", self.pens));
         }

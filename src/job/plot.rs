@@ -29,7 +29,27 @@ impl Job {
             .iter()
             .map(|layer| {
                 let pen = layer.pen_mm.unwrap_or(pen_mm);
+                // The strokes as the file holds them: curves within a
+                // hundredth of a mm, on the plotter's grid.
+                let strokes: Vec<Vec<(f64, f64)>> = layer
+                    .strokes
+                    .iter()
+                    .map(|s| {
+                        let mut buf: Vec<(f64, f64)> = s
+                            .path(0.01 / scale)
+                            .into_iter()
+                            .map(|[x, y]| (origin.0 + x * scale, origin.1 + y * scale))
+                            .collect();
+                        svg::on_grid(&mut buf);
+                        buf
+                    })
+                    .collect();
+                let n = layer.dots.len();
                 let path = |i: usize, buf: &mut Vec<(f64, f64)>| {
+                    if let Some(s) = i.checked_sub(n).and_then(|k| strokes.get(k)) {
+                        buf.extend_from_slice(s);
+                        return;
+                    }
                     let d = &layer.dots[i];
                     svg::pen_path_into(
                         buf,
@@ -42,8 +62,7 @@ impl Job {
                     // As the file holds it, on the plotter's grid.
                     svg::on_grid(buf);
                 };
-                let n = layer.dots.len();
-                plot_paths_of(&layer.name, n, n, &path, plotter)
+                plot_paths_of(&layer.name, n, n + strokes.len(), &path, plotter)
             })
             .collect())
     }

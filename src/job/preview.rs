@@ -206,10 +206,17 @@ impl Job {
     /// (`--paper-colour`), on its sheet of that paper with `--paper`.
     pub fn preview(&self, drawing: &Stipple) -> crate::Result<image::RgbImage> {
         let layers = self.plotted_layers(drawing)?;
-        let papers = layers
+        let mut papers = layers
             .iter()
             .map(|d| raster::render(d, drawing.domain, 1.0))
             .collect::<Result<Vec<_>, _>>()?;
+        // A line drawing's strokes, each on its pen's paper.
+        for (paper, stroke) in papers.iter_mut().zip(&drawing.strokes) {
+            let line = raster::render_strokes(std::slice::from_ref(stroke), drawing.domain, 1.0)?;
+            for (a, b) in paper.iter_mut().zip(line.as_raw()) {
+                *a = (*a).min(*b);
+            }
+        }
         let picture = raster::composite(&papers, &self.ink_model(drawing)?)?;
         let Some(p) = self.placement(drawing.domain)? else {
             return Ok(picture);
@@ -334,6 +341,9 @@ impl Job {
         if output == Some(Format::Png)
             && let Some(w) = self.png_check(drawing)
         {
+            out.push(w);
+        }
+        if let Some(w) = self.line_count_warning(&drawing.plan) {
             out.push(w);
         }
         if let Some(check) = self.pen_check(drawing)? {

@@ -14,7 +14,7 @@ use super::{Job, Order, count};
 use crate::colour::PenSet;
 use crate::importance::{Classes, ColourMap, Crop, ImportanceMap, Prepared, RadiusRange};
 use crate::sampler::{Params, Point, SampleSet};
-use crate::stipple::{Dot, relax, tsp};
+use crate::stipple::{Dot, Stroke, relax, tsp};
 
 /// A picture to draw, in memory: grey, colour, or both (the app keeps
 /// both). A grey job draws the grey (a colour picture's luminance when
@@ -132,8 +132,11 @@ impl<'a> Picture<'a> {
 #[derive(Clone, Debug)]
 #[non_exhaustive]
 pub struct Stipple {
-    /// The dots, in drawing order.
+    /// The dots, in drawing order (none in a line drawing).
     pub dots: Vec<Dot>,
+    /// The strokes, one per pen in a line drawing (`--style line`), in
+    /// drawing order; none in a drawing of dots.
+    pub strokes: Vec<Stroke>,
     /// The sample points under the dots, in drawing order.
     pub points: Vec<Point>,
     /// Each point's calibrated dot radius (its tone's), in drawing order:
@@ -401,7 +404,7 @@ fn relax_stage(
 /// the relaxation took about 0.9× and the size stage 0.75× the time in
 /// this order. Unordered drawings are plotted along the curve, too: a
 /// shorter path than the sampler's order.
-fn along_curve(points: Vec<Point>) -> Vec<Point> {
+pub(crate) fn along_curve(points: Vec<Point>) -> Vec<Point> {
     use rayon::prelude::*;
     let mut keyed: Vec<(u64, u32)> = points
         .par_iter()
@@ -424,12 +427,17 @@ impl Planned {
         sample: impl FnMut(&Params) -> crate::Result<SampleSet>,
         mut progress: impl FnMut(Step) -> bool,
     ) -> crate::Result<Stipple> {
+        let mut planned = self;
+        if let Some(setup) = planned.line.take() {
+            return super::line::run_line(planned, setup, sample, progress);
+        }
         let Self {
             plan,
             job,
             maps,
             grid,
-        } = self;
+            ..
+        } = planned;
         // Each stage's seconds, read as the next one begins.
         let mut last = std::time::Instant::now();
         let mut lap = || {
@@ -512,6 +520,7 @@ impl Planned {
         let t_size = lap();
         let mut drawing = Stipple {
             dots: Vec::new(),
+            strokes: Vec::new(),
             points,
             calibrated,
             set,

@@ -18,6 +18,9 @@ impl Job {
     /// factor), in drawing order.
     #[must_use]
     pub fn dots(&self, drawing: &Stipple) -> Vec<Dot> {
+        if !drawing.strokes.is_empty() {
+            return Vec::new();
+        }
         let size = self.dot_size();
         drawing
             .points
@@ -131,7 +134,7 @@ impl Job {
     /// with `pen_mm`; one Inkscape layer per pen in colour.
     pub fn svg(&self, drawing: &Stipple) -> crate::Result<Vec<u8>> {
         let mut out = Vec::new();
-        if drawing.pens.is_some() || self.refill_mm.is_some() {
+        if drawing.pens.is_some() || self.refill_mm.is_some() || !drawing.strokes.is_empty() {
             self.write_layered_svg(drawing, &mut out)?;
         } else {
             let dots = self.dots(drawing);
@@ -164,7 +167,15 @@ impl Job {
             Format::Svg => return self.svg(drawing),
             Format::Png => {
                 let dots = self.dots(drawing);
-                let img = crate::stipple::raster::render_exact(&dots, drawing.domain, self.scale)?;
+                let img = if drawing.strokes.is_empty() {
+                    crate::stipple::raster::render_exact(&dots, drawing.domain, self.scale)?
+                } else {
+                    crate::stipple::raster::render_strokes(
+                        &drawing.strokes,
+                        drawing.domain,
+                        f64::from(self.scale),
+                    )?
+                };
                 let (ink, paper) = (self.ink_on_paper(), self.paper_rgb());
                 if ink == Ink::BLACK.0 && paper == PaperColour::WHITE.0 {
                     crate::stipple::raster::write_png(&mut out, &img, dots.len())?;

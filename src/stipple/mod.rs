@@ -6,6 +6,7 @@
 //! in [`crate::sampler`].
 
 pub mod calibrate;
+pub mod line;
 pub mod paper;
 pub mod plot;
 pub mod raster;
@@ -52,6 +53,39 @@ pub struct Dot {
     pub y: f32,
     /// Drawn radius.
     pub radius: f32,
+}
+
+/// A pen stroke: a polyline the pen draws without lifting, in domain
+/// pixels. A drawing is layers of marks, each a [`Dot`] or a stroke
+/// (`--style line` draws one stroke per pen).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Stroke {
+    /// The points the pen's centre passes through, in order.
+    pub points: Vec<[f32; 2]>,
+    /// The line's width in domain pixels (the pen's).
+    pub width: f32,
+    /// Whether it is drawn as smooth curves through its points
+    /// ([`line::catmull_rom`]) rather than straight between them.
+    pub smooth: bool,
+}
+
+impl Stroke {
+    /// The polyline the pen follows, in domain pixels: the points
+    /// themselves, or the curves through them flattened within `tolerance`
+    /// px.
+    #[must_use]
+    pub fn path(&self, tolerance: f64) -> Vec<[f64; 2]> {
+        let pts: Vec<[f64; 2]> = self
+            .points
+            .iter()
+            .map(|p| [f64::from(p[0]), f64::from(p[1])])
+            .collect();
+        if self.smooth && pts.len() > 2 {
+            line::flatten(&line::catmull_rom(&pts), tolerance)
+        } else {
+            pts
+        }
+    }
 }
 
 /// How big each dot is drawn.

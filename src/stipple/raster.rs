@@ -17,7 +17,7 @@ use std::io::Write;
 use image::{GrayImage, Luma, RgbImage};
 use rayon::prelude::*;
 
-use super::{Dot, Error, Result};
+use super::{Dot, Error, Result, Stroke};
 
 /// The largest PNG, in pixels, that [`render`] agrees to draw.
 pub const MAX_PIXELS: u64 = 1 << 28;
@@ -339,6 +339,23 @@ fn in_view(dots: &[Dot], view: (f64, f64), size: (u32, u32)) -> Vec<Dot> {
 /// coverage a measure reads.
 pub fn render_view_union(dots: &[Dot], view: (f64, f64), size: (u32, u32)) -> Result<GrayImage> {
     render_union(&in_view(dots, view, size), size)
+}
+
+/// Draws `strokes` at their widths on a `domain` scaled by `scale`
+/// (output pixels per domain pixel), each as the union of its pen's
+/// passes ([`super::line::render_polyline`]), several strokes as the
+/// darker of theirs at each pixel.
+pub fn render_strokes(strokes: &[Stroke], domain: (u32, u32), scale: f64) -> Result<GrayImage> {
+    let size = scaled_size(domain, scale as f32)?;
+    let mut img = GrayImage::from_pixel(size.0, size.1, Luma([255]));
+    for s in strokes {
+        let path = s.path(0.05);
+        let one = super::line::render_polyline(&path, f64::from(s.width), size, scale);
+        for (a, b) in img.as_mut().iter_mut().zip(one.as_raw()) {
+            *a = (*a).min(*b);
+        }
+    }
+    Ok(img)
 }
 
 /// The PNG text keyword that marks our drawings and holds their dot count.

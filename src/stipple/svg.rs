@@ -16,7 +16,7 @@
 use std::f64::consts::{PI, TAU};
 use std::io::Write;
 
-use super::{Dot, Error, Result};
+use super::{Dot, Error, Result, Stroke};
 
 /// Length in mm of the stroke that draws a dot no wider than the pen: long
 /// enough to survive three decimals, short enough to look like a dot.
@@ -432,6 +432,8 @@ pub struct Layer<'a> {
     pub opaque: bool,
     /// The pen's dots, in drawing order.
     pub dots: &'a [Dot],
+    /// The pen's strokes, drawn after its dots.
+    pub strokes: &'a [Stroke],
 }
 
 /// Writes a colour drawing: one Inkscape layer per pen
@@ -451,12 +453,26 @@ pub fn write_layers(w: &mut dyn Write, layers: &[Layer<'_>], opts: &SvgOptions) 
         w,
         r#"<svg xmlns="http://www.w3.org/2000/svg" xmlns:inkscape="http://www.inkscape.org/namespaces/inkscape" version="1.1" width="{width}" height="{height}" viewBox="0 0 {view}">"#
     )?;
-    writeln!(
-        w,
-        "<!-- {} dots in {} pens, made by pixelpie -->",
-        all.len(),
-        layers.len()
-    )?;
+    let strokes: usize = layers.iter().map(|l| l.strokes.len()).sum();
+    if strokes == 0 {
+        writeln!(
+            w,
+            "<!-- {} dots in {} pens, made by pixelpie -->",
+            all.len(),
+            layers.len()
+        )?;
+    } else {
+        let vertices: usize = layers
+            .iter()
+            .flat_map(|l| l.strokes)
+            .map(|s| s.points.len())
+            .sum();
+        writeln!(
+            w,
+            "<!-- {strokes} lines through {vertices} points in {} pens, made by pixelpie -->",
+            layers.len()
+        )?;
+    }
     write_paper(w, opts, &view)?;
     for (i, l) in layers.iter().enumerate() {
         let ink = super::super::colour::pens::hex_of(l.ink);
@@ -474,6 +490,16 @@ pub fn write_layers(w: &mut dyn Write, layers: &[Layer<'_>], opts: &SvgOptions) 
                     r#"<g inkscape:groupmode="layer" id="layer{id}" inkscape:label="{label}" fill="{ink}" stroke="none"{blend}>"#
                 )?;
                 write_circles(w, l.dots, scale, offset)?;
+                for s in l.strokes {
+                    writeln!(
+                        w,
+                        r#"<g fill="none" stroke="{ink}" stroke-width="{}" stroke-linecap="round" stroke-linejoin="round" transform="scale({})">"#,
+                        num(f64::from(s.width) * scale * PATH_UNITS_PER_MM),
+                        num(1.0 / PATH_UNITS_PER_MM)
+                    )?;
+                    write_stroke(w, s, scale, offset)?;
+                    writeln!(w, "</g>")?;
+                }
             }
             Some((pen, _)) => {
                 let pen = l.pen_mm.unwrap_or(pen);
@@ -483,6 +509,18 @@ pub fn write_layers(w: &mut dyn Write, layers: &[Layer<'_>], opts: &SvgOptions) 
                     num(pen)
                 )?;
                 write_pen_dots(w, l.dots, (scale, offset), pen, opts.dot_path)?;
+                if !l.strokes.is_empty() {
+                    writeln!(
+                        w,
+                        r#"<g transform="scale({})" stroke-width="{}">"#,
+                        num(1.0 / PATH_UNITS_PER_MM),
+                        num(pen * PATH_UNITS_PER_MM)
+                    )?;
+                    for s in l.strokes {
+                        write_stroke(w, s, scale, offset)?;
+                    }
+                    writeln!(w, "</g>")?;
+                }
             }
         }
         writeln!(w, "</g>")?;
@@ -598,6 +636,72 @@ fn write_pen_dots(
     })?;
     writeln!(w, "</g>")?;
     Ok(())
+}
+
+/// One `<path>` for `stroke`, its points scaled by `scale` and moved by
+/// `offset` into the page's units and written in hundredths of them, on
+/// the grid as dots' paths are ([`push_path`]): straight between its
+/// points, or, smooth, as relative cubic Béziers (`c`) through them.
+fn write_stroke(w: &mut dyn Write, stroke: &Stroke, scale: f64, offset: (f64, f64)) -> Result<()> {
+    let page = |p: [f64; 2]| (offset.0 + p[0] * scale, offset.1 + p[1] * scale);
+    let pts: Vec<[f64; 2]> = stroke
+        .points
+        .iter()
+        .map(|p| [f64::from(p[0]), f64::from(p[1])])
+        .collect();
+    if pts.iter().any(|p| !(p[0].is_finite() && p[1].is_finite())) {
+        return Err(Error::InvalidParameter(
+            "a stroke's point is not finite".into(),
+        ));
+    }
+    let mut buf = Vec::with_capacity(pts.len() * 12 + 32);
+    buf.extend_from_slice(br#"<path d=""#);
+    if stroke.smooth && pts.len() > 2 {
+        let curves: Vec<[(f64, f64); 4]> = super::line::catmull_rom(&pts)
+            .into_iter()
+            .map(|c| c.map(page))
+            .collect();
+        push_curves(&mut buf, &curves);
+    } else {
+        let on_page: Vec<(f64, f64)> = pts.into_iter().map(page).collect();
+        push_path(&mut buf, &on_page);
+        if on_page.len() == 1 {
+            // One point: a touch, as a dot no wider than the pen.
+            buf.extend_from_slice(b"l1 0");
+        }
+    }
+    buf.extend_from_slice(b"\"/>\n");
+    w.write_all(&buf)?;
+    Ok(())
+}
+
+/// Appends cubic Béziers joined end to start as a path's `d` in
+/// hundredths of the page's units: `M` the first point, then relative
+/// `c` segments on the grid (each point rounded, the steps the rounded
+/// differences, so no error adds up).
+fn push_curves(buf: &mut Vec<u8>, curves: &[[(f64, f64); 4]]) {
+    let unit = |p: (f64, f64)| {
+        (
+            (p.0 * PATH_UNITS_PER_MM).round() as i64,
+            (p.1 * PATH_UNITS_PER_MM).round() as i64,
+        )
+    };
+    let Some(first) = curves.first() else {
+        return;
+    };
+    let mut at = unit(first[0]);
+    buf.push(b'M');
+    push_int(buf, at.0);
+    push_int(buf, at.1);
+    buf.push(b'c');
+    for c in curves {
+        let (c1, c2, end) = (unit(c[1]), unit(c[2]), unit(c[3]));
+        for p in [c1, c2, end] {
+            push_int(buf, p.0 - at.0);
+            push_int(buf, p.1 - at.1);
+        }
+        at = end;
+    }
 }
 
 /// Appends `mm` in hundredths of a mm to a tenth (0.001 mm): `12345.6`
