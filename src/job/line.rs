@@ -38,10 +38,19 @@ pub(crate) const MIN_DARKNESS: f32 = 1.0 / 24.0;
 pub(crate) const EDGE: f64 = 1.0;
 /// Points per pixel at darkness 1 and a line 1 px wide: ρ = this × D²/w².
 pub(crate) const DENSITY: f64 = 0.866_025_403_784_438_6 / (EDGE * EDGE);
-/// The fewest domain pixels across the line.
-const LINE_PX: f64 = 3.0;
+/// Domain pixels across the line, where the domain is not given.
+const LINE_PX: f64 = 4.0;
+/// The shortest longer side of a line's domain, px.
+const MIN_LINE_SIDE: f64 = 256.0;
 /// Lloyd steps of the line's points before the tour.
-pub(crate) const LINE_RELAX: u32 = 4;
+pub(crate) const LINE_RELAX: u32 = 2;
+/// The most points a line is corrected for: the correction's render,
+/// Lloyd steps and second tour lifted the blurred PSNR by 0.3 dB at 4K
+/// and 10K points of the bundled photo, and lowered it by 0.3 dB at 100K
+/// (where the blur is finer than the correction's), at 2.5× the time.
+pub(crate) const LINE_CORRECTED_UP_TO: usize = 30_000;
+/// Render pixels across the line in the correction.
+const CORRECT_PX: f64 = 2.0;
 /// Lloyd steps after the correction's render.
 const CORRECT_RELAX: u32 = 2;
 /// How far a count may be from the one the pen's ink needs before a
@@ -177,16 +186,17 @@ impl Job {
             })
         };
         let mut width_px = width_for(domain)?;
-        if width_px < LINE_PX && self.width.is_none() && self.height.is_none() {
+        // The domain as fine as the line needs, no finer: [`LINE_PX`]
+        // across the line (a line's points lie about a line's width apart
+        // at their closest, where dots' lie ten pixels apart).
+        if self.width.is_none() && self.height.is_none() {
+            let (w, h) = (f64::from(domain.0), f64::from(domain.1));
             let s = (LINE_PX / width_px)
-                .min(
-                    (super::MAX_DOMAIN_PIXELS as f64 / (f64::from(domain.0) * f64::from(domain.1)))
-                        .sqrt(),
-                )
-                .max(1.0);
+                .min((super::MAX_DOMAIN_PIXELS as f64 / (w * h)).sqrt())
+                .max(MIN_LINE_SIDE / w.max(h));
             domain = (
-                ((f64::from(domain.0) * s).round() as u32).max(1),
-                ((f64::from(domain.1) * s).round() as u32).max(1),
+                ((w * s).round() as u32).max(1),
+                ((h * s).round() as u32).max(1),
             );
             width_px = width_for(domain)?;
         }
@@ -215,7 +225,7 @@ impl Job {
             why,
         };
         let relax = self.relax.unwrap_or(LINE_RELAX);
-        let corrected = self.correction == super::Correction::On;
+        let corrected = self.correction == super::Correction::On && points <= LINE_CORRECTED_UP_TO;
         let plan = Plan {
             picture: size,
             domain,
@@ -230,8 +240,13 @@ impl Job {
             corrected,
             why: if corrected {
                 "the line is corrected by rendering it".into()
-            } else {
+            } else if self.correction == super::Correction::Off {
                 "the correction is off".into()
+            } else {
+                format!(
+                    "over {} points: the calibration holds the tones",
+                    grouped(LINE_CORRECTED_UP_TO)
+                )
             },
             render: corrected.then_some(domain),
             order: super::Order::Tsp,
@@ -458,31 +473,76 @@ fn correct(setup: &LineSetup, domain: (u32, u32), ordered: &[Point], width: f64)
         .iter()
         .map(|p| [f64::from(p.x), f64::from(p.y)])
         .collect();
-    let img = line::render_polyline(&xy, width, domain, 1.0);
+    // Rendered about two pixels across the line: fine enough for the
+    // blurred tone, a quarter of the domain's pixels at most.
+    let scale = (CORRECT_PX / width).clamp(0.25, 1.0);
+    let grid = (
+        ((f64::from(domain.0) * scale).round() as u32).max(1),
+        ((f64::from(domain.1) * scale).round() as u32).max(1),
+    );
+    let img = line::render_polyline(&xy, width, grid, scale);
     let ink: Vec<f32> = img
         .as_raw()
         .par_iter()
         .map(|&v| 1.0 - f32::from(v) / 255.0)
         .collect();
     // Blurred over a few spacings: the tone a reader sees.
-    let spacing = (f64::from(domain.0) * f64::from(domain.1) / ordered.len() as f64).sqrt();
+    let spacing = (f64::from(grid.0) * f64::from(grid.1) / ordered.len() as f64).sqrt();
     let radius = (1.5 * spacing).round().max(1.0) as usize;
-    let want = box_blur(&setup.darkness, domain, radius);
-    let got = box_blur(&ink, domain, radius);
-    setup
-        .spread
+    let want = box_blur(&mean_on(&setup.darkness, domain, grid), grid, radius);
+    let got = box_blur(&ink, grid, radius);
+    let factor: Vec<f32> = want
         .par_iter()
-        .zip(want.par_iter().zip(&got))
-        .map(|(&x, (&w, &g))| {
+        .zip(&got)
+        .map(|(&w, &g)| {
             if w <= 1e-3 {
-                return x;
-            }
-            let f = if g > 1e-3 {
+                1.0
+            } else if g > 1e-3 {
                 (w / g).clamp(0.5, 2.0)
             } else {
                 2.0
-            };
-            (x * f).clamp(0.0, MAX_SPREAD)
+            }
+        })
+        .collect();
+    let (dw, gw) = (domain.0 as usize, grid.0 as usize);
+    setup
+        .spread
+        .par_chunks(dw)
+        .enumerate()
+        .flat_map_iter(|(y, row)| {
+            let gy = (y * grid.1 as usize / domain.1 as usize).min(grid.1 as usize - 1);
+            let factor = &factor[gy * gw..(gy + 1) * gw];
+            row.iter().enumerate().map(move |(x, &v)| {
+                let f = factor[(x * gw / dw).min(gw - 1)];
+                (v * f).clamp(0.0, MAX_SPREAD)
+            })
+        })
+        .collect()
+}
+
+/// `values` on `domain` averaged onto the coarser `grid` (each domain
+/// pixel to the grid pixel that holds it).
+fn mean_on(values: &[f32], domain: (u32, u32), grid: (u32, u32)) -> Vec<f32> {
+    let (dw, dh) = (domain.0 as usize, domain.1 as usize);
+    let (gw, gh) = (grid.0 as usize, grid.1 as usize);
+    let mut sum = vec![0.0f64; gw * gh];
+    let mut count = vec![0u32; gw * gh];
+    for y in 0..dh {
+        let gy = (y * gh / dh).min(gh - 1);
+        for x in 0..dw {
+            let g = gy * gw + (x * gw / dw).min(gw - 1);
+            sum[g] += f64::from(values[y * dw + x]);
+            count[g] += 1;
+        }
+    }
+    sum.iter()
+        .zip(&count)
+        .map(|(&s, &c)| {
+            if c > 0 {
+                (s / f64::from(c)) as f32
+            } else {
+                0.0
+            }
         })
         .collect()
 }
