@@ -5,7 +5,7 @@
 //! calibrated to its own ink, and the outputs: one Inkscape layer per pen,
 //! the composite PNG, a `pen` column in CSV and JSON.
 
-use super::{Format, Job, Stage, Stipple};
+use super::{Job, Stage, Stipple};
 use crate::stipple::{Dot, svg};
 use rayon::prelude::*;
 
@@ -241,40 +241,6 @@ impl Job {
         svg::write_layers(out, &svg_layers, &opts)?;
         Ok(())
     }
-
-    /// A colour drawing (its `pens` set) in `format`: one layer per pen in
-    /// SVG, the composite in PNG, a pen column in CSV and JSON.
-    pub(crate) fn encode_colour(
-        &self,
-        drawing: &Stipple,
-        format: Format,
-    ) -> crate::Result<Vec<u8>> {
-        let Some(pens) = &drawing.pens else {
-            return Err(
-                crate::stipple::Error::InvalidParameter("not a colour drawing".into()).into(),
-            );
-        };
-        let layers = self.pen_dots(drawing);
-        let dots = layers.iter().map(Vec::len).sum::<usize>();
-        let mut out = Vec::new();
-        match format {
-            Format::Svg => return self.svg(drawing),
-            Format::Png => {
-                let papers = layers
-                    .iter()
-                    .map(|d| crate::stipple::raster::render_exact(d, drawing.domain, self.scale))
-                    .collect::<Result<Vec<_>, _>>()?;
-                let img = crate::stipple::raster::composite(&papers, &self.model_of(pens))?;
-                crate::stipple::raster::write_png_rgb(&mut out, &img, dots)?;
-            }
-            Format::Csv | Format::Json => {
-                let set = drawing.set.clone().with_points(drawing.points.clone());
-                crate::io::points_to(&mut out, format.points(), &set, self, Some(pens))
-                    .map_err(|e| crate::io::Error::Invalid(e.to_string()))?;
-            }
-        }
-        Ok(out)
-    }
 }
 
 impl Job {
@@ -291,11 +257,10 @@ impl Job {
             ])?,
         };
         let view = (f64::from(drawing.domain.0), f64::from(drawing.domain.1));
-        let layers = self
-            .pen_dots(drawing)
-            .iter()
-            .map(|layer| crate::stipple::raster::render_view_union(layer, view, size))
-            .collect::<Result<Vec<_>, _>>()?;
+        let scale = f64::from(size.0) / view.0;
+        let layers = Self::pen_papers(drawing, &self.pen_dots(drawing), scale, |layer| {
+            crate::stipple::raster::render_view_union(layer, view, size)
+        })?;
         let linear = self.importance.tones == Tones::Linear;
         Ok(crate::stipple::raster::composite(
             &layers,
@@ -318,5 +283,34 @@ impl Job {
             }
         }
         layers
+    }
+
+    /// Each pen's paper of `drawing` (one for a grey drawing), in the
+    /// pens' order: its dots of `layers` (one list per pen) drawn by
+    /// `render`, its strokes over them at `scale` output pixels per domain
+    /// pixel. What every picture of a drawing is made of: the PNG, the
+    /// preview, the measures.
+    pub(crate) fn pen_papers(
+        drawing: &Stipple,
+        layers: &[Vec<Dot>],
+        scale: f64,
+        render: impl Fn(&[Dot]) -> Result<image::GrayImage, crate::stipple::Error>,
+    ) -> crate::Result<Vec<image::GrayImage>> {
+        let mut papers = Vec::new();
+        for (k, dots) in layers.iter().enumerate() {
+            let mut paper = render(dots)?;
+            if let Some(stroke) = drawing.strokes.get(k) {
+                let line = crate::stipple::raster::render_strokes(
+                    std::slice::from_ref(stroke),
+                    drawing.domain,
+                    scale,
+                )?;
+                for (a, b) in paper.iter_mut().zip(line.as_raw()) {
+                    *a = (*a).min(*b);
+                }
+            }
+            papers.push(paper);
+        }
+        Ok(papers)
     }
 }

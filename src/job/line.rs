@@ -224,7 +224,13 @@ impl Job {
             needed,
             why,
         };
-        let relax = self.relax.unwrap_or(LINE_RELAX);
+        // Relaxed as dots are, up to the same count: past it a Lloyd step
+        // costs more than the sampling (2 s at 1M points).
+        let relax = self.relax.unwrap_or(if points <= super::AUTO_RELAX_DOTS {
+            LINE_RELAX
+        } else {
+            0
+        });
         let corrected = self.correction == super::Correction::On && points <= LINE_CORRECTED_UP_TO;
         let plan = Plan {
             picture: size,

@@ -206,17 +206,9 @@ impl Job {
     /// (`--paper-colour`), on its sheet of that paper with `--paper`.
     pub fn preview(&self, drawing: &Stipple) -> crate::Result<image::RgbImage> {
         let layers = self.plotted_layers(drawing)?;
-        let mut papers = layers
-            .iter()
-            .map(|d| raster::render(d, drawing.domain, 1.0))
-            .collect::<Result<Vec<_>, _>>()?;
-        // A line drawing's strokes, each on its pen's paper.
-        for (paper, stroke) in papers.iter_mut().zip(&drawing.strokes) {
-            let line = raster::render_strokes(std::slice::from_ref(stroke), drawing.domain, 1.0)?;
-            for (a, b) in paper.iter_mut().zip(line.as_raw()) {
-                *a = (*a).min(*b);
-            }
-        }
+        let papers = Self::pen_papers(drawing, &layers, 1.0, |d| {
+            raster::render(d, drawing.domain, 1.0)
+        })?;
         let picture = raster::composite(&papers, &self.ink_model(drawing)?)?;
         let Some(p) = self.placement(drawing.domain)? else {
             return Ok(picture);

@@ -156,36 +156,46 @@ impl Job {
         Ok(())
     }
 
-    /// The bytes [`Self::write`] writes for `drawing` in `format`.
+    /// The bytes [`Self::write`] writes for `drawing` in `format`: the one
+    /// encoder of grey and colour drawings, of dots and lines. SVG: one
+    /// layer per pen (circles or pen paths, strokes); PNG: each pen's
+    /// paper, one grey ink on its paper or the pens' composite; CSV and
+    /// JSON: the sample points, with a pen column in colour.
     pub fn encode(&self, drawing: &Stipple, format: Format) -> crate::Result<Vec<u8>> {
         self.check()?;
-        if drawing.pens.is_some() {
-            return self.encode_colour(drawing, format);
-        }
         let mut out = Vec::new();
         match format {
             Format::Svg => return self.svg(drawing),
             Format::Png => {
-                let dots = self.dots(drawing);
-                let img = if drawing.strokes.is_empty() {
-                    crate::stipple::raster::render_exact(&dots, drawing.domain, self.scale)?
-                } else {
-                    crate::stipple::raster::render_strokes(
-                        &drawing.strokes,
-                        drawing.domain,
-                        f64::from(self.scale),
-                    )?
-                };
-                let (ink, paper) = (self.ink_on_paper(), self.paper_rgb());
-                if ink == Ink::BLACK.0 && paper == PaperColour::WHITE.0 {
-                    crate::stipple::raster::write_png(&mut out, &img, dots.len())?;
-                } else {
-                    crate::stipple::raster::write_png_on(&mut out, &img, ink, paper, dots.len())?;
+                let layers = self.pen_dots(drawing);
+                let papers = Self::pen_papers(drawing, &layers, f64::from(self.scale), |dots| {
+                    crate::stipple::raster::render_exact(dots, drawing.domain, self.scale)
+                })?;
+                let dots = drawing.points.len();
+                match (&drawing.pens, papers.as_slice()) {
+                    (Some(pens), _) => {
+                        let img = crate::stipple::raster::composite(&papers, &self.model_of(pens))?;
+                        crate::stipple::raster::write_png_rgb(&mut out, &img, dots)?;
+                    }
+                    (None, [img]) => {
+                        let (ink, paper) = (self.ink_on_paper(), self.paper_rgb());
+                        if ink == Ink::BLACK.0 && paper == PaperColour::WHITE.0 {
+                            crate::stipple::raster::write_png(&mut out, img, dots)?;
+                        } else {
+                            crate::stipple::raster::write_png_on(&mut out, img, ink, paper, dots)?;
+                        }
+                    }
+                    (None, _) => {
+                        return Err(crate::stipple::Error::InvalidParameter(
+                            "a grey drawing has one pen".into(),
+                        )
+                        .into());
+                    }
                 }
             }
             Format::Csv | Format::Json => {
                 let set = drawing.set.clone().with_points(drawing.points.clone());
-                crate::io::points_to(&mut out, format.points(), &set, self, None)
+                crate::io::points_to(&mut out, format.points(), &set, self, drawing.pens.as_ref())
                     .map_err(|e| crate::io::Error::Invalid(e.to_string()))?;
             }
         }
