@@ -3,7 +3,6 @@
 //! mean grey the picture's, its count following the pen, cut into parts by
 //! `--refill-mm`, plotted with one pen drop, smooth with `--line-smooth`.
 
-use std::path::Path;
 use std::process::Command;
 
 use pixelpie::stipple::line::crossings;
@@ -291,23 +290,33 @@ fn a_smooth_line_is_curves_through_its_points() {
     assert!(err.contains("--style line"), "{err}");
 }
 
-/// Colour lines are not drawn yet: refused in one line, naming what to do.
+/// `--pens cmyk --style line` draws one line per pen, each on its pen's
+/// layer, each one subpath without self-crossings, with the pens' widths.
 #[test]
-fn a_line_in_several_pens_is_refused_in_one_line() {
+fn several_pens_draw_one_line_each() {
     let dir = tempfile::tempdir().unwrap();
-    let o = dir.path().join("x.svg");
-    let r = pixelpie(&[
-        "stipple",
+    let out = dir.path().join("cmyk.svg");
+    stipple(&[
         &asset("rocket.jpg"),
         "--style",
         "line",
         "--pens",
         "cmyk",
+        "--width-mm",
+        "80",
+        "--pen-mm",
+        "0.6",
         "-o",
-        o.to_str().unwrap(),
+        out.to_str().unwrap(),
     ]);
-    assert!(!r.status.success());
-    let err = String::from_utf8_lossy(&r.stderr);
-    assert_eq!(err.trim().lines().count(), 1, "{err}");
-    assert!(!Path::new(&o).exists());
+    let svg = std::fs::read_to_string(&out).unwrap();
+    let d = paths(&svg);
+    assert_eq!(d.len(), 4, "one line per pen");
+    assert_eq!(svg.matches("inkscape:groupmode=\"layer\"").count(), 4);
+    for (i, d) in d.iter().enumerate() {
+        assert_eq!(d.matches(['M', 'm']).count(), 1, "pen {i}: one subpath");
+        let line = polyline(d).unwrap();
+        let xy: Vec<[f64; 2]> = line.iter().map(|&(x, y)| [x, y]).collect();
+        assert!(crossings(&xy).is_empty(), "pen {i} crosses itself");
+    }
 }

@@ -104,12 +104,6 @@ impl Job {
         if self.line_smooth && self.style != super::Style::Line {
             return bad("«line_smooth» needs «style=line»: it is how the line is drawn".into());
         }
-        if self.style == super::Style::Line && self.colour() {
-            return bad(
-                "«style=line» draws one pen in this version: give one pen or «ink», or draw dots"
-                    .into(),
-            );
-        }
         if self.dot_path != DotPath::Spiral && self.pen_mm.is_none() {
             return bad("«dot_path» needs «pen_mm»: it is how the pen draws each dot".into());
         }

@@ -61,23 +61,36 @@ const COUNT_TOLERANCE: f64 = 0.15;
 #[derive(Clone, Debug, PartialEq, Serialize)]
 #[non_exhaustive]
 pub struct LinePlan {
-    /// The line's width in domain px.
+    /// The (thinnest) line's width in domain px.
     pub width_px: f64,
-    /// The line's width in mm, with a page.
+    /// The (thinnest) line's width in mm, with a page.
     pub width_mm: Option<f64>,
     /// The count the tones need with this line width.
     pub needed: usize,
     /// Why the count is what it is.
     pub why: String,
+    /// Each pen's points (one for a grey drawing).
+    pub pens: Vec<usize>,
 }
 
-/// The darkness of each domain pixel, and the line's map and set-up, made
-/// by the plan for its run.
+/// What a line drawing's run needs from its plan: each pen's line.
 pub(crate) struct LineSetup {
-    /// 1 − display grey per domain pixel, row by row.
-    pub(crate) darkness: Vec<f32>,
-    /// The darkness the points are spread for ([`spread_for`]).
-    pub(crate) spread: Vec<f32>,
+    /// One per pen, in the pens' order (one for a grey drawing).
+    pub(crate) pens: Vec<PenLine>,
+}
+
+/// One pen's line in the plan.
+pub(crate) struct PenLine {
+    /// The darkness the pen lays, per domain pixel, row by row.
+    darkness: Vec<f32>,
+    /// The darkness its points are spread for ([`spread_for`]).
+    spread: Vec<f32>,
+    /// The points its width needs for its ink.
+    needed: f64,
+    /// The points it gets: its share of the count.
+    points: usize,
+    /// Its line's width in domain px.
+    width_px: f64,
 }
 
 /// [`spread_for`] of every pixel.
@@ -150,24 +163,39 @@ fn ink_squared(darkness: &[f32]) -> f64 {
 }
 
 impl Job {
-    /// The plan of a line drawing ([`Job::plan`] with `style = line`).
+    /// The plan of a line drawing ([`Job::plan`] with `style = line`): one
+    /// line per pen, each pen's points spread for its own darkness (the
+    /// grey picture's, or its share of the colour separation's).
     pub(crate) fn plan_line(&self, picture: Picture<'_>) -> crate::Result<Planned> {
         let framed = self.frame(picture)?;
         let picture = framed.as_ref().map_or(picture, super::run::Framed::picture);
-        let map = picture.grey();
-        let size = (map.width(), map.height());
+        let size = match picture {
+            Picture::Grey(m) | Picture::Both(m, _) => (m.width(), m.height()),
+            Picture::Colour(c) => (c.width(), c.height()),
+        };
         // The count first, on the picture at a small size: it sets the
         // domain. With a pen it follows from the ink (N = ρ over the
         // area); without, the count sets the line's width.
         let probe = default_domain(size.0, size.1, DEFAULT_POINTS);
-        let spread = spread_of(&self.darkness(&map, probe)?);
-        let mean_sq = ink_squared(&spread) / spread.len().max(1) as f64;
-        let pen_mm = self.pen_width();
+        let mean_sq: Vec<f64> = self
+            .pen_darkness(picture, probe)?
+            .iter()
+            .map(|d| ink_squared(&spread_of(d)) / d.len().max(1) as f64)
+            .collect();
+        let pens_mm = self.line_pens_mm(mean_sq.len());
         let area_mm = self.page_area_mm(probe)?;
-        let needed_for_pen = match (pen_mm, area_mm) {
-            (Some(pen), Some(area)) => {
-                Some((DENSITY * mean_sq * area / (pen * pen)).round() as usize)
-            }
+        let needed_for_pen = match (
+            pens_mm.iter().copied().collect::<Option<Vec<f64>>>(),
+            area_mm,
+        ) {
+            (Some(pens), Some(area)) => Some(
+                mean_sq
+                    .iter()
+                    .zip(&pens)
+                    .map(|(sq, pen)| DENSITY * sq * area / (pen * pen))
+                    .sum::<f64>()
+                    .round() as usize,
+            ),
             _ => None,
         };
         let points = self
@@ -176,35 +204,58 @@ impl Job {
             .unwrap_or(DEFAULT_POINTS)
             .max(1);
         let mut domain = self.domain_for(size, Some(points));
-        // The line's width in domain px: the pen's, or the one the count's
-        // ink needs.
-        let width_for = |domain: (u32, u32)| -> crate::Result<f64> {
+        // Each line's width in domain px: its pen's, or the one the
+        // count's ink needs (the same for every pen).
+        let all_sq: f64 = mean_sq.iter().sum();
+        let widths_for = |domain: (u32, u32)| -> crate::Result<Vec<f64>> {
             let pixels = f64::from(domain.0) * f64::from(domain.1);
-            Ok(match (pen_mm, self.mm_per_px(domain)?) {
-                (Some(pen), Some(mm)) => pen / mm,
-                _ => (DENSITY * mean_sq * pixels / points as f64).sqrt(),
-            })
+            let mm = self.mm_per_px(domain)?;
+            Ok(pens_mm
+                .iter()
+                .map(|pen| match (pen, mm) {
+                    (Some(pen), Some(mm)) => pen / mm,
+                    _ => (DENSITY * all_sq * pixels / points as f64).sqrt(),
+                })
+                .collect())
         };
-        let mut width_px = width_for(domain)?;
+        let thinnest = |w: &[f64]| w.iter().copied().fold(f64::INFINITY, f64::min);
+        let mut widths = widths_for(domain)?;
         // The domain as fine as the line needs, no finer: [`LINE_PX`]
-        // across the line (a line's points lie about a line's width apart
-        // at their closest, where dots' lie ten pixels apart).
+        // across the thinnest line (a line's points lie about a line's
+        // width apart at their closest, where dots' lie ten pixels apart).
         if self.width.is_none() && self.height.is_none() {
             let (w, h) = (f64::from(domain.0), f64::from(domain.1));
-            let s = (LINE_PX / width_px)
+            let s = (LINE_PX / thinnest(&widths))
                 .min((super::MAX_DOMAIN_PIXELS as f64 / (w * h)).sqrt())
                 .max(MIN_LINE_SIDE / w.max(h));
             domain = (
                 ((w * s).round() as u32).max(1),
                 ((h * s).round() as u32).max(1),
             );
-            width_px = width_for(domain)?;
+            widths = widths_for(domain)?;
         }
         crate::importance::budget::check_domain(domain)?;
-        let darkness = self.darkness(&map, domain)?;
-        let spread = spread_of(&darkness);
-        let sum_sq = ink_squared(&spread);
-        let needed = (DENSITY * sum_sq / (width_px * width_px)).round() as usize;
+        let mut pens = Vec::new();
+        let mut maps = Vec::new();
+        for (darkness, &width_px) in self.pen_darkness(picture, domain)?.into_iter().zip(&widths) {
+            let spread = spread_of(&darkness);
+            let needed = DENSITY * ink_squared(&spread) / (width_px * width_px);
+            maps.push(line_map(&spread, domain)?);
+            pens.push(PenLine {
+                darkness,
+                spread,
+                needed,
+                points: 0,
+                width_px,
+            });
+        }
+        let needed: f64 = pens.iter().map(|p| p.needed).sum();
+        // Each pen's share of the count: its line's need.
+        for p in &mut pens {
+            p.points = ((p.needed * points as f64 / needed.max(1e-9)).round() as usize).max(1);
+        }
+        let needed = needed.round() as usize;
+        let width_px = thinnest(&widths);
         let why = match (self.points, needed_for_pen) {
             (None, Some(_)) => format!(
                 "the pen's line needs {} points for the picture's ink",
@@ -216,13 +267,13 @@ impl Job {
             ),
             _ => format!("the count sets the line's width, {width_px:.2} px"),
         };
-        let prepared = line_map(&spread, domain)?;
         let mm = self.mm_per_px(domain)?;
         let line = LinePlan {
             width_px,
             width_mm: mm.map(|mm| width_px * mm),
             needed,
             why,
+            pens: pens.iter().map(|p| p.points).collect(),
         };
         // Relaxed as dots are, up to the same count: past it a Lloyd step
         // costs more than the sampling (2 s at 1M points).
@@ -237,8 +288,8 @@ impl Job {
             domain,
             points: Some(points),
             dots: points,
-            pens: 1,
-            radius: (prepared.range.min, prepared.range.max),
+            pens: pens.len(),
+            radius: (maps[0].range.min, maps[0].range.max),
             dot: self.dot_mode(),
             local_spacing: false,
             relax,
@@ -256,10 +307,10 @@ impl Job {
             },
             render: corrected.then_some(domain),
             order: super::Order::Tsp,
-            layer_order: None,
+            layer_order: self.colour().then_some(self.layer_order),
             chosen: None,
             seconds: 0.0,
-            memory_mb: crate::importance::budget::peak_mb(size, domain, false),
+            memory_mb: crate::importance::budget::peak_mb(size, domain, self.colour()),
             style: Style::Line,
             line: Some(line),
         };
@@ -270,26 +321,53 @@ impl Job {
         Ok(Planned {
             plan,
             job: self.clone(),
-            maps: Maps::Grey(prepared),
+            maps: Maps::Lines(maps),
             grid: None,
-            line: Some(LineSetup { darkness, spread }),
+            line: Some(LineSetup { pens }),
         })
     }
 
-    /// 1 − the adjusted display grey of `map` at each pixel of `domain`.
-    fn darkness(&self, map: &ImportanceMap, domain: (u32, u32)) -> crate::Result<Vec<f32>> {
+    /// Each pen's darkness at every pixel of `domain`: 1 − the adjusted
+    /// display grey of the grey picture, or each pen's coverage in the
+    /// colour separation (as its dots would lay it).
+    fn pen_darkness(
+        &self,
+        picture: Picture<'_>,
+        domain: (u32, u32),
+    ) -> crate::Result<Vec<Vec<f32>>> {
+        use rayon::prelude::*;
+        let n = domain.0 as usize * domain.1 as usize;
+        let of = |m: &Prepared| -> Vec<f32> {
+            (0..n)
+                .into_par_iter()
+                .map(|i| (1.0 - m.value_index(i)).clamp(0.0, 1.0))
+                .collect()
+        };
+        if self.colour() {
+            let separated = self.separate(&picture.colour(), domain, true)?;
+            return Ok(separated.maps.iter().map(of).collect());
+        }
         let prepared = self.importance.prepare_map_on(
-            map,
+            &picture.grey(),
             |_, _| domain,
             Mapping::Linear,
             true,
             self.paper_levels(),
         )?;
-        use rayon::prelude::*;
-        Ok((0..domain.0 as usize * domain.1 as usize)
-            .into_par_iter()
-            .map(|i| (1.0 - prepared.value_index(i)).clamp(0.0, 1.0))
-            .collect())
+        Ok(vec![of(&prepared)])
+    }
+
+    /// Each pen's width in mm, when known: a pen file's own width, else
+    /// `pen_mm`.
+    fn line_pens_mm(&self, pens: usize) -> Vec<Option<f64>> {
+        match (&self.pens, self.colour()) {
+            (Some(set), true) => set
+                .pens()
+                .iter()
+                .map(|p| p.width_mm.or(self.pen_mm))
+                .collect(),
+            _ => vec![self.pen_width(); pens.max(1)],
+        }
     }
 
     /// The drawing's area on the page in mm², when it has a size in mm.
@@ -327,7 +405,8 @@ impl Job {
     }
 }
 
-/// The run of a line drawing's plan: sample → relax → order → correct.
+/// The run of a line drawing's plan: sample → relax → order → correct,
+/// each stage for every pen's line.
 pub(crate) fn run_line(
     planned: Planned,
     setup: LineSetup,
@@ -337,12 +416,12 @@ pub(crate) fn run_line(
     let Planned {
         plan, job, maps, ..
     } = planned;
-    let Maps::Grey(map) = maps else {
-        return Err(crate::stipple::Error::InvalidParameter("a line draws one pen".into()).into());
+    let Maps::Lines(maps) = maps else {
+        return Err(crate::stipple::Error::InvalidParameter(
+            "a line drawing without its maps".into(),
+        )
+        .into());
     };
-    let line = plan.line.clone().ok_or_else(|| {
-        crate::stipple::Error::InvalidParameter("a line drawing without its plan".into())
-    })?;
     let mut last = std::time::Instant::now();
     let mut lap = || {
         let now = std::time::Instant::now();
@@ -355,58 +434,109 @@ pub(crate) fn run_line(
     let base = job
         .sampler
         .apply(Params::new(domain.0, domain.1).with_policy(job.policy));
-    let fitted = count::sample_map(&map, &base, plan.points, &mut sample)?;
-    let range = fitted.range;
-    let mut set = fitted.set;
-    let points = along_curve(std::mem::take(&mut set.points));
-    set = set.with_points(points);
+    let (mut sets, mut ranges, mut runs, mut short_of) = (Vec::new(), Vec::new(), 0, None);
+    for (k, (pen, map)) in setup.pens.iter().zip(&maps).enumerate() {
+        // Each pen's own seed: its line is not the others' pattern.
+        let params = base.clone().with_seed(base.seed.wrapping_add(k as u64));
+        let fitted = count::sample_map(map, &params, Some(pen.points), &mut sample)?;
+        runs += fitted.runs;
+        short_of = short_of.or(fitted.short_of);
+        ranges.push(fitted.range);
+        let mut points = along_curve(fitted.set.points.clone());
+        for p in &mut points {
+            p.class = k as u32;
+        }
+        sets.push((fitted.set, points));
+    }
     let t_sample = lap();
     stage(&mut progress, Stage::Relax)?;
-    let mut points = relaxed(
-        &job,
-        &map,
-        range,
-        set.points.clone(),
-        plan.relax,
-        &mut progress,
-    )?;
-    let t_relax = lap();
-    stage(&mut progress, Stage::Order)?;
-    let mut tour = toured(&points, &mut progress);
-    let t_order = lap();
-    stage(&mut progress, Stage::Size)?;
-    if plan.corrected && points.len() > 2 {
-        stage(&mut progress, Stage::Correct { round: 1, of: 1 })?;
-        let ordered: Vec<Point> = tour.order.iter().map(|&i| points[i]).collect();
-        let spread = correct(&setup, domain, &ordered, line.width_px);
-        let corrected = line_map(&spread, domain)?;
-        points = relaxed(
+    let mut lines = Vec::new();
+    for ((_, points), (map, &range)) in sets.iter_mut().zip(maps.iter().zip(&ranges)) {
+        let moved = relaxed(
             &job,
-            &corrected,
+            map,
             range,
-            ordered,
-            CORRECT_RELAX,
+            std::mem::take(points),
+            plan.relax,
             &mut progress,
         )?;
-        tour = toured(&points, &mut progress);
+        lines.push(moved);
+    }
+    let t_relax = lap();
+    stage(&mut progress, Stage::Order)?;
+    let mut tours: Vec<tsp::Tour> = lines.iter().map(|p| toured(p, &mut progress)).collect();
+    let t_order = lap();
+    stage(&mut progress, Stage::Size)?;
+    if plan.corrected {
+        let of = setup.pens.len() as u8;
+        for (k, pen) in setup.pens.iter().enumerate() {
+            if lines[k].len() <= 2 {
+                continue;
+            }
+            stage(
+                &mut progress,
+                Stage::Correct {
+                    round: k as u8 + 1,
+                    of,
+                },
+            )?;
+            let ordered: Vec<Point> = tours[k].order.iter().map(|&i| lines[k][i]).collect();
+            let spread = correct(pen, domain, &ordered, pen.width_px);
+            let corrected = line_map(&spread, domain)?;
+            lines[k] = relaxed(
+                &job,
+                &corrected,
+                ranges[k],
+                ordered,
+                CORRECT_RELAX,
+                &mut progress,
+            )?;
+            tours[k] = toured(&lines[k], &mut progress);
+        }
     }
     let t_size = lap();
-    let ordered: Vec<Point> = tour.order.iter().map(|&i| points[i]).collect();
-    let stroke = Stroke {
-        points: ordered.iter().map(|p| [p.x, p.y]).collect(),
-        width: line.width_px as f32,
-        smooth: job.line_smooth,
+    let mut all = Vec::new();
+    let mut strokes = Vec::new();
+    let mut tour = tsp::Tour {
+        order: Vec::new(),
+        start_length: 0.0,
+        length: 0.0,
+        moves: 0,
     };
+    for ((line, t), pen) in lines.iter().zip(&tours).zip(&setup.pens) {
+        let base = all.len();
+        all.extend(t.order.iter().map(|&i| line[i]));
+        tour.order.extend((0..t.order.len()).map(|i| base + i));
+        tour.start_length += t.start_length;
+        tour.length += t.length;
+        tour.moves += t.moves;
+        strokes.push(Stroke {
+            points: t.order.iter().map(|&i| [line[i].x, line[i].y]).collect(),
+            width: pen.width_px as f32,
+            smooth: job.line_smooth,
+        });
+    }
+    let calibrated = all
+        .iter()
+        .map(|p| (setup.pens[p.class as usize].width_px / 2.0) as f32)
+        .collect();
+    let set = sets
+        .into_iter()
+        .next()
+        .map(|(set, _)| set.with_points(all.clone()))
+        .ok_or_else(|| {
+            crate::stipple::Error::InvalidParameter("a line drawing of no pen".into())
+        })?;
     Ok(Stipple {
         dots: Vec::new(),
-        calibrated: vec![(line.width_px / 2.0) as f32; ordered.len()],
-        points: ordered,
-        strokes: vec![stroke],
+        calibrated,
+        points: all,
+        strokes,
         set,
         domain,
-        range,
-        runs: fitted.runs,
-        short_of: fitted.short_of,
+        range: ranges[0],
+        runs,
+        short_of,
         tour: Some(tour),
         stages: vec![
             (Stage::Prepare, 0.0),
@@ -415,8 +545,8 @@ pub(crate) fn run_line(
             (Stage::Order, t_order),
             (Stage::Size, t_size),
         ],
+        pens: job.colour().then(|| job.pens.clone()).flatten(),
         plan,
-        pens: None,
     })
 }
 
@@ -473,7 +603,7 @@ fn toured(points: &[Point], progress: &mut impl FnMut(Step) -> bool) -> tsp::Tou
 /// through `ordered` `width` px wide on `domain`: each pixel's spread
 /// times the blurred picture's darkness over the blurred line's ink
 /// (within ½..2, at most [`MAX_SPREAD`]).
-fn correct(setup: &LineSetup, domain: (u32, u32), ordered: &[Point], width: f64) -> Vec<f32> {
+fn correct(setup: &PenLine, domain: (u32, u32), ordered: &[Point], width: f64) -> Vec<f32> {
     use rayon::prelude::*;
     let xy: Vec<[f64; 2]> = ordered
         .iter()

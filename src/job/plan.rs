@@ -101,6 +101,8 @@ pub(crate) const MIN_PX_PER_SPACING: f64 = 4.5;
 pub(crate) enum Maps {
     Grey(Prepared),
     Colour(Separated),
+    /// A line drawing's maps, one per pen (`line.rs`).
+    Lines(Vec<Prepared>),
 }
 
 impl Maps {
@@ -108,6 +110,7 @@ impl Maps {
         match self {
             Self::Grey(g) => std::slice::from_ref(g),
             Self::Colour(s) => &s.maps,
+            Self::Lines(maps) => maps,
         }
     }
 }

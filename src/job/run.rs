@@ -355,8 +355,15 @@ impl<'a> Setup<'a> {
                 &s.separation,
                 grid,
             )?),
+            Maps::Lines(_) => return Err(not_dots()),
         })
     }
+}
+
+/// The error of a line drawing's maps in the dots' run (which
+/// [`Planned::run`] hands to the line's own).
+fn not_dots() -> crate::Error {
+    crate::stipple::Error::InvalidParameter("a line drawing is drawn by its own run".into()).into()
 }
 
 /// The relaxation stage of [`Planned::run`]: `plan.relax` weighted Lloyd
@@ -458,6 +465,7 @@ impl Planned {
                 count::sample_union(&classes, &base, plan.points, plan.spread, sample)?
             }
             Maps::Grey(map) => count::sample_map(map, &base, plan.points, sample)?,
+            Maps::Lines(_) => return Err(not_dots()),
         };
         let (mut set, range) = (fitted.set, fitted.range);
         // Along a Hilbert curve from here on: every later pass over the
@@ -501,6 +509,7 @@ impl Planned {
                 };
                 job.colour_sizes(s, &points, range, correction, &mut report)?
             }
+            Maps::Lines(_) => return Err(not_dots()),
             Maps::Grey(map) => {
                 let mut radii = map.dot_radii(&points, range);
                 // Sized dots for the spacing they have ([`Spacing::Local`]).
