@@ -6,8 +6,9 @@ backend: the same points as the ``pixelpie`` command line, bit for bit.
 
 * :func:`sample` -- a maximal Poisson-disk set as an (N, 3) float32 array
   of x, y and radius, uniform, from a radius map or from an image;
-* :func:`stipple` -- a picture as a stipple drawing (SVG or PNG): a
-  :class:`Drawing`, with its dots, plan, files and pen paths;
+* :func:`stipple` -- a picture as a stipple drawing (SVG or PNG), or with
+  ``style="line"`` as one continuous pen line: a :class:`Drawing`, with its
+  dots (or line), plan, files and pen paths;
 * :func:`plan` -- what :func:`stipple` would do, without drawing;
 * :func:`analyze` -- the measures of ``pixelpie analyze`` for any point set.
 
@@ -43,6 +44,7 @@ __all__ = [
     "Drawing",
     "Pen",
     "PenPaths",
+    "Stroke",
     "PixelpieWarning",
     "__version__",
 ]
@@ -429,7 +431,9 @@ def stipple(
     (N, 4) array whose fourth column is each dot's pen), its ``domain``,
     ``plan``, counts, pens, files and pen paths. It also behaves as its
     ``dots`` array where code indexes it (``d[:, 0]``, ``len(d)``,
-    ``np.asarray(d)``). With ``svg=True`` the SVG's text instead.
+    ``np.asarray(d)``). With ``style="line"`` it draws no dots but one
+    continuous line per pen, and behaves as the line's points instead
+    (:attr:`Drawing.line`). With ``svg=True`` the SVG's text instead.
 
     ``options`` are the command line's, with underscores, and the same
     defaults (the library's drawing job, ``pixelpie::job::Job``, holds
@@ -445,7 +449,13 @@ def stipple(
     as earlier versions), ``relax`` (weighted Lloyd steps, over-relaxed; by
     default 2 for corrected sized dots up to 200 000 dots, else none; in
     colour each pen's dots relax on their own),
-    ``order`` (``"tsp"``: a short pen-plotter path), ``scale`` (PNG pixels
+    ``order`` (``"tsp"``: a short pen-plotter path), ``style``
+    (``"dots"``, the default, or ``"line"``: one continuous pen-down line
+    through the points, TSP art whose ink reproduces the tones; its count
+    follows from the pen and the page, ``pen_mm`` with ``width_mm`` or
+    ``paper``, or without a pen ``points`` sets the line's width), and
+    ``line_smooth`` (``True``: the line as smooth curves through its
+    points; needs ``style="line"``), ``scale`` (PNG pixels
     per domain pixel), ``width_mm`` and ``pen_mm`` (SVG in millimetres,
     drawn with a pen), ``paper`` (``"a4"``, ``"letter"``, ``"WxHmm"``, ...:
     the SVG is the sheet, instead of ``width_mm``), ``margin`` (mm) and
@@ -518,6 +528,25 @@ def _job(options: Dict[str, Any], job: Optional[PathLike]) -> Tuple[str, Optiona
     return json.dumps(_finite(given), default=_option), job_file
 
 
+def _plan_json(text: str) -> Dict[str, Any]:
+    """A plan's JSON as a dict. The library's JSON of a line drawing's plan
+    (this version's) names two fields ``line``: the one-line summary, then
+    the line's own plan (an object); the summary keeps ``line`` and the
+    line's plan is ``line_plan``, as a plan's keys are once the library
+    names it so."""
+
+    def pairs(items: List[Tuple[str, Any]]) -> Dict[str, Any]:
+        out: Dict[str, Any] = {}
+        for key, value in items:
+            if key == "line" and isinstance(value, dict):
+                key = "line_plan"
+            out[key] = value
+        return out
+
+    plan: Dict[str, Any] = json.loads(text, object_pairs_hook=pairs)
+    return plan
+
+
 def plan(
     image: Any,
     *,
@@ -529,11 +558,14 @@ def plan(
     these ``options`` (and ``job`` file), as ``pixelpie stipple --plan``
     prints it: every decision made once (``domain``, ``points``, ``dots``,
     ``dot``, ``relax``, ``spread``, ``corrected`` and ``why``, the correction's
-    ``render``, ``order``, an estimated ``seconds``) and its one-line
-    summary, ``line``. Nothing is drawn."""
+    ``render``, ``order``, an estimated ``seconds``, ``style``) and its
+    one-line summary, ``line``. With ``style="line"``, ``line_plan`` is the
+    line's: its ``width_px`` and ``width_mm``, the count its pen ``needed``
+    for the picture's tones, and ``why`` the count is what it is. Nothing
+    is drawn."""
     given, job_file = _job(options, job)
     pixels = _picture(image)
-    return json.loads(
+    return _plan_json(
         _pixelpie.plan(
             None if pixels is not None else _readable(os.fsdecode(image)),
             pixels,
@@ -566,8 +598,23 @@ class PenPaths(NamedTuple):
     #: The pen's width in mm.
     pen_mm: float
     #: One (K, 2) float64 array of x, y in mm on the page per dot, in
-    #: drawing order.
+    #: drawing order; in a line drawing, one: the layer's line (its part
+    #: with ``refill_mm``; smooth curves flattened within 0.01 mm).
     paths: List[np.ndarray]
+
+
+class Stroke(NamedTuple):
+    """One pen's line in a line drawing (``style="line"``,
+    :attr:`Drawing.strokes`)."""
+
+    #: (N, 2) float32 x, y in domain pixels of the points the pen's centre
+    #: passes through, in drawing order (read-only).
+    points: np.ndarray
+    #: The line's width in domain pixels (the pen's).
+    width: float
+    #: Whether it is drawn as smooth curves through its points
+    #: (``line_smooth``) rather than straight between them.
+    smooth: bool
 
 
 class Drawing:
@@ -575,11 +622,18 @@ class Drawing:
 
     * ``dots`` -- (N, 3) float32 x, y and drawn radius in domain pixels, in
       drawing order; in colour (N, 4), the fourth column each dot's pen;
+      empty in a line drawing;
+    * ``style`` -- what the pen draws: ``"dots"`` or ``"line"``;
+    * ``line`` and ``strokes`` -- a line drawing's line (``style="line"``):
+      its points, (N, 2) float32 x, y in domain pixels in drawing order (in
+      colour (N, 3), the third column each point's pen), and each pen's
+      line as a :class:`Stroke`; empty in a drawing of dots;
     * ``domain`` -- (width, height) of the domain in pixels: the frame of
       ``dots``, as :func:`analyze` takes it
       (``analyze(d.dots, *d.domain)``);
     * ``asked`` and ``reached`` -- the dot count asked for (``None`` when
-      the radii set it) and the count drawn;
+      the radii set it) and the count drawn; in a line drawing, the points
+      its line was planned for and those it passes through;
     * ``plan`` -- the plan it was made by (:func:`plan`);
     * ``pens`` -- the pens of a colour drawing (:class:`Pen`), else ``None``;
     * ``warnings`` -- what the run warned of;
@@ -589,11 +643,14 @@ class Drawing:
       :meth:`plot_stats` and :meth:`to_vpype`.
 
     It behaves as its ``dots`` array where code indexes it: ``d[:, 0]``,
-    ``len(d)``, ``d.shape``, ``np.asarray(d)`` and array methods.
+    ``len(d)``, ``d.shape``, ``np.asarray(d)`` and array methods; a line
+    drawing, which draws no dots, as its ``line`` array (``len(d)`` is the
+    count of the line's points, ``reached``).
     """
 
     __slots__ = (
-        "_native", "_dots", "domain", "asked", "reached", "plan", "pens", "warnings", "stages",
+        "_native", "_dots", "_line", "_strokes", "domain", "asked", "reached", "plan", "pens",
+        "warnings", "stages", "style",
     )
 
     #: Drawings of up to this many dots show as SVG in Jupyter, larger ones
@@ -607,10 +664,17 @@ class Drawing:
         # library's drawing, so an edit here would silently not be drawn.
         dots.flags.writeable = False
         self._dots = dots
+        self.style: str = native.style
+        strokes = []
+        for points, width, smooth in native.strokes():
+            points.flags.writeable = False
+            strokes.append(Stroke(points, float(width), bool(smooth)))
+        self._strokes: List[Stroke] = strokes
+        self._line = _line_of(strokes, colour=native.pens() is not None)
         self.domain: Tuple[int, int] = tuple(native.domain)  # type: ignore[assignment]
         self.asked: Optional[int] = native.asked
         self.reached: int = native.reached
-        self.plan: Dict[str, Any] = json.loads(native.plan())
+        self.plan: Dict[str, Any] = _plan_json(native.plan())
         pens = native.pens()
         self.pens: Optional[List[Pen]] = None if pens is None else [Pen(*p) for p in pens]
         self.warnings: List[str] = list(native.warnings())
@@ -618,16 +682,43 @@ class Drawing:
 
     def __repr__(self) -> str:
         w, h = self.domain
+        if self.style == "line":
+            lines = len(self._strokes)
+            what = "a line" if lines == 1 else f"{lines} lines"
+            return f"<pixelpie.Drawing: {what} through {self.reached} points on {w}x{h} px>"
         return f"<pixelpie.Drawing: {self.reached} dots on {w}x{h} px>"
-
 
     @property
     def dots(self) -> np.ndarray:
         """(N, 3) float32 x, y and drawn radius in domain pixels, in drawing
         order; in colour (N, 4), the fourth column each dot's pen. Read-only
         (what ``svg()``, ``png()`` and ``save()`` draw): edit a copy,
-        ``d.dots.copy()``."""
+        ``d.dots.copy()``. Empty in a line drawing, which draws no dots
+        (:attr:`line`)."""
         return self._dots
+
+    @property
+    def line(self) -> np.ndarray:
+        """A line drawing's points (``style="line"``): (N, 2) float32 x, y
+        in domain pixels that the pen's centre passes through, in drawing
+        order; in colour (N, 3), the third column each point's pen, each
+        pen's line after the one before (:attr:`strokes` holds them one by
+        one). The line runs straight between them, or with ``line_smooth``
+        in smooth curves through them (:meth:`paths` gives what the pen
+        draws). Read-only; empty, (0, 2), in a drawing of dots."""
+        return self._line
+
+    @property
+    def strokes(self) -> List[Stroke]:
+        """A line drawing's lines, one per pen in the pens' order (one for a
+        grey drawing), each a :class:`Stroke`: its points, width in domain
+        pixels and whether it is smooth. Empty in a drawing of dots."""
+        return list(self._strokes)
+
+    def _array(self) -> np.ndarray:
+        """The array the drawing behaves as: its line's points in a line
+        drawing, else its dots."""
+        return self._line if self.style == "line" else self._dots
 
     def __copy__(self) -> "Drawing":
         # The library's drawing is immutable: a copy shares it.
@@ -658,26 +749,26 @@ class Drawing:
             "return drawing.dots, drawing.svg() or drawing.png() from a worker"
         )
 
-    # The array's behaviour.
+    # The array's behaviour: the dots' (a line drawing's, its line's).
     def __array__(self, dtype: Any = None, copy: Optional[bool] = None) -> np.ndarray:
         if copy:
-            return np.array(self.dots, dtype=dtype, copy=True)
-        return np.asarray(self.dots, dtype=dtype)
+            return np.array(self._array(), dtype=dtype, copy=True)
+        return np.asarray(self._array(), dtype=dtype)
 
     def __len__(self) -> int:
-        return len(self.dots)
+        return len(self._array())
 
     def __getitem__(self, key: Any) -> Any:
-        return self.dots[key]
+        return self._array()[key]
 
     def __iter__(self) -> Iterator[np.ndarray]:
-        return iter(self.dots)
+        return iter(self._array())
 
     def __getattr__(self, name: str) -> Any:
         # Array attributes and methods (shape, dtype, min, astype, ...).
         if name.startswith("_"):
             raise AttributeError(name)
-        return getattr(self.dots, name)
+        return getattr(self._array(), name)
 
     @property
     def page(self) -> Optional[Tuple[float, float]]:
@@ -718,7 +809,11 @@ class Drawing:
     def paths(self) -> List[PenPaths]:
         """The pen paths as the plotter draws them, layer by layer in
         plotting order (the SVG's layers: ``layer_order``, ``refill_mm``),
-        each dot's path in mm on the page. Needs a pen and a page size
+        each dot's path in mm on the page; in a line drawing one path per
+        layer, the pen's line (with ``refill_mm``, its parts, one per layer,
+        each starting where the one before ended), its points
+        :meth:`to_mm` of :attr:`line`'s, or with ``line_smooth`` the curves
+        through them flattened within 0.01 mm. Needs a pen and a page size
         (``pen_mm``, and ``paper`` or ``width_mm``): ``ValueError``
         otherwise."""
         return [PenPaths(*layer) for layer in self._native.paths()]
@@ -758,7 +853,8 @@ class Drawing:
     def to_vpype(self) -> Any:
         """The pen paths as a ``vpype.Document`` (layer k for the k-th layer
         of :meth:`paths`, with its name, colour and pen width, and the page
-        size), when vpype is installed (``pip install "pixelpie[vpype]"``)."""
+        size; a line drawing's line one path per layer), when vpype is
+        installed (``pip install "pixelpie[vpype]"``)."""
         try:
             import vpype  # type: ignore[import-not-found]
         except ImportError as e:
@@ -780,6 +876,27 @@ class Drawing:
             props.set_property("vp_color", vpype.Color(layer.colour))
             props.set_property("vp_pen_width", layer.pen_mm * px)
         return doc
+
+
+def _line_of(strokes: List[Stroke], colour: bool) -> np.ndarray:
+    """The points of ``strokes`` one after the other, read-only: (N, 2), or
+    in colour (N, 3) with each point's pen (its stroke's index)."""
+    columns = 3 if colour else 2
+    parts = [s.points for s in strokes]
+    if colour:
+        parts = [
+            np.column_stack([p, np.full(len(p), k, dtype=np.float32)])
+            for k, p in enumerate(parts)
+        ]
+    line = (
+        np.concatenate(parts).astype(np.float32, copy=False)
+        if parts
+        else np.zeros((0, columns), dtype=np.float32)
+    )
+    if len(parts) == 1 and not colour:
+        line = parts[0]
+    line.flags.writeable = False
+    return line
 
 
 def analyze(

@@ -79,6 +79,14 @@ class Analysis(TypedDict):
     angle_std: float
     angle_edges: int
 
+class LinePlan(TypedDict):
+    """A line drawing's plan: its width and why its count is what it is."""
+
+    width_px: float
+    width_mm: Optional[float]
+    needed: int
+    why: str
+
 class Plan(TypedDict):
     """A drawing's plan (``pixelpie stipple --plan``)."""
 
@@ -98,6 +106,8 @@ class Plan(TypedDict):
     layer_order: Optional[str]
     seconds: float
     memory_mb: int
+    style: str
+    line_plan: NotRequired[LinePlan]
 
 class Pen(NamedTuple):
     """A pen of a colour drawing."""
@@ -113,6 +123,13 @@ class PenPaths(NamedTuple):
     colour: str
     pen_mm: float
     paths: List[npt.NDArray[np.float64]]
+
+class Stroke(NamedTuple):
+    """One pen's line in a line drawing."""
+
+    points: npt.NDArray[np.float32]
+    width: float
+    smooth: bool
 
 class PlotStats(TypedDict):
     """One pen's plot, as ``--plot-stats`` prints it."""
@@ -133,6 +150,13 @@ class Drawing:
     @property
     def dots(self) -> npt.NDArray[np.float32]:
         """The dots, read-only (what ``svg()`` and ``png()`` draw)."""
+    @property
+    def line(self) -> npt.NDArray[np.float32]:
+        """A line drawing's points, read-only."""
+    @property
+    def strokes(self) -> List[Stroke]:
+        """A line drawing's lines, one per pen."""
+    style: str
     domain: Tuple[int, int]
     asked: Optional[int]
     reached: int
@@ -223,6 +247,8 @@ def stipple(
     dot_radius: Optional[float] = ...,
     relax: Optional[int] = ...,
     order: Optional[str] = ...,
+    style: Optional[str] = ...,
+    line_smooth: Optional[bool] = ...,
     scale: Optional[float] = ...,
     width_mm: Optional[float] = ...,
     paper: Optional[str] = ...,
@@ -281,6 +307,8 @@ def stipple(
     dot_radius: Optional[float] = ...,
     relax: Optional[int] = ...,
     order: Optional[str] = ...,
+    style: Optional[str] = ...,
+    line_smooth: Optional[bool] = ...,
     scale: Optional[float] = ...,
     width_mm: Optional[float] = ...,
     paper: Optional[str] = ...,
@@ -332,6 +360,8 @@ def plan(
     dot_radius: Optional[float] = ...,
     relax: Optional[int] = ...,
     order: Optional[str] = ...,
+    style: Optional[str] = ...,
+    line_smooth: Optional[bool] = ...,
     scale: Optional[float] = ...,
     width_mm: Optional[float] = ...,
     paper: Optional[str] = ...,

@@ -6,8 +6,9 @@ the ``vpype.plugins`` entry point::
 
     vpype pixelpie photo.jpg --points 20000 --pens cmyk linesort write out.svg
 
-It stipples the photo as ``pixelpie stipple`` does, with the same options,
-and adds the pen paths to vpype's document: one layer per pen, in plotting
+It stipples the photo as ``pixelpie stipple`` does, with the same options
+(``--style line``: one continuous pen line per pen instead of dots, one path
+per layer), and adds the pen paths to vpype's document: one layer per pen, in plotting
 order, the lightest ink first (layer 1 is yellow, then cyan, magenta and
 black for ``--pens cmyk``; ``--layer-order pens`` keeps the pens' own
 order), each named after its pen and carrying its colour and pen width, and
@@ -31,8 +32,9 @@ margins, or with ``--device`` the least that keeps every dot within the
 plotter's reach; portrait) unless ``--paper`` or ``--width-mm`` is given, a pen
 0.3 mm wide unless ``--pen-mm`` is given (a pen file's ``width_mm`` still
 sets its own pen's width), and 10 000 dots unless ``--points`` (or a dot
-radius, ``-o dot_radius=R`` or ``-o min_radius=R``) is given. Options may
-come before or after the image.
+radius, ``-o dot_radius=R`` or ``-o min_radius=R``) is given; a line
+(``--style line``) takes the count its pen needs for the photo's tones
+unless ``--points`` is given. Options may come before or after the image.
 
 This module imports without vpype; then :data:`pixelpie` is a stand-in that
 raises ``ImportError`` saying how to install the extra.
@@ -91,6 +93,7 @@ CHOICES: Dict[str, List[str]] = {
     "order": ["none", "tsp"],
     "policy": ["prior", "current", "bigger", "smaller"],
     "layer_order": ["light-first", "pens"],
+    "style": ["dots", "line"],
 }
 
 _LABEL = re.compile(r'inkscape:label="([^"]*)"')
@@ -164,12 +167,15 @@ def job_options(
     seed: Optional[int] = None,
     policy: Optional[str] = None,
     layer_order: Optional[str] = None,
+    style: Optional[str] = None,
+    line_smooth: bool = False,
     extra: Optional[Dict[str, Any]] = None,
 ) -> Dict[str, Any]:
     """The keyword arguments of :func:`pixelpie.stipple` for the command's
     options, with the plugin's defaults (:data:`DEFAULT_PAPER` unless a paper
     or a width is given, :data:`DEFAULT_PEN_MM`, :data:`DEFAULT_POINTS`
-    unless a count or a dot radius is given). The same arguments make
+    unless a count or a dot radius is given, or the style is ``line``, whose
+    count follows from its pen). The same arguments make
     ``pixelpie stipple`` draw the same dots: ``--paper a4 --pen-mm 0.3
     --points 10000`` and so on."""
     opts: Dict[str, Any] = dict(extra or {})
@@ -188,17 +194,21 @@ def job_options(
         seed=seed,
         policy=policy,
         layer_order=layer_order,
+        style=style,
     )
     for k, v in given.items():
         if v is not None:
             opts[k] = v
     if landscape:
         opts["landscape"] = True
+    if line_smooth:
+        opts["line_smooth"] = True
     if opts.get("paper") is None and opts.get("width_mm") is None:
         opts["paper"] = DEFAULT_PAPER
     if opts.get("pen_mm") is None:
         opts["pen_mm"] = DEFAULT_PEN_MM
-    if all(opts.get(k) is None for k in ("points", "dot_radius", "min_radius")):
+    line = opts.get("style") == "line"
+    if not line and all(opts.get(k) is None for k in ("points", "dot_radius", "min_radius")):
         opts["points"] = DEFAULT_POINTS
     return opts
 
@@ -229,9 +239,10 @@ def _pen_paths(svg_text: str) -> Optional[Tuple[List[List[Any]], Tuple[float, fl
     user units, and the viewBox's size; None unless the file is exactly what
     ``pixelpie stipple --pen-mm`` writes: top-level groups without
     transforms, each holding ``<path d="Mx yldx dy...">`` (a point, then
-    relative steps), or one group scaled by 0.01 that holds them (the paths
-    in hundredths of a mm), a viewBox from 0 0. Points are kept as vpype
-    keeps them."""
+    relative steps), or groups scaled by 0.01 that hold them (the paths in
+    hundredths of a mm: the dots' group, then a line's), a viewBox from 0 0.
+    Points are kept as vpype keeps them. A smooth line (curves) is not of
+    this shape: vpype reads it."""
     import xml.etree.ElementTree as ET
 
     import numpy as np
@@ -246,13 +257,14 @@ def _pen_paths(svg_text: str) -> Optional[Tuple[List[List[Any]], Tuple[float, fl
         if g.tag != svg_ns + "g" or "transform" in g.attrib:
             return None
         lines = []
-        # The paths in hundredths of a mm, in one group scaled to mm.
+        # The paths in hundredths of a mm, in groups scaled to mm (the
+        # dots', then a line's).
         inner = list(g)
         scale = 1.0
-        if len(inner) == 1 and inner[0].tag == svg_ns + "g":
-            if inner[0].get("transform") != _HUNDREDTHS:
+        if inner and all(c.tag == svg_ns + "g" for c in inner):
+            if any(c.get("transform") != _HUNDREDTHS for c in inner):
                 return None
-            inner, scale = list(inner[0]), 0.01
+            inner, scale = [p for c in inner for p in c], 0.01
         for path in inner:
             d = path.get("d", "")
             m = _PEN_D.fullmatch(d)
@@ -323,7 +335,16 @@ def read_drawing(svg_text: str, quantization: float = 0.1 * PX_PER_MM) -> Any:
     bare = _PATH.sub("", svg_text)
     opened = iter(groups)
     stand_in = '<path d="M 0 0 L 1 0"/>'
-    bare = _GROUP.sub(lambda m: m.group(0) + (stand_in if next(opened) else ""), bare)
+
+    def put(m: "re.Match[str]") -> str:
+        tag = m.group(0)
+        if tag.startswith(f'<g transform="{_HUNDREDTHS}"'):
+            # A layer's second group of paths (a line's): its stand-in went
+            # in the layer's first.
+            return tag
+        return tag + (stand_in if next(opened) else "")
+
+    bare = _GROUP.sub(put, bare)
     doc = _read_svg(bare, quantization)
     sx, sy = doc.page_size[0] / box_w, doc.page_size[1] / box_h
     for lid in list(doc.layers):
@@ -460,7 +481,7 @@ def plotter_reach(device: str, page_size: Tuple[float, float]) -> Optional[Reach
 
 def _dot_bounds(doc: Any) -> Any:
     """Left, top, right, bottom of each path of ``doc`` (N x 4, vpype px):
-    each path of a pixelpie drawing is one dot."""
+    each path of a pixelpie drawing is one dot, or a line (a part of it)."""
     import numpy as np
 
     lines = [line for lid in sorted(doc.layers) for line in doc.layers[lid]]
@@ -480,9 +501,9 @@ def _dot_bounds(doc: Any) -> Any:
 
 
 def dots_outside(doc: Any, box: Optional[Tuple[float, float, float, float]]) -> int:
-    """How many paths of ``doc`` (a pixelpie drawing: a path per dot) reach
-    past ``box`` (a :class:`Reach`'s), where vpype's ``write --device`` would
-    cut them."""
+    """How many paths of ``doc`` (a pixelpie drawing: a path per dot, or per
+    line) reach past ``box`` (a :class:`Reach`'s), where vpype's ``write
+    --device`` would cut them."""
     if box is None:
         return 0
     b = _dot_bounds(doc)
@@ -575,6 +596,7 @@ def _check_reach(
     margin_given: bool,
     domain: Callable[[], Tuple[int, int]],
     redraw: Callable[[float], Any],
+    noun: str = "dots",
 ) -> Any:
     """The drawing, checked against what HPGL plotters reach (see the
     module's doc). ``margin`` is the drawing's margin on its sheet (None
@@ -585,7 +607,8 @@ def _check_reach(
     would be cut is drawn again with the margin that keeps it whole, or,
     when ``margin_given`` or there is no sheet, refused with a ValueError
     naming that margin. Without one, a warning names each plotter of vpype's
-    configuration that would cut dots, with that margin."""
+    configuration that would cut dots, with that margin. ``noun`` names the
+    drawing's paths in the messages ("dots", or a line's "line paths")."""
     import vpype as vp
 
     configured = device is None
@@ -623,8 +646,8 @@ def _check_reach(
                 cut.append(f"{name} {'cuts ' if not cut else ''}{out}{keep}")
         if cut:
             logging.warning(
-                "pixelpie: vpype's `write --device NAME` would cut the dots past the plotter's reach "
-                f"in pieces. Of the {dots(drawing)} dots on this {sheet} sheet, {', '.join(cut)}. Give "
+                f"pixelpie: vpype's `write --device NAME` would cut the {noun} past the plotter's reach "
+                f"in pieces. Of the {dots(drawing)} {noun} on this {sheet} sheet, {', '.join(cut)}. Give "
                 f"--device NAME to fit the drawing to your plotter (or --device {NO_DEVICE} if no HPGL "
                 "plotter draws it)."
             )
@@ -655,10 +678,11 @@ def _check_reach(
                 else "give --paper and a wider --margin"
             )
             raise ValueError(
-                f"{out} of {dots(drawing)} dots lie past what {device} reaches of {where}, and "
+                f"{out} of {dots(drawing)} {noun} lie past what {device} reaches of {where}, and "
                 f"vpype's `write --device {device}` would cut them in pieces: {hint}"
             )
-        logging.info(f"pixelpie: --margin {need:g} keeps every dot within {device}'s reach of {where}")
+        every = "every dot" if noun == "dots" else f"all the {noun}"
+        logging.info(f"pixelpie: --margin {need:g} keeps {every} within {device}'s reach of {where}")
         drawing, margin = redraw(need), need
     if dots_outside(drawing, reach.box):
         raise ValueError(
@@ -713,7 +737,10 @@ def _make_command() -> Any:
         "-n",
         "--points",
         type=vpype_cli.IntegerType(),
-        help=f"About this many dots (all pens together) [default: {DEFAULT_POINTS}].",
+        help=(
+            f"About this many dots (all pens together) [default: {DEFAULT_POINTS}]; with --style "
+            "line, the line's points [default: what the pen needs for the photo's tones]."
+        ),
     )
     @click.option(
         "--pens",
@@ -784,6 +811,20 @@ def _make_command() -> Any:
         help="Layers from the lightest ink to the darkest, or in the pens' order [default: light-first].",
     )
     @click.option(
+        "--style",
+        **choice("style"),
+        help=(
+            "What the pen draws: dots, or one continuous line per pen through the points "
+            "(TSP art), whose ink reproduces the tones; one path per layer. A line's count "
+            "follows from the pen and the page unless --points is given. [default: dots]"
+        ),
+    )
+    @click.option(
+        "--line-smooth",
+        is_flag=True,
+        help="With --style line: the line as smooth curves through its points.",
+    )
+    @click.option(
         "-d",
         "--device",
         type=vpype_cli.TextType(),
@@ -831,6 +872,8 @@ def _make_command() -> Any:
         seed: Optional[int],
         policy: Optional[str],
         layer_order: Optional[str],
+        style: Optional[str],
+        line_smooth: bool,
         device: Optional[str],
         extra: Tuple[str, ...],
         layer: Optional[int],
@@ -842,8 +885,10 @@ def _make_command() -> Any:
         --points 10000 unless given), each drawn as the pen draws it: a touch, or a
         filled spiral for a dot wider than the pen. Each pen gets its own layer, named
         after it, in its colour and width, the lightest ink first (layer 1); the page
-        size is the sheet's. The options may come before or after IMAGE; --option passes
-        any other of `pixelpie stipple`.
+        size is the sheet's. With --style line each pen draws one continuous line instead
+        (TSP art), one path per layer, as many points as the pen needs for the photo's
+        tones unless --points is given. The options may come before or after IMAGE;
+        --option passes any other of `pixelpie stipple`.
 
         vpype's `write --device NAME` (HPGL) cuts a dot past the plotter's reach in
         pieces: with --device NAME the drawing keeps within that plotter's reach (a
@@ -855,6 +900,8 @@ def _make_command() -> Any:
             vpype pixelpie photo.jpg --points 20000 linesort write out.svg
 
             vpype pixelpie photo.jpg --pens cmyk --paper a3 --landscape --order tsp write out.svg
+
+            vpype pixelpie photo.jpg --style line --paper a5 --pen-mm 0.5 write out.svg
 
             vpype pixelpie photo.jpg --device hp7475a write --device hp7475a out.hpgl
         """
@@ -876,6 +923,8 @@ def _make_command() -> Any:
                 seed=seed,
                 policy=policy,
                 layer_order=layer_order,
+                style=style,
+                line_smooth=line_smooth,
                 extra=extra_opts,
             )
             if device not in (None, NO_DEVICE):
@@ -893,6 +942,7 @@ def _make_command() -> Any:
                 margin_given=given_margin is not None,
                 domain=lambda: _domain(image, opts),
                 redraw=lambda m: stipple_document(image, **{**opts, "margin": m}),
+                noun="line paths" if opts.get("style") == "line" else "dots",
             )
         except (ValueError, TypeError) as e:
             raise click.UsageError(f"pixelpie: {_flags_said(e)}") from None

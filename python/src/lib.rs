@@ -674,6 +674,8 @@ fn job_options() -> serde_json::Result<serde_json::Value> {
             ("spacing", serde_json::to_value(job.spacing)?),
             ("correction", serde_json::to_value(job.correction)?),
             ("relax", serde_json::Value::Null),
+            ("style", serde_json::to_value(job.style)?),
+            ("line_smooth", serde_json::to_value(job.line_smooth)?),
         ] {
             m.entry(name).or_insert(default);
         }
@@ -837,10 +839,45 @@ impl Drawing {
         self.drawing.plan.points.or(self.drawing.short_of)
     }
 
-    /// The dot count reached.
+    /// The count reached: the dots drawn, or in a line drawing the points
+    /// its line passes through.
     #[getter]
     fn reached(&self) -> usize {
-        self.drawing.dots.len()
+        if self.drawing.strokes.is_empty() {
+            self.drawing.dots.len()
+        } else {
+            self.drawing.strokes.iter().map(|s| s.points.len()).sum()
+        }
+    }
+
+    /// What the pen draws: "dots" or "line" (the job's `style`).
+    #[getter]
+    fn style(&self) -> PyResult<String> {
+        match serde_json::to_value(self.drawing.plan.style) {
+            Ok(serde_json::Value::String(s)) => Ok(s),
+            _ => Err(PyRuntimeError::new_err("the drawing's style has no name")),
+        }
+    }
+
+    /// The strokes of a line drawing, one per pen in drawing order (none
+    /// in a drawing of dots): (an (N, 2) float32 array of the points the
+    /// pen's centre passes through, in domain pixels, in order; the line's
+    /// width in domain pixels; whether it is drawn as smooth curves
+    /// through them).
+    fn strokes<'py>(&self, py: Python<'py>) -> PyResult<Vec<(Bound<'py, PyAny>, f32, bool)>> {
+        self.drawing
+            .strokes
+            .iter()
+            .map(|s| {
+                let n = s.points.len();
+                let flat: Vec<f32> = s.points.iter().flatten().copied().collect();
+                Ok((
+                    PyArray1::from_vec(py, flat).reshape([n, 2])?.into_any(),
+                    s.width,
+                    s.smooth,
+                ))
+            })
+            .collect()
     }
 
     /// The plan the drawing was made by, as JSON.
@@ -948,7 +985,7 @@ impl Drawing {
 
     /// The pen paths as the plotter draws them, layer by layer in plotting
     /// order: (name, "#rrggbb", pen width in mm, [one (K, 2) float64 array
-    /// of mm per dot]).
+    /// of mm per dot, or a line drawing's line (its part, with a refill)]).
     #[expect(clippy::type_complexity, reason = "the Python tuple, as it is")]
     fn paths<'py>(
         &self,

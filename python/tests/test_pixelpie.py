@@ -168,6 +168,8 @@ EVERY_OPTION = [
     ("layer_order", "pens", "a.svg"),
     ("spacing", "radius", "a.svg"),
     ("correction", "off", "a.svg"),
+    ("style", "line", "a.svg"),
+    ("line_smooth", True, "a.svg"),
 ]
 
 
@@ -240,6 +242,9 @@ def test_every_stipple_option_gives_the_clis_file(tmp_path, name, value, out):
     if name == "layer_order":
         kwargs["pens"] = "cmyk"
         args += ["--pens", "cmyk"]
+    if name == "line_smooth":
+        kwargs["style"] = "line"
+        args += ["--style", "line"]
     if name in ("dot_path", "refill_mm"):
         kwargs["pen_mm"] = 0.3
         args += ["--pen-mm", "0.3"]

@@ -171,7 +171,7 @@ def test_help_lists_each_choices_values():
     helped = run_vpype("pixelpie", "--help").stdout
     assert "CHOICE" not in helped
     cli_values = cli_choices()
-    assert len(vpype_plugin.CHOICES) == 5
+    assert len(vpype_plugin.CHOICES) == 6
     for name, values in vpype_plugin.CHOICES.items():
         option = "--" + name.replace("_", "-")
         # The command line's values, in its order ...
