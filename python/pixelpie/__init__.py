@@ -560,9 +560,9 @@ def plan(
     ``dot``, ``relax``, ``spread``, ``corrected`` and ``why``, the correction's
     ``render``, ``order``, an estimated ``seconds``, ``style``) and its
     one-line summary, ``line``. With ``style="line"``, ``line_plan`` is the
-    line's: its ``width_px`` and ``width_mm``, the count its pen ``needed``
-    for the picture's tones, and ``why`` the count is what it is. Nothing
-    is drawn."""
+    line's: its ``width_px`` and ``width_mm`` (the thinnest pen's), the
+    count its pen ``needed`` for the picture's tones, ``why`` the count is
+    what it is, and each pen's points (``pens``). Nothing is drawn."""
     given, job_file = _job(options, job)
     pixels = _picture(image)
     return _plan_json(

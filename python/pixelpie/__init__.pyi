@@ -86,6 +86,7 @@ class LinePlan(TypedDict):
     width_mm: Optional[float]
     needed: int
     why: str
+    pens: List[int]
 
 class Plan(TypedDict):
     """A drawing's plan (``pixelpie stipple --plan``)."""

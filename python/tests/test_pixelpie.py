@@ -224,6 +224,25 @@ def test_the_plan_is_the_clis(tmp_path, points):
         assert ours["relax"] == 0
 
 
+def test_a_lines_plan_is_the_clis(tmp_path):
+    # The command line's JSON names the summary "line", and (this
+    # version's) the line's own plan "line" too, or "line_plan": Python's
+    # plan keeps the summary as "line" and the line's plan as "line_plan".
+    image = ASSETS / "rocket.jpg"
+    out = tmp_path / "x.svg"
+    text = cli("stipple", str(image), "-o", str(out), "--style", "line", "--width-mm", "60",
+               "--pen-mm", "0.8", "--plan").stdout
+    pairs = json.loads(text, object_pairs_hook=list)
+    summary = [v for k, v in pairs if k == "line" and isinstance(v, str)]
+    line_plan = [v for k, v in pairs if k in ("line", "line_plan") and not isinstance(v, str)]
+    assert len(summary) == len(line_plan) == 1, pairs
+    ours = pixelpie.plan(image, style="line", width_mm=60, pen_mm=0.8)
+    assert ours["line"] == summary[0] and ours["line_plan"] == dict(line_plan[0])
+    rest = {k: v for k, v in json.loads(text).items() if k not in ("line", "line_plan")}
+    assert {k: v for k, v in ours.items() if k not in ("line", "line_plan")} == rest
+    assert ours["style"] == "line" and not out.exists()
+
+
 def test_every_stipple_option_is_tested_against_the_cli():
     assert sorted(name for name, _, _ in EVERY_OPTION) == sorted(pixelpie.stipple_options())
 

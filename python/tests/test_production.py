@@ -485,6 +485,16 @@ _TYPED = textwrap.dedent(
     options = pixelpie.stipple_options()
     defaults = pixelpie.sample_options()
     said: List[str] = d.warnings
+    drawn = pixelpie.stipple("photo.jpg", style="line", line_smooth=True, width_mm=90, pen_mm=0.8)
+    style: str = drawn.style
+    vertices: npt.NDArray[np.float32] = drawn.line
+    for stroke in drawn.strokes:
+        across: float = stroke.width
+        smooth: bool = stroke.smooth
+        points: npt.NDArray[np.float32] = stroke.points
+    line_plan = pixelpie.plan("photo.jpg", style="line", pen_mm=0.8, width_mm=90)
+    needed: int = line_plan["line_plan"]["needed"]
+    wide: Optional[float] = line_plan["line_plan"]["width_mm"]
     """
 )
 

@@ -384,6 +384,8 @@ def test_extra_options_reach_the_job(tmp_path):
         (["{image}", "--device", "hp9999"], "vpype knows no plotter of that name"),
         (["{image}", "--paper", "a5", "--device", "hp7475a"], "has no paper of this 148 x 210 mm sheet"),
         (["{image}", "--width-mm", "150", "--device", "hp7475a"], "give --paper"),
+        (["{image}", "--style", "lines"], "lines"),
+        (["{image}", "--line-smooth"], "--line-smooth needs --style line"),
     ],
 )
 def test_bad_input_is_a_usage_error_without_traceback(tmp_path, args, message):
@@ -404,6 +406,91 @@ def test_the_module_imports_without_vpype():
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert "pixelpie[vpype]" in out.stdout
+
+
+# --- line drawings (--style line) -----------------------------------------------
+
+#: A small line drawing: about 3000 points.
+LINE = ["--style", "line", "--width-mm", "60", "--pen-mm", "0.8", "--seed", "2"]
+
+
+def test_a_line_is_the_clis_svg_read_by_vpype_one_path(tmp_path):
+    image = ASSETS / "rocket.jpg"
+    svg = tmp_path / "cli.svg"
+    cli("stipple", str(image), "-o", str(svg), *LINE)
+    # vpype reads our line SVG as one path ...
+    want = vpype_cli.execute(f"read --no-crop '{svg}'")
+    assert sorted(want.layers) == [1] and len(want.layers[1]) == 1
+    # ... and the plugin gives it the same, read fast.
+    got = plugin(str(image), *LINE)
+    assert vpype_plugin._pen_paths(svg.read_text()) is not None
+    assert sorted(got.layers) == [1] and len(got.layers[1]) == 1
+    assert got.page_size == pytest.approx(want.page_size, rel=1e-6)
+    (a,), (b,) = paths(got.layers[1]), paths(want.layers[1])
+    assert same_path(a, b)
+    assert got.layers[1].metadata == want.layers[1].metadata
+    assert got.layers[1].property(vp.METADATA_FIELD_PEN_WIDTH) == pytest.approx(0.8 * PX_PER_MM)
+    # The Python drawing's line, in order, to the file's 0.01 mm.
+    d = pixelpie.stipple(image, style="line", width_mm=60, pen_mm=0.8, seed=2)
+    line = d.paths()[0].paths[0] * PX_PER_MM
+    assert a.shape == (len(d.line),)
+    assert np.abs(a.real - line[:, 0]).max() < 0.0051 * PX_PER_MM
+    assert np.abs(a.imag - line[:, 1]).max() < 0.0051 * PX_PER_MM
+
+
+def test_line_defaults_take_the_count_the_pen_needs():
+    opts = vpype_plugin.job_options(style="line")
+    assert opts == {"style": "line", "paper": "a4", "pen_mm": 0.3}
+    assert vpype_plugin.job_options(style="line", points=5000, line_smooth=True) == {
+        "style": "line", "points": 5000, "line_smooth": True, "paper": "a4", "pen_mm": 0.3}
+    assert vpype_plugin.job_options(style="dots")["points"] == vpype_plugin.DEFAULT_POINTS
+
+
+def test_a_refilled_line_is_one_path_per_layer_each_from_the_last_ones_end():
+    doc = plugin(str(ASSETS / "rocket.jpg"), *LINE, "-o", "refill_mm=400")
+    n = len(doc.layers)
+    assert n > 2 and sorted(doc.layers) == list(range(1, n + 1))
+    parts = []
+    for lid in range(1, n + 1):
+        assert doc.layers[lid].property(vp.METADATA_FIELD_NAME) == f"{lid} black {lid}/{n}"
+        (part,) = paths(doc.layers[lid])
+        parts.append(part)
+    for before, after in zip(parts, parts[1:]):
+        assert abs(after[0] - before[-1]) < 1e-9
+
+
+def test_a_smooth_line_is_one_path_as_vpype_reads_it(tmp_path):
+    image = ASSETS / "rocket.jpg"
+    svg = tmp_path / "cli.svg"
+    cli("stipple", str(image), "-o", str(svg), *LINE, "--line-smooth")
+    want = vpype_cli.execute(f"read --no-crop '{svg}'")
+    got = plugin(str(image), *LINE, "--line-smooth")
+    assert len(got.layers) == len(want.layers) == 1
+    (a,), (b,) = paths(got.layers[1]), paths(want.layers[1])
+    assert same_path(a, b)
+    # Curves, in more segments than the line has points.
+    straight = plugin(str(image), *LINE)
+    assert len(a) > len(paths(straight.layers[1])[0])
+
+
+def test_colour_lines_are_one_path_per_pen():
+    doc = plugin(str(ASSETS / "rocket.jpg"), *LINE, "--pens", "cmyk")
+    assert sorted(doc.layers) == [1, 2, 3, 4]
+    names = [doc.layers[lid].property(vp.METADATA_FIELD_NAME) for lid in (1, 2, 3, 4)]
+    assert names == [name for name, _ in CMYK]
+    assert [len(doc.layers[lid]) for lid in (1, 2, 3, 4)] == [1, 1, 1, 1]
+
+
+def test_a_line_drawing_becomes_a_vpype_document_of_one_path_per_layer():
+    d = pixelpie.stipple(ASSETS / "rocket.jpg", style="line", width_mm=60, pen_mm=0.8,
+                         refill_mm=400.0)
+    doc = d.to_vpype()
+    layers = d.paths()
+    assert len(layers) > 2 and sorted(doc.layers) == list(range(1, len(layers) + 1))
+    for k, layer in enumerate(layers, start=1):
+        (line,) = doc.layers[k]
+        (path,) = layer.paths
+        assert np.allclose(np.asarray(line), (path[:, 0] + 1j * path[:, 1]) * PX_PER_MM)
 
 
 # --- through vpype: SVG, HPGL and G-code ---------------------------------------
