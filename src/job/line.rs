@@ -22,7 +22,7 @@
 use super::count;
 use super::plan::{Maps, Plan, Planned};
 use super::run::{Stage, Step, along_curve, stage};
-use super::{DEFAULT_POINTS, Job, Picture, Stipple, Style, default_domain};
+use super::{DEFAULT_POINTS, Job, Picture, Stipple, Style};
 use crate::importance::{ImportanceMap, Mapping, Prepared, RadiusRange};
 use crate::sampler::{Params, Point, SampleSet};
 use crate::stipple::{Stroke, line, relax, tsp};
@@ -38,6 +38,9 @@ pub(crate) const MIN_DARKNESS: f32 = 1.0 / 24.0;
 pub(crate) const EDGE: f64 = 1.0;
 /// Points per pixel at darkness 1 and a line 1 px wide: ρ = this × D²/w².
 pub(crate) const DENSITY: f64 = 0.866_025_403_784_438_6 / (EDGE * EDGE);
+/// The longer side of the picture the count is first found on, px (the
+/// mean of the darkness squared is within 1% of the domain's there).
+const PROBE_SIDE: f64 = 256.0;
 /// Domain pixels across the line, where the domain is not given.
 const LINE_PX: f64 = 4.0;
 /// The shortest longer side of a line's domain, px.
@@ -51,8 +54,6 @@ pub(crate) const LINE_RELAX: u32 = 2;
 pub(crate) const LINE_CORRECTED_UP_TO: usize = 30_000;
 /// Render pixels across the line in the correction.
 const CORRECT_PX: f64 = 2.0;
-/// Lloyd steps after the correction's render.
-const CORRECT_RELAX: u32 = 2;
 /// How far a count may be from the one the pen's ink needs before a
 /// warning says the tones are out of reach.
 const COUNT_TOLERANCE: f64 = 0.15;
@@ -91,6 +92,9 @@ pub(crate) struct PenLine {
     points: usize,
     /// Its line's width in domain px.
     width_px: f64,
+    /// Whether its count follows its ink (a pen and no count given): the
+    /// correction then recounts.
+    follows_ink: bool,
 }
 
 /// [`spread_for`] of every pixel.
@@ -176,7 +180,13 @@ impl Job {
         // The count first, on the picture at a small size: it sets the
         // domain. With a pen it follows from the ink (N = ρ over the
         // area); without, the count sets the line's width.
-        let probe = default_domain(size.0, size.1, DEFAULT_POINTS);
+        let probe = {
+            let s = PROBE_SIDE / f64::from(size.0.max(size.1).max(1));
+            (
+                ((f64::from(size.0) * s).round() as u32).max(1),
+                ((f64::from(size.1) * s).round() as u32).max(1),
+            )
+        };
         let mean_sq: Vec<f64> = self
             .pen_darkness(picture, probe)?
             .iter()
@@ -247,6 +257,7 @@ impl Job {
                 needed,
                 points: 0,
                 width_px,
+                follows_ink: self.points.is_none() && needed_for_pen.is_some(),
             });
         }
         let needed: f64 = pens.iter().map(|p| p.needed).sum();
@@ -464,7 +475,17 @@ pub(crate) fn run_line(
     }
     let t_relax = lap();
     stage(&mut progress, Stage::Order)?;
-    let mut tours: Vec<tsp::Tour> = lines.iter().map(|p| toured(p, &mut progress)).collect();
+    // A tour to be corrected is only rendered: the drawings' search does
+    // (its length within about 1.5% of the line's own).
+    let first = if plan.corrected {
+        tsp::TspOptions::default()
+    } else {
+        tsp::TspOptions::line()
+    };
+    let mut tours: Vec<tsp::Tour> = lines
+        .iter()
+        .map(|p| toured(p, first, &mut progress))
+        .collect();
     let t_order = lap();
     stage(&mut progress, Stage::Size)?;
     if plan.corrected {
@@ -482,16 +503,44 @@ pub(crate) fn run_line(
             )?;
             let ordered: Vec<Point> = tours[k].order.iter().map(|&i| lines[k][i]).collect();
             let spread = correct(pen, domain, &ordered, pen.width_px);
-            let corrected = line_map(&spread, domain)?;
+            // Drawn again on the corrected spread: sampled afresh (Lloyd
+            // steps from the first points moved too little to move ink
+            // between areas), the count the corrected ink's where the pen
+            // sets it.
+            let points = if pen.follows_ink {
+                ((DENSITY * ink_squared(&spread) / (pen.width_px * pen.width_px)).round() as usize)
+                    .max(1)
+            } else {
+                pen.points
+            };
+            let mut corrected = line_map(&spread, domain)?;
+            // One run, not a fit: the count at the scale the corrected map
+            // predicts, with the first fit's bias (predicted against got).
+            let first = maps[k].predicted_points(f64::from(ranges[k].max / maps[k].range.max));
+            let bias = lines[k].len() as f64 / first.max(1.0);
+            let mut scale = f64::from(ranges[k].max / corrected.range.max);
+            for _ in 0..3 {
+                let predicted = corrected.predicted_points(scale) * bias;
+                scale *= (predicted / points as f64).sqrt();
+            }
+            corrected.range = corrected.range.scaled(scale);
+            let params = base.clone().with_seed(base.seed.wrapping_add(k as u64));
+            let fitted = count::sample_map(&corrected, &params, None, &mut sample)?;
+            runs += fitted.runs;
+            ranges[k] = fitted.range;
+            let mut points = along_curve(fitted.set.points);
+            for p in &mut points {
+                p.class = k as u32;
+            }
             lines[k] = relaxed(
                 &job,
                 &corrected,
                 ranges[k],
-                ordered,
-                CORRECT_RELAX,
+                points,
+                plan.relax,
                 &mut progress,
             )?;
-            tours[k] = toured(&lines[k], &mut progress);
+            tours[k] = toured(&lines[k], tsp::TspOptions::line(), &mut progress);
         }
     }
     let t_size = lap();
@@ -586,14 +635,16 @@ fn relaxed(
 }
 
 /// The tour through `points`, without self-crossings.
-fn toured(points: &[Point], progress: &mut impl FnMut(Step) -> bool) -> tsp::Tour {
+fn toured(
+    points: &[Point],
+    options: tsp::TspOptions,
+    progress: &mut impl FnMut(Step) -> bool,
+) -> tsp::Tour {
     let xy: Vec<[f64; 2]> = points
         .iter()
         .map(|p| [f64::from(p.x), f64::from(p.y)])
         .collect();
-    let mut tour = tsp::plan_until(&xy, tsp::TspOptions::default(), &mut || {
-        !progress(Step::Busy(Stage::Order))
-    });
+    let mut tour = tsp::plan_until(&xy, options, &mut || !progress(Step::Busy(Stage::Order)));
     tsp::uncross(&xy, &mut tour.order);
     tour.length = tsp::path_length(&xy, &tour.order);
     tour
