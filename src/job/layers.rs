@@ -296,6 +296,28 @@ fn split(dots: &[Dot], limit: Option<f64>, length: impl Fn(&Dot) -> f64) -> Vec<
 mod tests {
     use super::*;
 
+    /// A stroke cut for refills: parts within the limit, each starting
+    /// where the last ended, together the whole stroke.
+    #[test]
+    fn a_stroke_is_cut_into_parts_that_join() {
+        let stroke = Stroke {
+            points: (0..21).map(|i| [i as f32, 0.0]).collect(),
+            width: 1.0,
+            smooth: false,
+        };
+        let parts = split_stroke(&stroke, Some(6.5));
+        assert_eq!(
+            parts.iter().map(|p| p.1).collect::<Vec<_>>(),
+            [6.0, 6.0, 6.0, 2.0]
+        );
+        for w in parts.windows(2) {
+            assert_eq!(w[0].0.points.last(), w[1].0.points.first());
+        }
+        let joined: usize = parts.iter().map(|p| p.0.points.len()).sum();
+        assert_eq!(joined - (parts.len() - 1), stroke.points.len());
+        assert_eq!(split_stroke(&stroke, None).len(), 1);
+    }
+
     #[test]
     fn lighter_inks_sort_first_and_parts_keep_under_the_limit() {
         let [y, c, m, k] = [[255, 255, 0], [0, 255, 255], [255, 0, 255], [0, 0, 0]].map(luminance);

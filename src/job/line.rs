@@ -786,3 +786,68 @@ fn blur_line(src: &[f32], out: &mut [f32], radius: usize) {
         *o = ((prefix[b] - prefix[a]) / (b - a) as f64) as f32;
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The spread is the darkness up to the knee, then grows past it
+    /// (passes that meet lay less new ink), never past [`MAX_SPREAD`], and
+    /// inverts the ink model it states.
+    #[test]
+    fn the_spread_inverts_the_lines_ink_model() {
+        let ink = |x: f32| {
+            if x <= KNEE {
+                x
+            } else {
+                1.0 - (1.0 - KNEE) * (-(x - KNEE) / (1.0 - KNEE)).exp()
+            }
+        };
+        let mut last = 0.0;
+        for i in 0..=100 {
+            let d = i as f32 / 100.0;
+            let x = spread_for(d);
+            assert!(x >= last && x <= MAX_SPREAD, "{d}: {x}");
+            if x < MAX_SPREAD {
+                assert!((ink(x) - d).abs() < 1e-4, "{d}: ink {} of {x}", ink(x));
+            }
+            if d <= KNEE {
+                assert_eq!(x, d);
+            }
+            last = x;
+        }
+        assert_eq!(spread_for(1.0), MAX_SPREAD);
+    }
+
+    /// The line's map gives a radius ∝ 1/spread (a density ∝ spread²)
+    /// and cuts the pixels lighter than [`MIN_DARKNESS`].
+    #[test]
+    fn the_maps_radius_is_inverse_to_the_spread() {
+        let spread = [1.3, 0.65, 0.26, 0.13, 0.01];
+        let map = line_map(&spread, (5, 1)).unwrap();
+        let radius = ImportanceMap::radius_fn(map.mapping, map.range);
+        for (i, &x) in spread.iter().enumerate().take(4) {
+            let r = radius(map.value(i as u32, 0));
+            assert!((r * x - 1.0).abs() < 1e-4, "{x}: r {r}");
+        }
+        let cut = map.cutoff().unwrap();
+        assert!(map.value(4, 0) > cut && map.value(3, 0) <= cut);
+    }
+
+    /// The box blur keeps a constant and the mean, and spreads a spike.
+    #[test]
+    fn the_blur_keeps_the_mean() {
+        let (w, h) = (40u32, 30u32);
+        let mut v = vec![0.5f32; (w * h) as usize];
+        assert!(
+            box_blur(&v, (w, h), 3)
+                .iter()
+                .all(|&x| (x - 0.5).abs() < 1e-6)
+        );
+        v[(15 * w + 20) as usize] = 10.0;
+        let b = box_blur(&v, (w, h), 2);
+        let mean = |x: &[f32]| x.iter().map(|&a| f64::from(a)).sum::<f64>() / x.len() as f64;
+        assert!((mean(&b) - mean(&v)).abs() < 1e-3);
+        assert!(b[(15 * w + 20) as usize] < 1.0 && b[(15 * w + 22) as usize] > 0.5);
+    }
+}
