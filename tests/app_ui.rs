@@ -2193,6 +2193,9 @@ fn every_control_is_in_reach_in_an_800_by_500_window() {
             "Landscape",
             "Margin",
             "Paper colour",
+            "Style",
+            "Line",
+            "Smooth line",
             "Dots",
             "Dot mm",
             "Lightest / darkest dot",
@@ -2481,4 +2484,334 @@ fn local_spacing_serves_one_pen_and_errors_name_the_controls() {
     finish(&mut h);
     let e = h.state().error.clone().expect("a refusal");
     assert!(e.contains("Domain width 0") && !e.contains("--"), "{e}");
+}
+
+/// Whether the control first named `name` is greyed out.
+fn greyed(h: &Harness<'_, PixelPieApp>, name: &str) -> bool {
+    h.get_all_by_label(name)
+        .next()
+        .unwrap_or_else(|| panic!("no {name}"))
+        .accesskit_node()
+        .is_disabled()
+}
+
+#[test]
+fn choosing_line_sets_the_style_and_greys_out_what_only_dots_have() {
+    let (_dir, _, mut h) = ready(300, 200);
+    h.state_mut().settings.job.points = Some(1500);
+    h.step();
+    settle(&mut h);
+    fold(&mut h, &["Pens", "Paper"]);
+    let dot_only = [
+        "Dot size (× calibrated)",
+        "Lightest / darkest dot",
+        "Dot mm",
+        "Point count",
+        "Radius range",
+        "Size for local spacing",
+        "Along a curve",
+        "Plotter (TSP)",
+        "Pen travel",
+    ];
+    assert!(greyed(&h, "Smooth line"), "a smooth line with dots");
+    assert!(!greyed(&h, "Lightest / darkest dot"));
+    h.get_by_label("Line").click();
+    h.run_steps(2);
+    assert_eq!(h.state().settings.job.style, pixelpie::job::Style::Line);
+    let lit: Vec<&str> = dot_only
+        .into_iter()
+        .filter(|name| !greyed(&h, name))
+        .collect();
+    assert!(lit.is_empty(), "not greyed out for a line: {lit:?}");
+    // The dots' mode: the combo box labelled Dots (the style's Dots button
+    // comes first).
+    let combo = h
+        .get_all_by_label("Dots")
+        .find(|n| n.accesskit_node().role() == egui::accesskit::Role::ComboBox)
+        .expect("the Dots combo box");
+    assert!(combo.accesskit_node().is_disabled());
+    for name in [
+        "Smooth line",
+        "Points",
+        "Correct tones by rendering",
+        "Seed",
+    ] {
+        assert!(!greyed(&h, name), "{name} greyed out for a line");
+    }
+    // A line re-samples: its points lie on one stroke, no dot is drawn.
+    settle(&mut h);
+    let o = h.state().outcome.as_ref().expect("a drawing");
+    assert_eq!(o.drawing.strokes.len(), 1);
+    assert_eq!(o.drawing.strokes[0].points.len(), o.drawing.points.len());
+    assert!(
+        (o.drawing.points.len() as f64 - 1500.0).abs() <= 45.0,
+        "{} points",
+        o.drawing.points.len()
+    );
+    assert!(h.state().is_line() && h.state().dots_drawn() == 0);
+    assert!(
+        h.state().plan_line().unwrap().contains("one line through"),
+        "{:?}",
+        h.state().plan_line()
+    );
+    // Dots again: the dot controls come back.
+    h.get_all_by_label("Dots").next().unwrap().click();
+    h.run_steps(2);
+    assert_eq!(h.state().settings.job.style, pixelpie::job::Style::Dots);
+    assert!(!greyed(&h, "Lightest / darkest dot") && greyed(&h, "Smooth line"));
+}
+
+#[test]
+fn a_line_shows_in_the_view_with_the_png_s_tones_and_smooths_without_sampling() {
+    let (dir, _, mut h) = ready(300, 200);
+    h.state_mut().settings.backend = pixelpie::backend::BackendChoice::Cpu;
+    let job = &mut h.state_mut().settings.job;
+    job.style = pixelpie::job::Style::Line;
+    job.points = Some(3000);
+    h.step();
+    settle(&mut h);
+    press(&mut h, egui::Key::F, egui::Modifiers::NONE);
+    rest(&mut h);
+    let view = h.render().expect("render");
+    let _ = view.save(format!("{}/app-line.png", env!("CARGO_TARGET_TMPDIR")));
+    // The stroke was painted, every vertex of it in sight.
+    let points = h.state().outcome.as_ref().unwrap().drawing.points.len();
+    let painted = h.state().line_vertices_painted();
+    assert!(
+        painted > points / 2 && painted <= points,
+        "{painted} vertices painted of {points}"
+    );
+    // The view's grey is the exported PNG's (the line at its width).
+    let png = dir.path().join("line.png");
+    export(&mut h, &png);
+    let png = image::open(&png).unwrap().to_rgba8();
+    let (on_screen, exported) = view_and_png_grey(&h, &view, &png);
+    eprintln!("a line of {points} points: view {on_screen:.4}, PNG {exported:.4}");
+    assert!(
+        (on_screen - exported).abs() <= 0.04,
+        "the view's mean grey {on_screen:.4}, the PNG's {exported:.4}"
+    );
+    // The SVG: one stroked path, no dots.
+    let svg = dir.path().join("line.svg");
+    export(&mut h, &svg);
+    let straight = std::fs::read_to_string(&svg).unwrap();
+    assert!(
+        straight.contains("<path") && !straight.contains("<circle"),
+        "{}",
+        &straight[..straight.len().min(600)]
+    );
+    // Smoothing the line draws the same points anew: no sampling; the view
+    // and the SVG show curves.
+    let before = h.state().outcome.as_ref().unwrap().drawing.points.clone();
+    h.get_by_label("Smooth line").click();
+    h.run_steps(2);
+    assert!(h.state().settings.job.line_smooth);
+    assert!(!h.state().busy(), "smoothing the line sampled anew");
+    let o = h.state().outcome.as_ref().unwrap();
+    assert!(o.drawing.strokes.iter().all(|s| s.smooth));
+    assert_eq!(o.drawing.points, before);
+    let smooth_view = h.render().expect("render");
+    assert_ne!(
+        smooth_view.as_raw(),
+        view.as_raw(),
+        "the view did not change"
+    );
+    export(&mut h, &svg);
+    let smooth = std::fs::read_to_string(&svg).unwrap();
+    assert_ne!(smooth, straight);
+    assert!(smooth.contains('c'), "no curves in the smooth SVG");
+}
+
+#[test]
+fn a_line_with_a_pen_is_the_pen_s_width_and_several_pens_draw_a_line_each() {
+    let (_dir, _, mut h) = ready(300, 200);
+    h.state_mut().settings.backend = pixelpie::backend::BackendChoice::Cpu;
+    h.get_by_label("Line").click();
+    h.run_steps(2);
+    // A pen on a page: the pen's line sets the count, and its width is the
+    // pen's.
+    let job = &mut h.state_mut().settings.job;
+    job.width_mm = Some(50.0);
+    job.pen_mm = Some(0.5);
+    h.run_steps(2);
+    assert_eq!(h.state().settings.job.points, None);
+    assert!(greyed(&h, "Points"));
+    settle(&mut h);
+    let plan = h.state().outcome.as_ref().unwrap().drawing.plan.clone();
+    let line = plan.line.expect("a line's plan");
+    assert!(
+        (line.width_mm.unwrap() - 0.5).abs() < 1e-6,
+        "{:?}",
+        line.width_mm
+    );
+    assert!(
+        (plan.dots as f64 - line.needed as f64).abs() <= 0.05 * line.needed as f64,
+        "{} points for {} needed",
+        plan.dots,
+        line.needed
+    );
+    // No pen: the Points field's count again.
+    let typed = h.state().typed_points;
+    h.state_mut().settings.job.pen_mm = None;
+    h.run_steps(2);
+    assert_eq!(h.state().settings.job.points, Some(typed));
+    h.state_mut().settings.job.points = Some(3000);
+    // Several pens: a line for each, in its pen's colour.
+    h.get_by_label("CMYK").scroll_to_me();
+    h.run_steps(3);
+    h.get_by_label("CMYK").click();
+    h.run_steps(2);
+    settle(&mut h);
+    let d = h.state().outcome.as_ref().unwrap().drawing.clone();
+    assert_eq!(d.pens.as_ref().map(|p| p.len()), Some(4));
+    assert!(!d.strokes.is_empty() && d.strokes.len() <= 4);
+    press(&mut h, egui::Key::F, egui::Modifiers::NONE);
+    let all = h.state().line_vertices_painted();
+    let img = h.render().expect("render");
+    let _ = img.save(format!("{}/app-line-cmyk.png", env!("CARGO_TARGET_TMPDIR")));
+    assert!(
+        all > 0 && all <= d.points.len(),
+        "{all} of {}",
+        d.points.len()
+    );
+    // Hidden pens' lines are not painted.
+    h.state_mut().settings.hidden_pens = vec![true; 4];
+    h.run_steps(2);
+    assert_eq!(h.state().line_vertices_painted(), 0);
+    h.state_mut().settings.hidden_pens = vec![false; 4];
+    h.run_steps(2);
+    assert_eq!(h.state().line_vertices_painted(), all);
+    // Dots draw the four pens again.
+    h.get_all_by_label("Dots").next().unwrap().click();
+    h.run_steps(2);
+    settle(&mut h);
+    let o = h.state().outcome.as_ref().unwrap();
+    assert!(o.drawing.pens.is_some() && o.drawing.strokes.is_empty());
+    assert!(h.state().dots_drawn() > 0 && h.state().line_vertices_painted() == 0);
+}
+
+/// Steps the UI until the view has made `n` rasters of its line.
+fn rasters(h: &mut Harness<'_, PixelPieApp>, n: u64) {
+    let start = Instant::now();
+    while h.state().line_rasters_made() < n {
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "no raster of the line"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+        h.step();
+    }
+    h.run_steps(2);
+}
+
+#[test]
+fn a_long_line_is_drawn_from_a_raster_made_when_the_view_rests() {
+    let (dir, _, mut h) = ready(300, 200);
+    let live = h.state().line_live_vertices();
+    if live > 100_000 {
+        eprintln!("a GPU draws {live} vertices as they are: no raster to test");
+        return;
+    }
+    h.state_mut().settings.backend = pixelpie::backend::BackendChoice::Cpu;
+    let job = &mut h.state_mut().settings.job;
+    job.style = pixelpie::job::Style::Line;
+    job.points = Some(live + 5000);
+    h.step();
+    settle(&mut h);
+    press(&mut h, egui::Key::F, egui::Modifiers::NONE);
+    rest(&mut h);
+    rasters(&mut h, 1);
+    assert_eq!(h.state().line_vertices_painted(), 0, "drawn as paths");
+    let view = h.render().expect("render");
+    let _ = view.save(format!(
+        "{}/app-line-raster.png",
+        env!("CARGO_TARGET_TMPDIR")
+    ));
+    let png = dir.path().join("line.png");
+    export(&mut h, &png);
+    let png = image::open(&png).unwrap().to_rgba8();
+    let (on_screen, exported) = view_and_png_grey(&h, &view, &png);
+    eprintln!("a line from its raster: view {on_screen:.4}, PNG {exported:.4}");
+    assert!(
+        (on_screen - exported).abs() <= 0.03,
+        "the view's mean grey {on_screen:.4}, the PNG's {exported:.4}"
+    );
+    // Zoomed out, the raster moves with the view (none made while it
+    // moves), and a new one comes once the view rests.
+    let made = h.state().line_rasters_made();
+    h.state_mut().zoom_by(0.8);
+    h.step();
+    assert_eq!(h.state().line_rasters_made(), made);
+    let moved = h.render().expect("render");
+    assert_ne!(moved.as_raw(), view.as_raw(), "the view did not move");
+    rest(&mut h);
+    rasters(&mut h, made + 1);
+}
+
+#[test]
+#[ignore = "a timing harness: cargo test --release --test app_ui -- --ignored --nocapture frame_times_of_a_line"]
+fn frame_times_of_a_line_at_100k_points() {
+    let (_dir, _, mut h) = ready(600, 400);
+    h.state_mut().settings.backend = pixelpie::backend::BackendChoice::Cpu;
+    h.state_mut().settings.job.style = pixelpie::job::Style::Line;
+    for smooth in [false, true] {
+        h.state_mut().settings.job.points = Some(100_000);
+        h.state_mut().settings.job.line_smooth = smooth;
+        h.step();
+        let t = Instant::now();
+        settle(&mut h);
+        let job = t.elapsed().as_secs_f64();
+        press(&mut h, egui::Key::F, egui::Modifiers::NONE);
+        let (mean, max, first) = pan_zoom_frames(&mut h);
+        // A raster of the view at rest: from the rest to its arrival.
+        let made = h.state().line_rasters_made();
+        // (Another scale than any raster held.)
+        h.state_mut().zoom_by(if smooth { 1.03 } else { 1.01 });
+        h.step();
+        std::thread::sleep(app::SETTLE);
+        let t = Instant::now();
+        rasters(&mut h, made + 1);
+        let raster = t.elapsed().as_secs_f64() * 1e3;
+        eprintln!(
+            "a line through {} points{} (job {job:.1} s): pan and zoom {mean:.1} ms a frame \
+             (slowest {max:.1} ms), first frame {first:.1} ms, {} vertices painted, a raster \
+             at rest {raster:.0} ms, on {}",
+            h.state().outcome.as_ref().unwrap().drawing.points.len(),
+            if smooth { ", smooth" } else { "" },
+            h.state().line_vertices_painted(),
+            h.state().adapter().unwrap_or("no adapter")
+        );
+        // egui's tessellation alone: the stroke at the fitted view's scale.
+        let o = h.state().outcome.as_ref().unwrap();
+        let k = h.state().zoom() / o.scale;
+        let points: Vec<egui::Pos2> = o.drawing.strokes[0]
+            .path(0.5)
+            .iter()
+            .map(|p| egui::pos2(p[0] as f32 * k + 340.0, p[1] as f32 * k))
+            .collect();
+        let width = o.drawing.strokes[0].width * k;
+        let n = points.len();
+        let shape = egui::epaint::ClippedShape::new(
+            egui::Rect::EVERYTHING,
+            egui::Shape::line(points, egui::Stroke::new(width, egui::Color32::BLACK)),
+        );
+        let t = Instant::now();
+        let prims = h.ctx.tessellate(vec![shape], 1.0);
+        let triangles: usize = prims
+            .iter()
+            .map(|p| match &p.primitive {
+                egui::epaint::Primitive::Mesh(m) => m.indices.len() / 3,
+                egui::epaint::Primitive::Callback(_) => 0,
+            })
+            .sum();
+        eprintln!(
+            "tessellating {n} vertices {width:.2} px wide: {:.1} ms, {triangles} triangles",
+            t.elapsed().as_secs_f64() * 1e3
+        );
+    }
+    h.state_mut().pan_by(egui::vec2(1e5, 1e5));
+    let (mean, max, _) = pan_zoom_frames(&mut h);
+    eprintln!(
+        "the window without the drawing in sight: {mean:.1} ms a frame (slowest {max:.1} ms)"
+    );
 }

@@ -5,7 +5,7 @@ use egui::Color32;
 
 use super::PixelPieApp;
 use super::panel::fixed_row;
-use crate::job::Order;
+use crate::job::{Order, Style};
 use crate::stipple::DotSize;
 use crate::stipple::svg::DotPath;
 
@@ -55,12 +55,38 @@ impl PixelPieApp {
         let placement = self.placement();
         let mut pen_note = None;
         let job = &mut self.settings.job;
+        let line = job.style == Style::Line;
         ui.horizontal(|ui| {
             ui.label("Order");
-            ui.selectable_value(&mut job.order, Order::None, "Along a curve")
-                .on_hover_text("A Hilbert curve through the dots, unplanned");
-            ui.selectable_value(&mut job.order, Order::Tsp, "Plotter (TSP)")
-                .on_hover_text("A short pen path (a Hilbert curve and 2-opt)");
+            // A line is a tour whatever the order: shown as one, greyed.
+            let tour = job.order == Order::Tsp || line;
+            for (order, name, help) in [
+                (
+                    Order::None,
+                    "Along a curve",
+                    "A Hilbert curve through the dots, unplanned",
+                ),
+                (
+                    Order::Tsp,
+                    "Plotter (TSP)",
+                    "A short pen path (a Hilbert curve and 2-opt)",
+                ),
+            ] {
+                if ui
+                    .add_enabled(
+                        !line,
+                        egui::Button::selectable(tour == (order == Order::Tsp), name),
+                    )
+                    .on_hover_text(help)
+                    .on_disabled_hover_text(
+                        "A line is always a tour: a short path through its points, without \
+                         crossings",
+                    )
+                    .clicked()
+                {
+                    job.order = order;
+                }
+            }
         });
         ui.horizontal(|ui| {
             // The paper and a width exclude each other: with paper, the
@@ -105,7 +131,7 @@ impl PixelPieApp {
             let moves_dots = job.dot.is_none();
             let ticked = ui
                 .add_enabled(sized, egui::Checkbox::new(&mut pen, "Pen mm"))
-                .on_hover_text(if moves_dots {
+                .on_hover_text(if moves_dots && !line {
                     "Draw each dot as a pen of this width draws it. With the dots' mode left \
                      to its default (Dot size), this makes them Fixed (all one size, as a pen \
                      draws them); unticked they are Sized again"
@@ -144,7 +170,7 @@ impl PixelPieApp {
                 "Tick Pen mm to give one"
             });
             job.pen_mm = (sized && pen).then_some(pen_mm);
-            if ticked.changed() && moves_dots && pen != had {
+            if ticked.changed() && moves_dots && pen != had && !line {
                 pen_note = Some(if pen {
                     "Pen mm: the dots are Fixed now, one size as a pen draws them (Dot size's \
                      Dots sets another mode)"
@@ -159,6 +185,7 @@ impl PixelPieApp {
         let job = &mut self.settings.job;
         ui.horizontal(|ui| {
             let pen = job.pen_mm.is_some();
+            let line = job.style == Style::Line;
             ui.label("Dot path").on_hover_text(
                 "How the pen draws a dot wider than itself; a dot no wider than \
                  the pen is one touch",
@@ -181,9 +208,16 @@ impl PixelPieApp {
                 ),
             ] {
                 if ui
-                    .add_enabled(pen, egui::Button::selectable(job.dot_path == path, name))
+                    .add_enabled(
+                        pen && !line,
+                        egui::Button::selectable(job.dot_path == path, name),
+                    )
                     .on_hover_text(help)
-                    .on_disabled_hover_text("Needs a pen width (Pen mm)")
+                    .on_disabled_hover_text(if line {
+                        super::panel::NOT_A_LINE
+                    } else {
+                        "Needs a pen width (Pen mm)"
+                    })
                     .clicked()
                 {
                     job.dot_path = path;
@@ -322,9 +356,19 @@ impl PixelPieApp {
             Ok(()) => {
                 // Said when the drawing written is not what the controls ask.
                 self.exported_note = self.busy().then(|| {
-                    let dots = self.outcome.as_ref().map_or(0, |o| o.drawing.points.len());
+                    let (n, what) = self.outcome.as_ref().map_or((0, "dots"), |o| {
+                        let d = &o.drawing;
+                        (
+                            d.points.len(),
+                            if d.strokes.is_empty() {
+                                "dots"
+                            } else {
+                                "points on a line"
+                            },
+                        )
+                    });
                     format!(
-                        "the last finished drawing ({dots} dots); the one for the present \
+                        "the last finished drawing ({n} {what}); the one for the present \
                          settings is still being made"
                     )
                 });

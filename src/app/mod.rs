@@ -2,11 +2,13 @@
 //!
 //! The importance map is loaded into textures, sampling runs on a worker
 //! thread (debounced, the latest request wins) on egui's own wgpu device, and
-//! the dots are drawn on the GPU by an `egui_wgpu` paint callback.
+//! the dots are drawn on the GPU by an `egui_wgpu` paint callback (a line
+//! drawing's strokes by egui's own tessellator).
 
 pub mod dialogs;
 mod dots;
 mod export;
+mod line;
 mod panel;
 mod paper;
 mod pens;
@@ -151,6 +153,9 @@ pub struct PixelPieApp {
     pub typed_points: usize,
     /// The heights of the panel's parts, as last drawn.
     heights: Heights,
+    /// The style and whether a pen was set, as the last frame left them
+    /// (a line's count follows its pen: see [`Self::line_rules`]).
+    line_pen: (crate::job::Style, bool),
 }
 
 /// A picture decoding off the UI thread.
@@ -275,6 +280,7 @@ impl PixelPieApp {
             crop_for_next: false,
             typed_points: settings.job.points.unwrap_or(crate::job::DEFAULT_POINTS),
             heights: Heights::default(),
+            line_pen: (settings.job.style, settings.job.pen_mm.is_some()),
         };
         // Ctrl+plus and Ctrl+minus zoom the picture, not the whole UI.
         cc.egui_ctx.options_mut(|o| o.zoom_with_keyboard = false);
@@ -556,6 +562,7 @@ impl PixelPieApp {
                 self.typed_points = job.points.unwrap_or(self.typed_points);
                 self.crop_for_next = job.crop.is_some();
                 self.settings.job = job;
+                self.keep_line_pen();
                 match warning {
                     Some(w) => format!(
                         "loaded {} (warning: {})",
@@ -590,9 +597,78 @@ impl PixelPieApp {
             .map(|o| words::app_text(&o.drawing.plan.line()))
     }
 
-    /// The number of dots on screen.
+    /// The number of dots on screen (none in a line drawing).
     pub fn dots_drawn(&self) -> usize {
-        self.dot_instances.len()
+        if self.is_line() {
+            0
+        } else {
+            self.dot_instances.len()
+        }
+    }
+
+    /// Keeps a line's settings whole after the controls changed them:
+    /// the smoothing is a line's alone; a line with a pen takes its count
+    /// from the pen (the pen's width and the picture's ink set it, as
+    /// `pixelpie stipple --style line` does without `--points`), without
+    /// one from the Points field, and dots get the Points field's count
+    /// back. Only a change of the style or of the pen moves the count, so
+    /// that a job file's own count stays.
+    fn line_rules(&mut self) {
+        use crate::job::Style;
+        let job = &mut self.settings.job;
+        if job.style != Style::Line {
+            job.line_smooth = false;
+        }
+        let now = (job.style, job.pen_mm.is_some());
+        if now == self.line_pen {
+            return;
+        }
+        self.line_pen = now;
+        match now {
+            (Style::Line, true) => {
+                job.points = None;
+                job.dot_mm = None;
+                job.dot_radius = None;
+                job.importance.min_radius = None;
+            }
+            // Dots, or a line without a pen: the count typed, unless a
+            // radius range or the dots' size in mm sets the radii.
+            (style, _) => {
+                let sized = job.dot_mm.is_some()
+                    || job.dot_radius.is_some()
+                    || job.importance.min_radius.is_some();
+                if job.points.is_none() && (style == Style::Line || !sized) {
+                    job.points = Some(self.typed_points);
+                    job.dot_mm = None;
+                    job.dot_radius = None;
+                    job.importance.min_radius = None;
+                }
+            }
+        }
+    }
+
+    /// Takes the style and the pen as they are now, without moving the
+    /// count: settings restored whole (undo, a job file, Cancel) keep theirs.
+    fn keep_line_pen(&mut self) {
+        let job = &self.settings.job;
+        self.line_pen = (job.style, job.pen_mm.is_some());
+    }
+
+    /// A line drawing's strokes as the job draws them: smooth or straight
+    /// (the smoothing samples nothing anew, so the drawing shown and
+    /// exported takes it from the controls).
+    fn restyle_line(&mut self) {
+        let smooth = self.settings.job.line_smooth;
+        let Some(o) = &mut self.outcome else { return };
+        if o.drawing.strokes.iter().all(|s| s.smooth == smooth) {
+            return;
+        }
+        let mut drawing = (*o.drawing).clone();
+        for s in &mut drawing.strokes {
+            s.smooth = smooth;
+        }
+        o.drawing = Arc::new(drawing);
+        o.settings.job.line_smooth = smooth;
     }
 
     /// Whether a picture is decoding or a sampling job is queued or running.
@@ -620,6 +696,7 @@ impl PixelPieApp {
             s.backend = drawn.backend;
             self.typed_points = s.job.points.unwrap_or(self.typed_points);
             self.history.barrier();
+            self.keep_line_pen();
         }
         self.last_key = Some(self.settings.sampling_key());
         self.cancelled = true;
@@ -841,6 +918,8 @@ impl eframe::App for PixelPieApp {
         if matches!(self.choice_note, Some(Ok(_))) && self.settings.job.pens != self.choice_pens {
             self.choice_note = None;
         }
+        self.line_rules();
+        self.restyle_line();
         self.history.observe(&self.settings);
         let key = self.settings.sampling_key();
         if self.last_key.as_ref() != Some(&key) {

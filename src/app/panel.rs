@@ -8,7 +8,7 @@ use super::PixelPieApp;
 use super::settings::Background;
 use crate::backend::BackendChoice;
 use crate::importance::{MappingKind, Tones};
-use crate::job::DotMode;
+use crate::job::{DotMode, Style};
 use crate::sampler::Policy;
 
 impl PixelPieApp {
@@ -240,16 +240,23 @@ impl PixelPieApp {
         let job = &mut self.settings.job;
         // The radii follow from the count (or the dots' size in mm), or are
         // the radius range as it is.
-        let was_counted = job.points.is_some() || job.dot_mm.is_some();
+        // A line has a count: the Points field's, or its pen's.
+        let line = job.style == Style::Line;
+        let pen_line = line && job.pen_mm.is_some();
+        let was_counted = job.points.is_some() || job.dot_mm.is_some() || line;
         let mut counted = was_counted;
-        ui.horizontal(|ui| {
-            ui.radio_value(&mut counted, true, "Point count")
-                .on_hover_text("Aim for a number of dots; the radii scale to fit it");
-            ui.radio_value(&mut counted, false, "Radius range")
-                .on_hover_text(
-                    "Use the radius range as it is, in domain pixels (the picture scaled \
-                     as pixelpie stipple scales it: longer side 1024 px or more)",
-                );
+        ui.add_enabled_ui(!line, |ui| {
+            ui.horizontal(|ui| {
+                ui.radio_value(&mut counted, true, "Point count")
+                    .on_hover_text("Aim for a number of dots; the radii scale to fit it")
+                    .on_disabled_hover_text(LINE_COUNT);
+                ui.radio_value(&mut counted, false, "Radius range")
+                    .on_hover_text(
+                        "Use the radius range as it is, in domain pixels (the picture scaled \
+                         as pixelpie stipple scales it: longer side 1024 px or more)",
+                    )
+                    .on_disabled_hover_text(LINE_COUNT);
+            });
         });
         if counted != was_counted {
             job.dot_mm = None;
@@ -276,11 +283,24 @@ impl PixelPieApp {
                             .speed(50),
                     )
                     .labelled_by(l.id)
-                    .on_hover_text(format!(
-                        "How many dots the drawing has (within 3%): 1 to {} (a photo on the \
-                         largest domain, 4096×4096 px, holds about 6 million dots of 1 px)",
-                        super::settings::MAX_POINTS
-                    ));
+                    .on_hover_text(if line {
+                        "How many points the line passes through (within 3%): more points, a \
+                         thinner line"
+                            .to_owned()
+                    } else {
+                        format!(
+                            "How many dots the drawing has (within 3%): 1 to {} (a photo on \
+                             the largest domain, 4096×4096 px, holds about 6 million dots of 1 \
+                             px)",
+                            super::settings::MAX_POINTS
+                        )
+                    })
+                    .on_disabled_hover_text(if pen_line {
+                        "A line with a pen: the pen's width and the picture's ink set the \
+                         count (untick Pen mm to give one)"
+                    } else {
+                        "Point count sets it (the radius range or Dot mm sets the radii now)"
+                    });
                 if r.changed() && job.points.is_some() {
                     job.points = Some(n);
                     *typed = n;
@@ -298,41 +318,50 @@ impl PixelPieApp {
             .max_radius
             .unwrap_or(lo * crate::importance::DEFAULT_RADIUS_RATIO);
         let (lo0, hi0) = (lo, hi);
-        ui.horizontal(|ui| {
-            let l = ui.label("Radius");
-            ui.add(
-                egui::DragValue::new(&mut lo)
-                    .update_while_editing(false)
-                    .range(1.0..=500.0)
-                    .speed(0.05)
-                    .prefix("min "),
-            )
-            .labelled_by(l.id)
-            .on_hover_text("Disk radius in black areas: the closest dots");
-            ui.add(
-                egui::DragValue::new(&mut hi)
-                    .update_while_editing(false)
-                    .range(1.0..=500.0)
-                    .speed(0.05)
-                    .prefix("max "),
-            )
-            .on_hover_text("Disk radius in white areas: the sparsest dots");
+        let line = s.job.style == Style::Line;
+        ui.add_enabled_ui(!line, |ui| {
+            ui.horizontal(|ui| {
+                let l = ui.label("Radius");
+                ui.add(
+                    egui::DragValue::new(&mut lo)
+                        .update_while_editing(false)
+                        .range(1.0..=500.0)
+                        .speed(0.05)
+                        .prefix("min "),
+                )
+                .labelled_by(l.id)
+                .on_hover_text("Disk radius in black areas: the closest dots")
+                .on_disabled_hover_text(NOT_A_LINE_MAP);
+                ui.add(
+                    egui::DragValue::new(&mut hi)
+                        .update_while_editing(false)
+                        .range(1.0..=500.0)
+                        .speed(0.05)
+                        .prefix("max "),
+                )
+                .on_hover_text("Disk radius in white areas: the sparsest dots")
+                .on_disabled_hover_text(NOT_A_LINE_MAP);
+            });
         });
         if lo != lo0 || hi != hi0 {
             imp.min_radius = Some(lo);
             imp.max_radius = Some(hi.max(lo));
         }
         let mut tone = imp.mapping != Some(MappingKind::Linear);
-        egui::ComboBox::from_label("Mapping")
-            .selected_text(if tone { "Tone" } else { "Linear" })
-            .show_ui(ui, |ui| {
-                ui.selectable_value(&mut tone, true, "Tone")
-                    .on_hover_text("Calibrated: the drawing's ink equals the picture's darkness.");
-                ui.selectable_value(&mut tone, false, "Linear")
-                    .on_hover_text("The paper's ramp r_min + (r_max − r_min)·v.");
-            })
-            .response
-            .on_hover_text("How a pixel's grey becomes its disk radius");
+        ui.add_enabled_ui(!line, |ui| {
+            egui::ComboBox::from_label("Mapping")
+                .selected_text(if tone { "Tone" } else { "Linear" })
+                .show_ui(ui, |ui| {
+                    ui.selectable_value(&mut tone, true, "Tone").on_hover_text(
+                        "Calibrated: the drawing's ink equals the picture's darkness.",
+                    );
+                    ui.selectable_value(&mut tone, false, "Linear")
+                        .on_hover_text("The paper's ramp r_min + (r_max − r_min)·v.");
+                })
+                .response
+                .on_hover_text("How a pixel's grey becomes its disk radius")
+                .on_disabled_hover_text(NOT_A_LINE_MAP);
+        });
         imp.mapping = (!tone).then_some(MappingKind::Linear);
         egui::ComboBox::from_label("Tones")
             .selected_text(match imp.tones {
@@ -474,24 +503,29 @@ impl PixelPieApp {
         let planned = self.outcome.as_ref().map(|o| o.drawing.plan.relax);
         let typed = self.typed_points;
         let job = &mut self.settings.job;
+        style_ui(ui, job);
+        let line = job.style == Style::Line;
         let mut mode = job.dot_mode();
-        egui::ComboBox::from_label("Dots")
-            .selected_text(format!("{mode:?}"))
-            .show_ui(ui, |ui| {
-                ui.selectable_value(&mut mode, DotMode::Fixed, "Fixed")
-                    .on_hover_text("All dots alike; their density follows the tones.");
-                ui.selectable_value(&mut mode, DotMode::Sized, "Sized")
-                    .on_hover_text("Small dots in light areas, larger in dark ones.");
-                ui.selectable_value(&mut mode, DotMode::Proportional, "Proportional")
-                    .on_hover_text("A fraction of each sample's disk: a texture, not tones.");
-            })
-            .response
-            .on_hover_text(
-                "How the dots are sized. Fixed: all alike, the tones made by their spacing (a \
+        ui.add_enabled_ui(!line, |ui| {
+            egui::ComboBox::from_label("Dots")
+                .selected_text(format!("{mode:?}"))
+                .show_ui(ui, |ui| {
+                    ui.selectable_value(&mut mode, DotMode::Fixed, "Fixed")
+                        .on_hover_text("All dots alike; their density follows the tones.");
+                    ui.selectable_value(&mut mode, DotMode::Sized, "Sized")
+                        .on_hover_text("Small dots in light areas, larger in dark ones.");
+                    ui.selectable_value(&mut mode, DotMode::Proportional, "Proportional")
+                        .on_hover_text("A fraction of each sample's disk: a texture, not tones.");
+                })
+                .response
+                .on_hover_text(
+                    "How the dots are sized. Fixed: all alike, the tones made by their spacing (a \
                  pen's own width). Sized: larger where it is dark, as StippleGen. Both are \
                  calibrated, so that the drawing's grey is the picture's. Proportional: a \
                  fraction of each sample's disk, a texture that does not keep the tones.",
-            );
+                )
+                .on_disabled_hover_text(NOT_A_LINE);
+        });
         if mode != job.dot_mode() {
             job.dot = Some(mode);
             // Each mode has its own default factor.
@@ -511,12 +545,14 @@ impl PixelPieApp {
             ),
         };
         if ui
-            .add(
+            .add_enabled(
+                !line,
                 egui::Slider::new(&mut factor, range)
                     .update_while_editing(false)
                     .text(text),
             )
             .on_hover_text(help)
+            .on_disabled_hover_text(NOT_A_LINE)
             .changed()
         {
             job.dot_factor = Some(factor);
@@ -524,7 +560,7 @@ impl PixelPieApp {
         // The darkest dots' diameter on the page, when it has a size in mm
         //: then it, not the count, sets the radii.
         let on_page = job.width_mm.is_some() || job.paper.is_some();
-        ui.add_enabled_ui(on_page, |ui| {
+        ui.add_enabled_ui(on_page && !line, |ui| {
             ui.horizontal(|ui| {
                 let mut sized = job.dot_mm.is_some();
                 if ui
@@ -533,7 +569,11 @@ impl PixelPieApp {
                         "Give the darkest dots' diameter on the page in mm instead \
                          of a count: the count follows",
                     )
-                    .on_disabled_hover_text("Needs a width in mm or paper (Paper section)")
+                    .on_disabled_hover_text(if line {
+                        NOT_A_LINE
+                    } else {
+                        "Needs a width in mm or paper (Paper section)"
+                    })
                     .changed()
                 {
                     job.dot_mm = sized.then_some(1.0);
@@ -554,17 +594,17 @@ impl PixelPieApp {
         });
         let job = &mut self.settings.job;
         ui.add_enabled(
-            mode == DotMode::Sized,
+            mode == DotMode::Sized && !line,
             egui::Slider::new(&mut job.dot_ratio, 0.1..=1.0)
                 .update_while_editing(false)
                 .text("Lightest / darkest dot"),
         )
         .on_hover_text("The lightest dots' radius as a fraction of the darkest dots'")
-        .on_disabled_hover_text("Sized dots only");
+        .on_disabled_hover_text(if line { NOT_A_LINE } else { "Sized dots only" });
         let mut local = job.spacing == crate::job::Spacing::Local;
         if ui
             .add_enabled(
-                job.spacing_applies(),
+                job.spacing_applies() && !line,
                 egui::Checkbox::new(&mut local, "Size for local spacing"),
             )
             .on_hover_text(
@@ -572,9 +612,11 @@ impl PixelPieApp {
                  where an edge or the policy thins them out, bigger, so the tones hold. Off: \
                  for its sample radius alone, as earlier versions drew.",
             )
-            .on_disabled_hover_text(
-                "Sized dots of a grey drawing on a tone mapping only (one ink or one pen)",
-            )
+            .on_disabled_hover_text(if line {
+                NOT_A_LINE
+            } else {
+                "Sized dots of a grey drawing on a tone mapping only (one ink or one pen)"
+            })
             .changed()
         {
             job.spacing = if local {
@@ -586,15 +628,19 @@ impl PixelPieApp {
         let mut correct = job.correction == crate::job::Correction::On;
         if ui
             .add_enabled(
-                mode == DotMode::Sized,
+                mode == DotMode::Sized || line,
                 egui::Checkbox::new(&mut correct, "Correct tones by rendering"),
             )
-            .on_hover_text(
+            .on_hover_text(if line {
+                "Render the line, blur it, compare it with the picture and spread the points \
+                 again for the ink each part lacks (up to 30 000 points). Off: the \
+                 calibration alone."
+            } else {
                 "Render the drawing, blur it by the dot spacing, compare it with the picture and \
                  resize each dot for the ink its neighbourhood lacks. Off: the \
-                 calibration's curves alone, as earlier versions drew.",
-            )
-            .on_disabled_hover_text("Sized dots only")
+                 calibration's curves alone, as earlier versions drew."
+            })
+            .on_disabled_hover_text("Sized dots or a line only")
             .changed()
         {
             job.correction = if correct {
@@ -657,7 +703,9 @@ impl PixelPieApp {
                 "Each sample's disk in blue (the paper's Figure 4): where the disks overlap \
                  and how the set covers the picture",
             );
-        ui.checkbox(&mut s.show_travel, "Pen travel")
+        let line = s.job.style == Style::Line;
+        ui.add_enabled(!line, egui::Checkbox::new(&mut s.show_travel, "Pen travel"))
+            .on_disabled_hover_text("A line is drawn pen down: it is its own travel")
             .on_hover_text(format!(
                 "The pen's moves from dot to dot in drawing order (pen up), each pen's in its \
              colour: the plotter's path (Order: Plotter shortens it); the first {} moves",
@@ -671,6 +719,40 @@ impl PixelPieApp {
             self.view.fit_next = true;
         }
     }
+}
+
+/// Why the radii's controls are greyed out for a line.
+const NOT_A_LINE_MAP: &str = "Dots only: a line spreads its points for the darkness squared, \
+                              its own radii";
+
+/// Why the count's mode is greyed out for a line.
+const LINE_COUNT: &str = "A line's count is Points (or its pen's, with Pen mm): the line's \
+                          width follows";
+
+/// Why a control of the dots is greyed out for a line.
+pub(super) const NOT_A_LINE: &str = "Dots only: a line drawing has no dots (Style)";
+
+/// The style (dots or one line) and the line's smoothing.
+fn style_ui(ui: &mut egui::Ui, job: &mut crate::job::Job) {
+    ui.horizontal(|ui| {
+        ui.label("Style").on_hover_text(
+            "What the pen draws: dots, or one continuous line through the points (TSP art)",
+        );
+        ui.selectable_value(&mut job.style, Style::Dots, "Dots")
+            .on_hover_text("Stipples: a dot for every point");
+        ui.selectable_value(&mut job.style, Style::Line, "Line")
+            .on_hover_text(
+                "One continuous pen line through the points, whose ink reproduces the tones. \
+                 With Pen mm the pen's width sets the count; without, Points sets the \
+                 line's width. With several pens, one line for each.",
+            );
+        ui.add_enabled(
+            job.style == Style::Line,
+            egui::Checkbox::new(&mut job.line_smooth, "Smooth line"),
+        )
+        .on_hover_text("Smooth curves through the points instead of straight segments")
+        .on_disabled_hover_text("A line only (Style: Line)");
+    });
 }
 
 /// A row at least one control high and the panel's width (at most, with

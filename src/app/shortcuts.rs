@@ -199,6 +199,7 @@ impl PixelPieApp {
             last_dir,
             ..s
         };
+        self.keep_line_pen();
     }
 
     /// Whether Undo and Redo have anything to do, and when the history was

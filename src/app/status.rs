@@ -66,14 +66,28 @@ impl PixelPieApp {
         // whole text on hover.
         let hover = self.outcome.as_ref().map_or_else(String::new, |o| {
             let d = &o.drawing;
+            // A line's width and why its count is what it is.
+            let what = d.plan.line.as_ref().map_or_else(
+                || format!("{} dots", d.points.len()),
+                |l| {
+                    let mm = l
+                        .width_mm
+                        .map_or_else(String::new, |mm| format!(" ({mm:.2} mm)"));
+                    format!(
+                        "One line {:.2} px wide{mm} through {} points: {}",
+                        l.width_px,
+                        d.points.len(),
+                        super::words::app_text(&l.why)
+                    )
+                },
+            );
             format!(
                 "The last drawing's plan: {} ({}; {}×{} px domain; the command line's plan \
-                 prints it whole). {} dots in {} sampler iterations, {} run(s).",
+                 prints it whole). {what}; {} sampler iterations, {} run(s).",
                 super::words::app_text(&d.plan.line()),
                 super::words::app_text(&d.plan.why),
                 d.plan.domain.0,
                 d.plan.domain.1,
-                d.points.len(),
                 d.set.stats.iterations,
                 d.runs
             )

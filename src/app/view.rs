@@ -31,6 +31,8 @@ pub struct ViewState {
     pub origin: egui::Pos2,
     /// The dots' cache.
     pub cache: DotCache,
+    /// A line drawing's paths.
+    pub line: super::line::LineCache,
     /// Copies per side last drawn (a change fits the view).
     pub tiles: usize,
     /// The view is fitted (no zoom or pan since): a resized canvas fits it
@@ -50,6 +52,7 @@ impl Default for ViewState {
             canvas: Vec2::ZERO,
             origin: egui::Pos2::ZERO,
             cache: DotCache::default(),
+            line: super::line::LineCache::default(),
             tiles: 1,
             fitted: false,
             frame: Rect::NOTHING,
@@ -143,9 +146,67 @@ impl PixelPieApp {
             );
         }
         self.paint_dots(ui, &painter, rect, &offsets, size);
-        if self.settings.show_travel {
+        self.paint_line(&painter, rect, &offsets, size);
+        if self.settings.show_travel && !self.is_line() {
             self.paint_travel(&painter, rect);
         }
+    }
+
+    /// A line drawing's strokes at their pens' widths ([`super::line`]):
+    /// the one ink's, or each pen's in its colour and the pens' order
+    /// (hidden pens left out).
+    fn paint_line(&mut self, painter: &egui::Painter, rect: Rect, offsets: &[Vec2], size: Vec2) {
+        let Some(o) = &self.outcome else { return };
+        if o.drawing.strokes.is_empty() {
+            self.view.line.painted = 0;
+            return;
+        }
+        let s = &self.settings;
+        let rgb = |[r, g, b]: [u8; 3]| Color32::from_rgb(r, g, b);
+        let strokes: Vec<(usize, Color32)> = match &o.drawing.pens {
+            Some(pens) => {
+                let inks: Vec<[u8; 3]> = pens.pens().iter().map(|p| p.colour).collect();
+                s.job
+                    .plot_order(&inks)
+                    .into_iter()
+                    .filter(|&k| !s.hidden_pens.get(k).copied().unwrap_or(false))
+                    .map(|k| (k, rgb(inks[k])))
+                    .collect()
+            }
+            None => (0..o.drawing.strokes.len())
+                .map(|k| (k, rgb(s.job.ink_rgb())))
+                .collect(),
+        };
+        let view = super::line::LineView {
+            canvas: rect,
+            origin: rect.min + self.view.pan,
+            tiles: offsets,
+            size,
+            zoom: self.view.zoom,
+            live: self.line_live_vertices(),
+        };
+        super::line::paint(
+            &mut self.view.line,
+            painter,
+            (&o.drawing, o.scale),
+            &view,
+            &strokes,
+        );
+    }
+
+    /// Whether the drawing shown is a line (its strokes, no dots).
+    #[must_use]
+    pub fn is_line(&self) -> bool {
+        self.outcome
+            .as_ref()
+            .is_some_and(|o| !o.drawing.strokes.is_empty())
+    }
+
+    /// Vertices of a line drawing's strokes painted at the last frame
+    /// (all copies; 0 for dots).
+    #[must_use]
+    pub fn line_vertices_painted(&self) -> usize {
+        self.view.line.painted
     }
 
     /// The pen's travel over the drawing: each layer's dots joined in
@@ -350,6 +411,11 @@ impl PixelPieApp {
         }
         // With a pen width, the dots as the pens plot them (their radii on
         // paper, as `stipple --preview` draws them).
+        // A line's points are drawn as its strokes ([`Self::paint_line`]):
+        // their disks alone, when asked.
+        if self.is_line() {
+            return layers;
+        }
         let plotted = self.plotted_view();
         let as_plotted = |k: usize, layer: DotLayer| match plotted {
             Some(p) => DotLayer {
@@ -618,7 +684,7 @@ impl Default for DotCache {
 /// The screen region to cache, physical px: the canvas and a fifth of it
 /// around (for panning), within the drawing; the canvas alone where that
 /// is too large.
-fn cache_region(canvas: Rect, drawing: Rect) -> [i32; 4] {
+pub(super) fn cache_region(canvas: Rect, drawing: Rect) -> [i32; 4] {
     let round = |r: Rect| {
         let (x0, y0) = (r.min.x.floor() as i32, r.min.y.floor() as i32);
         let (x1, y1) = (r.max.x.ceil() as i32, r.max.y.ceil() as i32);
