@@ -823,7 +823,8 @@ class Drawing:
         order, as ``--plot-stats`` prints it: ``pen``, ``dots``, ``lifts``,
         ``pen_down_mm``, ``pen_up_mm``, ``pen_down_s``, ``pen_up_s`` and the
         estimated ``seconds``, from an AxiDraw's motion model
-        (acceleration, cornering, pen drop and lift; saxi's defaults).
+        (acceleration, cornering, pen drop and lift; saxi's defaults); a
+        line drawing's ``dots`` are 0, its line one pen-down path.
         ``plotter`` overrides the profile: a profile file's path (TOML) or
         a dict of its keys (``{"pen_down_max_velocity": 30}``). Needs a pen
         and a page size, as :meth:`paths` does."""
