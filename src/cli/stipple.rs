@@ -416,21 +416,26 @@ fn draw(
             drawing.seconds(Stage::Sample),
             drawing.seconds(Stage::Relax),
         );
-        eprintln!(
-            "{} dots on a {width}x{height} domain, sample radii {:.2}..{:.2} px, dot radii \
-             {lo:.2}..{hi:.2} px; load {t_load:.3} s, sampling {t_sample:.3} s, relax \
-             {t_relax:.3} s, total {:.3} s",
-            drawing.dots.len(),
-            drawing.range.min,
-            drawing.range.max,
-            t0.elapsed().as_secs_f64()
-        );
         if let (Some(line), Some(tour)) = (&drawing.plan.line, &drawing.tour) {
             eprintln!(
-                "one line through {} points, {:.2} px wide, {:.0} px long",
+                "one line through {} points, {:.2} px wide, {:.0} px long, on a {width}x{height} \
+                 domain, sample radii {:.2}..{:.2} px; total {:.3} s",
                 drawing.points.len(),
                 line.width_px,
-                tour.length
+                tour.length,
+                drawing.range.min,
+                drawing.range.max,
+                t0.elapsed().as_secs_f64()
+            );
+        } else {
+            eprintln!(
+                "{} dots on a {width}x{height} domain, sample radii {:.2}..{:.2} px, dot radii \
+                 {lo:.2}..{hi:.2} px; load {t_load:.3} s, sampling {t_sample:.3} s, relax \
+                 {t_relax:.3} s, total {:.3} s",
+                drawing.dots.len(),
+                drawing.range.min,
+                drawing.range.max,
+                t0.elapsed().as_secs_f64()
             );
         }
         let stages: Vec<String> = drawing

@@ -78,8 +78,9 @@ pub struct Plan {
     pub memory_mb: u64,
     /// What the pen draws.
     pub style: super::Style,
-    /// A line drawing's width and why its count is what it is.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    /// A line drawing's width and why its count is what it is (JSON
+    /// `line_plan`: `line` is the plan's one-line summary).
+    #[serde(rename = "line_plan", skip_serializing_if = "Option::is_none")]
     pub line: Option<super::line::LinePlan>,
 }
 

@@ -134,8 +134,9 @@ impl<'a> Picture<'a> {
 pub struct Stipple {
     /// The dots, in drawing order (none in a line drawing).
     pub dots: Vec<Dot>,
-    /// The strokes, one per pen in a line drawing (`--style line`), in
-    /// drawing order; none in a drawing of dots.
+    /// The strokes of a line drawing (`--style line`): stroke k is pen k's
+    /// line, in the pens' order (the layers and the writers rely on it);
+    /// none in a drawing of dots.
     pub strokes: Vec<Stroke>,
     /// The sample points under the dots, in drawing order.
     pub points: Vec<Point>,
