@@ -147,7 +147,7 @@ pub enum Style {
     #[default]
     Dots,
     /// One continuous pen-down line per pen through its points (TSP art),
-    /// its ink calibrated to the picture's tones (`crate::job` `line.rs`).
+    /// its ink calibrated to the picture's tones.
     Line,
 }
 
