@@ -131,9 +131,12 @@ fn the_lines_ink_is_the_pictures_tone() {
 fn the_count_follows_the_pen() {
     let dir = tempfile::tempdir().unwrap();
     let photo = asset("rocket.jpg");
+    // The plan's count: the pen's need (the correction may then recount
+    // the line by a few per cent as it corrects the ink).
     let count = |pen: &str| -> usize {
         let out = dir.path().join(format!("line{pen}.svg"));
-        let err = stipple(&[
+        let r = pixelpie(&[
+            "stipple",
             &photo,
             "--style",
             "line",
@@ -141,15 +144,13 @@ fn the_count_follows_the_pen() {
             "100",
             "--pen-mm",
             pen,
+            "--plan",
             "-o",
             out.to_str().unwrap(),
-            "-v",
         ]);
-        let line = err
-            .lines()
-            .find(|l| l.starts_with("one line through"))
-            .expect("the line's summary");
-        line.split_whitespace().nth(3).unwrap().parse().unwrap()
+        assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+        let plan: serde_json::Value = serde_json::from_slice(&r.stdout).unwrap();
+        plan["dots"].as_u64().unwrap() as usize
     };
     let (wide, fine) = (count("0.8"), count("0.4"));
     let ratio = fine as f64 / wide as f64;

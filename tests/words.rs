@@ -35,6 +35,8 @@ fn bad_values(pens: &str) -> Vec<(&'static str, Vec<String>)> {
         ("dot_mm", v(&["--dot-mm=-1", "--width-mm", "100"])),
         ("relax", v(&["--relax=-1"])),
         ("order", v(&["--order", "bogus"])),
+        ("style", v(&["--style", "bogus"])),
+        ("line_smooth", v(&["--line-smooth"])),
         ("scale", v(&["--scale", "0"])),
         ("width_mm", v(&["--width-mm=-1"])),
         ("paper", v(&["--paper", "b9"])),

@@ -355,7 +355,15 @@ impl Job {
                 .collect()
         };
         if self.colour() {
-            let separated = self.separate(&picture.colour(), domain, true)?;
+            // The separation's inks, whatever its radii: a line's width is
+            // its pen's, not a dot's.
+            let inks = Job {
+                pen_mm: None,
+                dot_mm: None,
+                dot_radius: None,
+                ..self.clone()
+            };
+            let separated = inks.separate(&picture.colour(), domain, true)?;
             return Ok(separated.maps.iter().map(of).collect());
         }
         let prepared = self.importance.prepare_map_on(
