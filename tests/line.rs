@@ -321,3 +321,42 @@ fn several_pens_draw_one_line_each() {
         assert!(crossings(&xy).is_empty(), "pen {i} crosses itself");
     }
 }
+
+/// Paper and ink as for dots: a white line on black paper covers the
+/// paper (its layer does not multiply, or viewers would show nothing),
+/// over the paper's own layer; a black line on white multiplies.
+#[test]
+fn a_light_line_covers_dark_paper() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("stars.svg");
+    let o = out.to_str().unwrap();
+    let base = [
+        &asset("rocket.jpg") as &str,
+        "--style",
+        "line",
+        "--width-mm",
+        "60",
+        "--pen-mm",
+        "0.8",
+        "-o",
+        o,
+    ];
+    let mut white = base.to_vec();
+    white.extend_from_slice(&["--ink", "#ffffff", "--paper-colour", "black"]);
+    stipple(&white);
+    let svg = std::fs::read_to_string(&out).unwrap();
+    let layer = svg
+        .lines()
+        .find(|l| l.contains(r##"stroke="#ffffff""##))
+        .expect("the white line's layer");
+    assert!(!layer.contains("multiply"), "{layer}");
+    assert!(svg.contains(r##"fill="#000000""##), "the paper's layer");
+    assert_eq!(paths(&svg).len(), 1);
+    stipple(&base);
+    let svg = std::fs::read_to_string(&out).unwrap();
+    let layer = svg
+        .lines()
+        .find(|l| l.contains("inkscape:groupmode=\"layer\""))
+        .unwrap();
+    assert!(layer.contains("multiply"), "{layer}");
+}

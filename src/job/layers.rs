@@ -18,7 +18,7 @@ pub struct PenLayer {
     /// The pen's own width in mm, when it has one.
     pub pen_mm: Option<f64>,
     /// How much the ink covers what lies below it, on the job's paper
-    /// ([`crate::colour::Pen::opacity_on`]; 0 for one ink).
+    /// ([`crate::colour::Pen::opacity_on`]; one ink's, [`Job::ink_opacity`]).
     pub opacity: f64,
     /// The dots, in drawing order.
     pub dots: Vec<Dot>,
@@ -84,7 +84,7 @@ impl Job {
                 ),
                 self.ink_rgb(),
                 None,
-                0.0,
+                self.ink_opacity(),
             )],
         };
         let inks: Vec<[u8; 3]> = pens.iter().map(|p| p.1).collect();
