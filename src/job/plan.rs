@@ -354,6 +354,12 @@ impl Plan {
     #[must_use]
     pub fn line(&self) -> String {
         let mut parts = vec![match &self.line {
+            Some(l) if self.pens > 1 => format!(
+                "{} lines, one a pen, through {} points, the thinnest {:.2} px wide",
+                self.pens,
+                grouped(self.dots),
+                l.width_px
+            ),
             Some(l) => format!(
                 "one line through {} points, {:.2} px wide",
                 grouped(self.dots),
@@ -361,7 +367,7 @@ impl Plan {
             ),
             None => format!("{} dots", grouped(self.dots)),
         }];
-        if self.pens > 1 {
+        if self.pens > 1 && self.line.is_none() {
             parts.push(format!("{} pens", self.pens));
         }
         parts.push(match self.relax {
