@@ -25,7 +25,7 @@ use super::run::{Stage, Step, along_curve, stage};
 use super::{DEFAULT_POINTS, Job, Picture, Stipple, Style};
 use crate::importance::{ImportanceMap, Mapping, Prepared, RadiusRange};
 use crate::sampler::{Params, Point, SampleSet};
-use crate::stipple::{Stroke, line, relax, tsp};
+use crate::stipple::{Stroke, line, tsp};
 use crate::text::grouped;
 use serde::Serialize;
 
@@ -620,26 +620,15 @@ fn relaxed(
     if steps == 0 || points.len() < 3 {
         return Ok(points);
     }
-    let (w, h) = map.domain();
-    let spacing = f64::from(w) * f64::from(h) / points.len() as f64;
-    let options = relax::RelaxOptions {
-        iterations: steps,
-        periodic: job.sampler.periodic,
-        cells: relax::Cells::Polygons {
-            edge: spacing.sqrt() as f32,
-        },
-        over: relax::OVER_RELAX,
-    };
-    Ok(crate::stipple::relax_points(
+    super::run::relaxed_points(
+        job,
         std::slice::from_ref(map),
         range,
+        map.domain(),
         &points,
-        options,
-        &mut |done| match done {
-            Some(n) => progress(Step::Relaxed(n, steps)),
-            None => progress(Step::Busy(Stage::Relax)),
-        },
-    )?)
+        steps,
+        progress,
+    )
 }
 
 /// The tour through `points`, without self-crossings.

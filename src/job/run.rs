@@ -380,13 +380,36 @@ fn relax_stage(
     if plan.relax == 0 {
         return Ok(());
     }
-    let domain = plan.domain;
     stage(progress, Stage::Relax)?;
-    let steps = plan.relax;
+    let moved = relaxed_points(
+        job,
+        all,
+        range,
+        plan.domain,
+        &set.points,
+        plan.relax,
+        progress,
+    )?;
+    *set = std::mem::take(set).with_points(moved);
+    Ok(())
+}
+
+/// `points` on `domain` after `steps` weighted Lloyd steps on `maps` (one
+/// map, or one per pen), each step reported. The one relaxation of dots
+/// and lines.
+pub(crate) fn relaxed_points(
+    job: &Job,
+    maps: &[Prepared],
+    range: crate::importance::RadiusRange,
+    domain: (u32, u32),
+    points: &[Point],
+    steps: u32,
+    progress: &mut impl FnMut(Step) -> bool,
+) -> crate::Result<Vec<Point>> {
     // Cells as polygons, integrated at the mean spacing: as good as pixel
     // cells (docs/drawing.md) at a cost that follows the dots; a periodic
     // domain takes pixel cells.
-    let spacing = f64::from(domain.0) * f64::from(domain.1) / set.points.len().max(1) as f64;
+    let spacing = f64::from(domain.0) * f64::from(domain.1) / points.len().max(1) as f64;
     let options = relax::RelaxOptions {
         iterations: steps,
         periodic: job.sampler.periodic,
@@ -395,13 +418,16 @@ fn relax_stage(
         },
         over: relax::OVER_RELAX,
     };
-    let moved =
-        crate::stipple::relax_points(all, range, &set.points, options, &mut |done| match done {
+    Ok(crate::stipple::relax_points(
+        maps,
+        range,
+        points,
+        options,
+        &mut |done| match done {
             Some(n) => progress(Step::Relaxed(n, steps)),
             None => progress(Step::Busy(Stage::Relax)),
-        })?;
-    *set = std::mem::take(set).with_points(moved);
-    Ok(())
+        },
+    )?)
 }
 
 /// `points` along a Hilbert curve through their pixels (ties, points in
