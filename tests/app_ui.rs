@@ -2815,3 +2815,76 @@ fn frame_times_of_a_line_at_100k_points() {
         "the window without the drawing in sight: {mean:.1} ms a frame (slowest {max:.1} ms)"
     );
 }
+
+/// A poster through the Paper section: the Poster row turns it on (with a
+/// paper), the view draws the grid, and Export ▸ Poster writes the CLI's
+/// folder, sheet for sheet.
+#[test]
+fn a_poster_is_set_drawn_and_exported_as_the_cli_cuts_it() {
+    let (dir, png, mut h) = ready(300, 200);
+    h.get_by_label("Points").set_value_accesskit(4000.0);
+    settle(&mut h);
+    assert!(h.state().poster_grid().is_none(), "a grid without a poster");
+    open_paper_combo(&mut h);
+    h.get_by_label("A4").click();
+    h.run_steps(2);
+    h.get_by_label("Poster").click();
+    settle(&mut h);
+    // Two A4 sheets by two, portrait: 420 × 594 mm.
+    let job = h.state().settings.job();
+    let poster = job.poster.clone().expect("the poster is on");
+    assert_eq!((poster.width_mm, poster.height_mm), (420.0, 594.0));
+    let grid = h.state().poster_grid().expect("the grid over the view");
+    assert!(grid.rows * grid.cols > 1, "{grid:?}");
+    assert!(shows(&h, &format!("{} sheets", grid.rows * grid.cols)));
+    // The view's page is the poster.
+    assert_eq!(h.state().placement().unwrap().sheet_mm, (420.0, 594.0));
+    if let Ok(shot) = std::env::var("PIXELPIE_POSTER_SHOT") {
+        h.render().expect("render").save(shot).unwrap();
+    }
+    let out = dir.path().join("app-poster");
+    h.state_mut().export_path = out.display().to_string();
+    h.state_mut().export_poster();
+    assert!(
+        h.state().export_error.is_none(),
+        "{:?}",
+        h.state().export_error
+    );
+    let cli_dir = dir.path().join("cli-poster");
+    cli(&[
+        "stipple",
+        &png.display().to_string(),
+        "-o",
+        &format!("{}/", cli_dir.display()),
+        "--points",
+        "4000",
+        "--paper",
+        "a4",
+        "--poster",
+        "420x594",
+        "--quiet",
+    ]);
+    let names = |d: &Path| {
+        let mut v: Vec<String> = std::fs::read_dir(d)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        v
+    };
+    let files = names(&out);
+    assert_eq!(files, names(&cli_dir));
+    assert_eq!(files.len(), grid.rows * grid.cols + 1, "{files:?}");
+    for f in &files {
+        assert_eq!(
+            std::fs::read(out.join(f)).unwrap(),
+            std::fs::read(cli_dir.join(f)).unwrap(),
+            "{f}"
+        );
+    }
+    // Without a paper there is no poster.
+    open_paper_combo(&mut h);
+    h.get_by_label("None").click();
+    h.run_steps(3);
+    assert_eq!(h.state().settings.job.poster, None);
+}

@@ -15,7 +15,7 @@ use pixelpie::colour::{Lab, PenSet, delta_e00};
 use pixelpie::importance::Tones;
 use pixelpie::job::{Job, Stipple};
 use pixelpie::sampler::cpu;
-use pixelpie::stipple::plot::{Motion, Plotter, plot_paths};
+use pixelpie::stipple::plot::{Motion, Plotter, Saxi, plot_paths};
 
 /// Six in-gamut colours of the CMYK pens, 8-bit sRGB.
 const PATCHES: [[u8; 3]; 6] = [
@@ -203,16 +203,20 @@ fn every_output_carries_the_pens() {
     for (f, attr) in [("d.svg", "fill"), ("p.svg", "stroke")] {
         let text = std::fs::read_to_string(out(f)).unwrap();
         for (name, c) in [("ink", "#101010"), ("red", "#d62728"), ("blue", "#1f77b4")] {
-            let (label, colour) = (
+            // Each pen after the first plotted one pauses AxiDraw's
+            // software for the pen change: "!red".
+            let (label, paused, colour) = (
                 format!(r#"inkscape:label="{name}""#),
+                format!(r#"inkscape:label="!{name}""#),
                 format!(r#"{attr}="{c}""#),
             );
             assert!(
                 text.lines()
-                    .any(|l| l.contains(&label) && l.contains(&colour)),
+                    .any(|l| (l.contains(&label) || l.contains(&paused)) && l.contains(&colour)),
                 "{f}: no layer {label} {colour}"
             );
         }
+        assert_eq!(text.matches(r#"inkscape:label="!"#).count(), 2, "{f}");
         let d = pixelpie::stipple::read::read_svg(&text).unwrap();
         assert_eq!(d.layers.len(), 3, "{f}");
         let mut counts = [0usize; 3];
@@ -493,6 +497,8 @@ fn plot_stats_count_each_pens_dots_lifts_and_time() {
         "-q",
         "--backend",
         "cpu",
+        "--plotter",
+        "saxi",
         "--plot-speed",
         "50",
         "--travel-speed",
@@ -530,8 +536,8 @@ fn plot_stats_count_each_pens_dots_lifts_and_time() {
             row.last().unwrap().parse().unwrap(),
         );
         // The time is the motion model's over the layer's own paths, with
-        // the flags over an AxiDraw's profile: no faster than the top
-        // speeds allow.
+        // the flags over saxi's profile: no faster than the top speeds
+        // allow.
         let paths: Vec<Vec<(f64, f64)>> = d
             .paths
             .iter()
@@ -539,8 +545,8 @@ fn plot_stats_count_each_pens_dots_lifts_and_time() {
             .filter(|(_, l)| **l == k)
             .map(|(p, _)| p.clone())
             .collect();
-        let base = Plotter::default();
-        let plotter = Plotter {
+        let base = Saxi::default();
+        let plotter = Plotter::Saxi(Saxi {
             pen_down: Motion {
                 max_velocity: 50.0,
                 ..base.pen_down
@@ -548,7 +554,7 @@ fn plot_stats_count_each_pens_dots_lifts_and_time() {
             pen_drop_s: 0.25,
             pen_lift_s: 0.25,
             ..base
-        };
+        });
         let want = plot_paths(name, dots, &paths, &plotter).seconds / 60.0;
         assert!((minutes - want).abs() < 0.06, "{name}: {minutes} vs {want}");
         let floor = (down / 50.0 + up / 200.0 + dots as f64 * 0.5) / 60.0;

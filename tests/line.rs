@@ -3,21 +3,12 @@
 //! mean grey the picture's, its count following the pen, cut into parts by
 //! `--refill-mm`, plotted with one pen drop, smooth with `--line-smooth`.
 
-use std::process::Command;
+mod common;
+
+use common::{asset, pixelpie};
 
 use pixelpie::stipple::line::crossings;
 use pixelpie::stipple::read::polyline;
-
-fn pixelpie(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_pixelpie"))
-        .args(args)
-        .output()
-        .expect("run pixelpie")
-}
-
-fn asset(name: &str) -> String {
-    format!("{}/assets/{name}", env!("CARGO_MANIFEST_DIR"))
-}
 
 /// Runs `pixelpie stipple` with `args` (CPU), asserting success; stderr.
 fn stipple(args: &[&str]) -> String {

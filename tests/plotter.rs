@@ -6,7 +6,7 @@
 use std::path::Path;
 use std::process::Command;
 
-use pixelpie::stipple::plot::{Motion, Plotter, plot_paths};
+use pixelpie::stipple::plot::{Plotter, plot_paths_of};
 use pixelpie::stipple::read::{polyline, read_svg};
 
 fn pixelpie(args: &[&str]) -> std::process::Output {
@@ -268,80 +268,80 @@ fn plot_stats_on_paper_start_from_the_sheets_corner() {
     let dir = tempfile::tempdir().unwrap();
     let image = rocket();
     let out = dir.path().join("s.svg");
-    let r = pixelpie(&[
-        "stipple",
-        &image,
-        "-o",
-        out.to_str().unwrap(),
-        "--points",
-        "800",
-        "--backend",
-        "cpu",
-        "-q",
-        "--paper",
-        "a4",
-        "--margin",
-        "40",
-        "--pen-mm",
-        "0.3",
-        "--dot-path",
-        "touch",
-        "--plot-stats",
-        "--plot-speed",
-        "50",
-        "--travel-speed",
-        "100",
-        "--pen-delay",
-        "0.2",
-    ]);
-    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
-    let stdout = String::from_utf8_lossy(&r.stdout);
-    let row: Vec<&str> = stdout.lines().nth(1).unwrap().split('\t').collect();
-    let text = std::fs::read_to_string(&out).unwrap();
-    let ps = paths(&text);
-    // By hand from the SVG's paths: home (0, 0) → each path → home.
-    let mut at = (0.0, 0.0);
-    let (mut up, mut down) = (0.0, 0.0);
-    for p in &ps {
-        up += (p[0].0 - at.0).hypot(p[0].1 - at.1);
-        down += p
-            .windows(2)
-            .map(|w| (w[1].0 - w[0].0).hypot(w[1].1 - w[0].1))
-            .sum::<f64>();
-        at = *p.last().unwrap();
+    // saxi starts at the sheet's top-left corner; AxiDraw's software turns
+    // a portrait sheet onto the machine and starts at its top-right.
+    for (planner, home) in [("saxi", (0.0, 0.0)), ("axidraw", (210.0, 0.0))] {
+        let r = pixelpie(&[
+            "stipple",
+            &image,
+            "-o",
+            out.to_str().unwrap(),
+            "--points",
+            "800",
+            "--backend",
+            "cpu",
+            "-q",
+            "--paper",
+            "a4",
+            "--margin",
+            "40",
+            "--pen-mm",
+            "0.3",
+            "--dot-path",
+            "touch",
+            "--plot-stats",
+            "--plotter",
+            planner,
+            "--plot-speed",
+            "50",
+            "--travel-speed",
+            "100",
+            "--pen-delay",
+            "0.2",
+        ]);
+        assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+        let stdout = String::from_utf8_lossy(&r.stdout);
+        let row: Vec<&str> = stdout.lines().nth(1).unwrap().split('\t').collect();
+        let text = std::fs::read_to_string(&out).unwrap();
+        let ps = paths(&text);
+        // By hand from the SVG's paths: home → each path → home.
+        let mut at = home;
+        let (mut up, mut down) = (0.0, 0.0);
+        for p in &ps {
+            up += (p[0].0 - at.0).hypot(p[0].1 - at.1);
+            down += p
+                .windows(2)
+                .map(|w| (w[1].0 - w[0].0).hypot(w[1].1 - w[0].1))
+                .sum::<f64>();
+            at = *p.last().unwrap();
+        }
+        up += (at.0 - home.0).hypot(at.1 - home.1);
+        // The motion model over the file's own paths, with the flags over
+        // the planner's profile; never faster than the top speeds allow.
+        let mut plotter = Plotter::named(planner).unwrap();
+        plotter.set_pen_down_speed(50.0);
+        plotter.set_pen_up_speed(100.0);
+        plotter.set_pen_delay(0.2);
+        let path = |i: usize, buf: &mut Vec<(f64, f64)>| buf.extend_from_slice(&ps[i]);
+        let sheet = Some((210.0, 297.0));
+        let minutes =
+            plot_paths_of("ink", ps.len(), ps.len(), &path, &plotter, sheet).seconds / 60.0;
+        let floor = (down / 50.0 + up / 100.0 + ps.len() as f64 * 0.2) / 60.0;
+        assert!(minutes > floor, "{planner}: {minutes} {floor}");
+        assert_eq!(row[1].parse::<usize>().unwrap(), ps.len());
+        assert!(
+            (row[3].parse::<f64>().unwrap() - down).abs() < 0.1,
+            "{planner}: {row:?} {down}"
+        );
+        assert!(
+            (row[4].parse::<f64>().unwrap() - up).abs() < 0.1 + 1e-3 * up,
+            "{planner}: {row:?} {up}"
+        );
+        assert!(
+            (row.last().unwrap().parse::<f64>().unwrap() - minutes).abs() < 0.05,
+            "{planner}: {row:?} {minutes}"
+        );
+        // The first move crosses the 40 mm margin at least.
+        assert!(ps[0][0].0 >= 40.0 - 1.0 && ps[0][0].1 >= 40.0 - 1.0);
     }
-    up += at.0.hypot(at.1);
-    // The motion model over the file's own paths, with the flags over an
-    // AxiDraw's profile; never faster than the top speeds allow.
-    let d = Plotter::default();
-    let plotter = Plotter {
-        pen_down: Motion {
-            max_velocity: 50.0,
-            ..d.pen_down
-        },
-        pen_up: Motion {
-            max_velocity: 100.0,
-            ..d.pen_up
-        },
-        pen_drop_s: 0.1,
-        pen_lift_s: 0.1,
-    };
-    let minutes = plot_paths("ink", ps.len(), &ps, &plotter).seconds / 60.0;
-    let floor = (down / 50.0 + up / 100.0 + ps.len() as f64 * 0.2) / 60.0;
-    assert!(minutes > floor, "{minutes} {floor}");
-    assert_eq!(row[1].parse::<usize>().unwrap(), ps.len());
-    assert!(
-        (row[3].parse::<f64>().unwrap() - down).abs() < 0.1,
-        "{row:?} {down}"
-    );
-    assert!(
-        (row[4].parse::<f64>().unwrap() - up).abs() < 0.1 + 1e-3 * up,
-        "{row:?} {up}"
-    );
-    assert!(
-        (row.last().unwrap().parse::<f64>().unwrap() - minutes).abs() < 0.05,
-        "{row:?} {minutes}"
-    );
-    // The first move crosses the 40 mm margin at least.
-    assert!(ps[0][0].0 >= 40.0 - 1.0 && ps[0][0].1 >= 40.0 - 1.0);
 }

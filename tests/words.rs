@@ -42,6 +42,7 @@ fn bad_values(pens: &str) -> Vec<(&'static str, Vec<String>)> {
         ("paper", v(&["--paper", "b9"])),
         ("margin", v(&["--margin=-1", "--paper", "a4"])),
         ("landscape", v(&["--landscape"])),
+        ("poster", v(&["--poster", "0x400", "--paper", "a4"])),
         ("pen_mm", v(&["--pen-mm=-1", "--width-mm", "100"])),
         ("dot_path", v(&["--dot-path", "touch"])),
         (

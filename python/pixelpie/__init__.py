@@ -474,7 +474,11 @@ def stipple(
     says which); ``paper_colour`` (``"black"``, ``"kraft"``, ``"grey"``
     or ``"#rrggbb"``: the inks on that paper); ``crop`` (``"x,y,w,h"``)
     and ``rotate`` (90, 180 or 270) frame the picture; ``refill_mm`` and
-    ``layer_order`` shape the pen layers. An unknown name or a bad value
+    ``layer_order`` shape the pen layers; ``poster`` (``(width, height)``
+    in mm, with ``paper`` the sheet) draws the picture whole at the
+    poster's size and cuts it into sheets: the drawing is the whole, its
+    :attr:`Drawing.sheets` the sheets, :attr:`Drawing.poster` the manifest
+    and ``output`` a folder of one SVG a sheet and ``poster.json``. An unknown name or a bad value
     raises ``ValueError`` (``TypeError`` for a wrong type).
 
     ``job`` is a job file (``pixelpie stipple --save-job``, the app's
@@ -519,6 +523,8 @@ def _job(options: Dict[str, Any], job: Optional[PathLike]) -> Tuple[str, Optiona
     }
     if "pens" in given:
         given["pens"] = _pens(given["pens"])
+    if "poster" in given:
+        given["poster"] = _poster(given["poster"])
     job_file = None
     if job is not None:
         job_file = _readable(os.fsdecode(job))
@@ -526,6 +532,23 @@ def _job(options: Dict[str, Any], job: Optional[PathLike]) -> Tuple[str, Optiona
         if warning:
             warnings.warn(f"{job_file}: {warning}", PixelpieWarning, stacklevel=3)
     return json.dumps(_finite(given), default=_option), job_file
+
+
+def _poster(value: Any) -> Any:
+    """``poster=(w, h)`` in mm as the library spells it, ``"WxHmm"``; a
+    paper's name (``"a0"``) or such a string as it is."""
+    if isinstance(value, str):
+        return value
+    try:
+        w, h = value
+    except (TypeError, ValueError):
+        raise TypeError(
+            f"poster must be (width, height) in mm or a paper's name, not {value!r}"
+        ) from None
+    for v in (w, h):
+        if isinstance(v, bool) or not isinstance(v, (int, float)):
+            raise TypeError(f"poster must be (width, height) in mm, not {value!r}")
+    return f"{float(w)!r}x{float(h)!r}mm"
 
 
 def _plan_json(text: str) -> Dict[str, Any]:
@@ -639,6 +662,9 @@ class Drawing:
     * ``warnings`` -- what the run warned of;
     * ``stages`` -- seconds in each stage (prepare, sample, relax, order,
       size);
+    * ``sheets`` and ``poster`` -- a poster's sheets (``poster=(w, h)``),
+      row by row, each a :class:`Drawing` on its sheet's page, and its
+      manifest (``poster.json`` as a dict); ``[]`` and ``None`` otherwise;
     * :meth:`to_mm`, :meth:`svg`, :meth:`png`, :meth:`save`, :meth:`paths`,
       :meth:`plot_stats` and :meth:`to_vpype`.
 
@@ -650,7 +676,7 @@ class Drawing:
 
     __slots__ = (
         "_native", "_dots", "_line", "_strokes", "domain", "asked", "reached", "plan", "pens",
-        "warnings", "stages", "style",
+        "warnings", "stages", "style", "sheets", "poster",
     )
 
     #: Drawings of up to this many dots show as SVG in Jupyter, larger ones
@@ -679,6 +705,9 @@ class Drawing:
         self.pens: Optional[List[Pen]] = None if pens is None else [Pen(*p) for p in pens]
         self.warnings: List[str] = list(native.warnings())
         self.stages: Dict[str, float] = dict(native.stages())
+        self.sheets: List["Drawing"] = [Drawing(s) for s in native.sheets()]
+        poster = native.poster(None)
+        self.poster: Optional[Dict[str, Any]] = None if poster is None else json.loads(poster)
 
     def __repr__(self) -> str:
         w, h = self.domain
@@ -803,7 +832,8 @@ class Drawing:
 
     def save(self, path: PathLike) -> None:
         """Writes the drawing to ``path`` in the format of its extension
-        (``.svg``, ``.png``, ``.csv`` or ``.json``), atomically."""
+        (``.svg``, ``.png``, ``.csv`` or ``.json``), atomically; a poster
+        to folder ``path``: one SVG a sheet and ``poster.json``."""
         self._native.save(os.fsdecode(path))
 
     def paths(self) -> List[PenPaths]:
@@ -822,24 +852,32 @@ class Drawing:
         """How a pen plotter draws the drawing, pen by pen in plotting
         order, as ``--plot-stats`` prints it: ``pen``, ``dots``, ``lifts``,
         ``pen_down_mm``, ``pen_up_mm``, ``pen_down_s``, ``pen_up_s`` and the
-        estimated ``seconds``, from an AxiDraw's motion model
-        (acceleration, cornering, pen drop and lift; saxi's defaults); a
-        line drawing's ``dots`` are 0, its line one pen-down path.
-        ``plotter`` overrides the profile: a profile file's path (TOML) or
-        a dict of its keys (``{"pen_down_max_velocity": 30}``). Needs a pen
-        and a page size, as :meth:`paths` does."""
+        estimated ``seconds``, as AxiDraw's own software plans the plot
+        (its defaults; docs/plotter.md); a line drawing's ``dots`` are 0,
+        its line one pen-down path. ``plotter`` overrides the profile: a
+        built-in one's name (``"axidraw"``, ``"saxi"``), a profile file's
+        path (TOML) or a dict of its keys, AxiDraw's option names or saxi's
+        (``{"speed_pendown": 50, "accel": 100}``,
+        ``{"pen_down_max_velocity": 30}``). Needs a pen and a page size, as
+        :meth:`paths` does."""
         if plotter is None:
             text = None
         elif isinstance(plotter, dict):
             lines = []
             for key, value in plotter.items():
-                number = isinstance(value, (int, float)) and not isinstance(value, bool)
-                if not (isinstance(key, str) and number):
+                if not (isinstance(key, str) and isinstance(value, (int, float))):
                     raise TypeError(
                         f"plotter: {key!r} = {value!r}: expected a key and a number"
                     )
-                lines.append(f"{key} = {float(value)!r}")
+                if isinstance(value, bool):  # const_speed
+                    lines.append(f"{key} = {'true' if value else 'false'}")
+                elif isinstance(value, int) and key in ("model", "resolution"):
+                    lines.append(f"{key} = {value}")
+                else:
+                    lines.append(f"{key} = {float(value)!r}")
             text = "\n".join(lines)
+        elif isinstance(plotter, str) and plotter in ("axidraw", "saxi"):
+            text = plotter
         elif isinstance(plotter, (str, bytes, os.PathLike)):
             path = os.fsdecode(plotter)
             with open(path, encoding="utf-8") as f:

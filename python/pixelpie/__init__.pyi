@@ -3,6 +3,7 @@
 import os
 import sys
 from typing import (
+    Any,
     Callable,
     Dict,
     Iterator,
@@ -165,6 +166,8 @@ class Drawing:
     pens: Optional[List[Pen]]
     warnings: List[str]
     stages: Dict[str, float]
+    sheets: List["Drawing"]
+    poster: Optional[Dict[str, Any]]
     @property
     def page(self) -> Optional[Tuple[float, float]]: ...
     @property
@@ -175,7 +178,7 @@ class Drawing:
     def save(self, path: PathLike) -> None: ...
     def paths(self) -> List[PenPaths]: ...
     def plot_stats(
-        self, plotter: Union[PathLike, Mapping[str, float], None] = ...
+        self, plotter: Union[PathLike, Mapping[str, Union[float, bool]], None] = ...
     ) -> List[PlotStats]: ...
     def to_vpype(self) -> object:
         """A ``vpype.Document`` of the pen paths."""
@@ -255,6 +258,7 @@ def stipple(
     paper: Optional[str] = ...,
     margin: Optional[float] = ...,
     landscape: Optional[bool] = ...,
+    poster: Union[Tuple[float, float], str, None] = ...,
     pen_mm: Optional[float] = ...,
     dot_path: Optional[str] = ...,
     ink: Optional[str] = ...,
@@ -315,6 +319,7 @@ def stipple(
     paper: Optional[str] = ...,
     margin: Optional[float] = ...,
     landscape: Optional[bool] = ...,
+    poster: Union[Tuple[float, float], str, None] = ...,
     pen_mm: Optional[float] = ...,
     dot_path: Optional[str] = ...,
     ink: Optional[str] = ...,
@@ -368,6 +373,7 @@ def plan(
     paper: Optional[str] = ...,
     margin: Optional[float] = ...,
     landscape: Optional[bool] = ...,
+    poster: Union[Tuple[float, float], str, None] = ...,
     pen_mm: Optional[float] = ...,
     dot_path: Optional[str] = ...,
     ink: Optional[str] = ...,

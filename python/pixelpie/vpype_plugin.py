@@ -216,13 +216,15 @@ def job_options(
 def _read_svg(svg_text: str, quantization: float) -> Any:
     """``svg_text`` read by :func:`vpype.read_multilayer_svg` (not cropped),
     group k (from 1) as layer k whatever the digits in its label, which vpype
-    would otherwise take as its layer number; ``vp_name`` is the label."""
+    would otherwise take as its layer number; ``vp_name`` is the label,
+    without the ``!`` on which AxiDraw's software pauses (the pen change or
+    refill before each layer after the first): the pen's name."""
     import vpype as vp
 
     names: List[str] = []
 
     def number(m: "re.Match[str]") -> str:
-        names.append(html.unescape(m.group(1)))
+        names.append(html.unescape(m.group(1)).removeprefix("!"))
         return f'inkscape:label="{len(names)}"'
 
     numbered = _LABEL.sub(number, svg_text)

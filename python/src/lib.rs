@@ -32,7 +32,7 @@ use pyo3::types::PyBytes;
 use pixelpie::analyze::{CoverRadius, Domain};
 use pixelpie::backend::{self, BackendChoice};
 use pixelpie::importance::{self, ImportanceMap, Tones, budget};
-use pixelpie::job::{Decoded, Format, Job, Radii, SampleJob, Stipple};
+use pixelpie::job::{Decoded, Format, Job, Poster, Radii, SampleJob, Stipple};
 use pixelpie::sampler::{self, Control, Progress};
 use pixelpie::stipple::plot::Plotter;
 
@@ -665,6 +665,7 @@ fn job_options() -> serde_json::Result<serde_json::Value> {
             ("paper", serde_json::Value::Null),
             ("margin", serde_json::Value::Null),
             ("landscape", serde_json::to_value(job.landscape)?),
+            ("poster", serde_json::Value::Null),
             ("dot_path", serde_json::to_value(job.dot_path)?),
             ("crop", serde_json::Value::Null),
             ("dot_mm", serde_json::Value::Null),
@@ -746,6 +747,11 @@ fn stipple_py(
     let job = job_from(options, job_file.as_deref(), "stipple")?;
     let choice: BackendChoice = named(backend_name, "backend")?;
     let format = match &output {
+        // A poster's output is a folder of sheets and poster.json.
+        Some(out) if job.poster.is_some() => {
+            Poster::check_folder(out).map_err(|e| py_err(&e))?;
+            None
+        }
         Some(out) => {
             let format = Format::from_path(out).map_err(|e| py_err(&e.into()))?;
             job.validate(format).map_err(|e| py_err(&e.into()))?;
@@ -769,12 +775,25 @@ fn stipple_py(
             let drawing = job.draw(picture.picture(), sample, |_| ctl.check().is_ok())?;
             Ok((picture, job, drawing))
         })?;
+        // A poster: the drawing made whole at the poster's size, cut into
+        // its sheets; the drawing's own methods see the whole.
+        let whole = job.poster_whole(picture.picture())?;
         drop(picture);
         ctl.check()?;
+        let (job, poster) = match whole {
+            Some(whole) => {
+                let poster = job.poster(&whole, &drawing, &mut || ctl.check().is_err())?;
+                (whole, Some((job, poster)))
+            }
+            None => (job, None),
+        };
+        ctl.check()?;
         // The file's bytes, written by `write_output` once the warnings
-        // have been given: a warning turned into an error leaves no file.
+        // have been given: a warning turned into an error leaves no file
+        // (a poster's folder is written then).
         let pending = match (&output, format) {
-            (Some(out), Some(format)) => Some((out.clone(), job.encode(&drawing, format)?)),
+            (Some(out), Some(format)) => Some((out.clone(), Some(job.encode(&drawing, format)?))),
+            (Some(out), None) => Some((out.clone(), None)),
             _ => None,
         };
         ctl.check()?;
@@ -790,6 +809,7 @@ fn stipple_py(
             drawing,
             warnings,
             pending: Mutex::new(pending),
+            poster,
         })
     })?;
     Ok(drawing)
@@ -802,9 +822,33 @@ struct Drawing {
     job: Job,
     drawing: Stipple,
     warnings: Vec<String>,
-    /// The output file `stipple` was given and its bytes, until
-    /// `write_output` writes them.
-    pending: Mutex<Option<(PathBuf, Vec<u8>)>>,
+    /// The output file `stipple` was given and its bytes (none: a
+    /// poster's folder), until `write_output` writes them.
+    pending: Mutex<Option<(PathBuf, Option<Vec<u8>>)>>,
+    /// A poster's job and sheets (`poster=(w, h)`); `job` is then the
+    /// whole drawing's, at the poster's size.
+    poster: Option<(Job, Poster)>,
+}
+
+impl Drawing {
+    /// A drawing of its own for one of a poster's sheets.
+    fn of_sheet(sheet: &pixelpie::job::Sheet) -> Self {
+        Self {
+            job: sheet.job.clone(),
+            drawing: sheet.drawing.clone(),
+            warnings: Vec::new(),
+            pending: Mutex::new(None),
+            poster: None,
+        }
+    }
+
+    /// Writes a poster's folder: its sheets and poster.json.
+    fn write_poster(&self, dir: &Path) -> pixelpie::Result<()> {
+        match &self.poster {
+            Some((job, poster)) => poster.write(job, dir, None),
+            None => Ok(()),
+        }
+    }
 }
 
 #[pymethods]
@@ -948,14 +992,50 @@ impl Drawing {
         cancellable(py, None, |ctl| {
             // The last moment an interrupt leaves no file.
             ctl.check()?;
-            pixelpie::io::write_atomic(&out, |w| Ok(std::io::Write::write_all(w, &bytes)?))?;
+            match bytes {
+                Some(bytes) => {
+                    pixelpie::io::write_atomic(&out, |w| Ok(std::io::Write::write_all(w, &bytes)?))?
+                }
+                None => self.write_poster(&out)?,
+            }
             Ok(())
         })
     }
 
-    /// Writes the drawing to `path` as its extension says, atomically.
+    /// Writes the drawing to `path` as its extension says, atomically; a
+    /// poster's to folder `path`: one SVG a sheet and poster.json.
     fn save(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
+        if self.poster.is_some() {
+            return cancellable(py, None, |_| self.write_poster(&path));
+        }
         cancellable(py, None, |_| self.job.write(&self.drawing, &path))
+    }
+
+    /// A poster's sheets, row by row (the order they are plotted in), each
+    /// a drawing of its own on its sheet's page; empty when the drawing is
+    /// no poster.
+    fn sheets(&self) -> Vec<Drawing> {
+        self.poster
+            .iter()
+            .flat_map(|(_, p)| p.sheets.iter().map(Drawing::of_sheet))
+            .collect()
+    }
+
+    /// A poster's manifest (poster.json) as JSON, the plot minutes under
+    /// the profile `profile` (a profile file's TOML text; `None`: an
+    /// AxiDraw's) when a pen is given; `None` when the drawing is no poster.
+    fn poster(&self, py: Python<'_>, profile: Option<&str>) -> PyResult<Option<String>> {
+        let Some((job, poster)) = &self.poster else {
+            return Ok(None);
+        };
+        let plotter = match profile {
+            Some(text) => Plotter::from_toml(text).map_err(|e| bad(e.to_string()))?,
+            None => Plotter::default(),
+        };
+        let manifest = cancellable(py, None, |_| poster.manifest(job, Some(&plotter)))?;
+        serde_json::to_string(&manifest)
+            .map(Some)
+            .map_err(|e| bad(e.to_string()))
     }
 
     /// Domain pixels to mm on the page, (scale, x offset, y offset), and
@@ -972,11 +1052,15 @@ impl Drawing {
     }
 
     /// The plot's statistics pen by pen, as JSON (`--plot-stats`'s
-    /// table), under the plotter profile `profile` (a profile file's TOML
-    /// text; `None`: an AxiDraw's).
+    /// table), under the plotter profile `profile` (a built-in profile's
+    /// name, `axidraw` or `saxi`, or a profile file's TOML text; `None`:
+    /// AxiDraw's own planner).
     fn plot_stats(&self, py: Python<'_>, profile: Option<&str>) -> PyResult<String> {
         let plotter = match profile {
-            Some(text) => Plotter::from_toml(text).map_err(|e| bad(e.to_string()))?,
+            Some(text) => match Plotter::named(text) {
+                Some(p) => p,
+                None => Plotter::from_toml(text).map_err(|e| bad(e.to_string()))?,
+            },
             None => Plotter::default(),
         };
         let plots = cancellable(py, None, |_| self.job.plot_stats(&self.drawing, &plotter))?;

@@ -58,6 +58,7 @@ STIPPLE_BAD = {
     "periodic": "bogus",
     "points": 0,
     "policy": "bogus",
+    "poster": "bogus",
     "refill_mm": -1.0,
     "relax": -1,
     "rotate": 45,

@@ -170,6 +170,7 @@ EVERY_OPTION = [
     ("correction", "off", "a.svg"),
     ("style", "line", "a.svg"),
     ("line_smooth", True, "a.svg"),
+    ("poster", "500x300", "poster"),
 ]
 
 
@@ -267,7 +268,7 @@ def test_every_stipple_option_gives_the_clis_file(tmp_path, name, value, out):
     if name in ("dot_path", "refill_mm"):
         kwargs["pen_mm"] = 0.3
         args += ["--pen-mm", "0.3"]
-    if name in ("margin", "landscape", "size_px"):
+    if name in ("margin", "landscape", "size_px", "poster"):
         kwargs["paper"] = "a4"
         args += ["--paper", "a4"]
     if name == "choose":
@@ -282,7 +283,12 @@ def test_every_stipple_option_gives_the_clis_file(tmp_path, name, value, out):
     ours, theirs = tmp_path / ("py-" + out), tmp_path / ("cli-" + out)
     pixelpie.stipple(image, ours, **kwargs)
     cli("stipple", str(image), "-o", str(theirs), "--quiet", *args)
-    assert ours.read_bytes() == theirs.read_bytes()
+    if ours.is_dir():  # a poster's folder: its sheets and poster.json
+        names = sorted(p.name for p in ours.iterdir())
+        assert names == sorted(p.name for p in theirs.iterdir()) and len(names) > 2
+        assert all((ours / n).read_bytes() == (theirs / n).read_bytes() for n in names)
+    else:
+        assert ours.read_bytes() == theirs.read_bytes()
 
 
 def test_pens_return_a_pen_column_and_write_the_clis_files(tmp_path):

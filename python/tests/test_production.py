@@ -378,8 +378,9 @@ def test_the_plot_time_is_the_clis_and_a_profile_overrides_it(tmp_path):
     d = pixelpie.stipple(ASSETS / "rocket.jpg", **args)
     (ink,) = d.plot_stats()
     assert ink["dots"] == ink["lifts"] == d.reached
-    # The motion model: drawing, travel, and 0.24 s of pen drop and lift a dot.
-    parts = ink["pen_down_s"] + ink["pen_up_s"] + 0.24 * ink["lifts"]
+    # AxiDraw's planner: drawing, travel, and its servo's 0.146 s to lower
+    # and 0.130 s to raise the pen a dot.
+    parts = ink["pen_down_s"] + ink["pen_up_s"] + 0.276 * ink["lifts"]
     assert abs(ink["seconds"] - parts) < 1e-6 * parts
     # The CLI's table for the same job: the same minutes.
     run = subprocess.run(
@@ -390,10 +391,17 @@ def test_the_plot_time_is_the_clis_and_a_profile_overrides_it(tmp_path):
     )
     total = float(run.stdout.splitlines()[-1].split("\t")[-1])
     assert abs(ink["seconds"] / 60 - total) <= 0.05
-    # A slower pen from a dict or a profile file: slower plots, the same dots.
-    (slow,) = d.plot_stats({"pen_down_max_velocity": 10, "pen_lift_duration": 0.5})
+    assert d.plot_stats("axidraw") == [ink]
+    # AxiDraw's own option names: a slower pen, slower plots, the same dots.
+    (slow,) = d.plot_stats({"speed_pendown": 10, "const_speed": False, "model": 2})
     assert slow["pen_down_s"] > ink["pen_down_s"] and slow["seconds"] > ink["seconds"]
     assert slow["pen_up_s"] == ink["pen_up_s"] and slow["pen_down_mm"] == ink["pen_down_mm"]
+    # saxi's, by name and by its option names, from a dict or a profile file.
+    (saxi,) = d.plot_stats("saxi")
+    assert saxi["pen_down_mm"] == ink["pen_down_mm"] and saxi["seconds"] != ink["seconds"]
+    (slow,) = d.plot_stats({"pen_down_max_velocity": 10, "pen_lift_duration": 0.5})
+    assert slow["pen_down_s"] > saxi["pen_down_s"] and slow["seconds"] > saxi["seconds"]
+    assert slow["pen_up_s"] == saxi["pen_up_s"] and slow["pen_down_mm"] == ink["pen_down_mm"]
     profile = tmp_path / "axidraw.toml"
     profile.write_text("pen_down_max_velocity = 10\npen_lift_duration = 0.5\n")
     assert d.plot_stats(profile) == [slow]

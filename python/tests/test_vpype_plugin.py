@@ -710,6 +710,36 @@ def test_gcode_through_vpype_gcode(tmp_path, colour):
     assert "G1 Z-0.5 F1000" in text and "F4000" in text and "G1 Z0 F" not in text
 
 
+def test_gcode_for_a_servo_pen_through_vpype_gcode(tmp_path, colour):
+    """`pixelpie_servo`: M3 S lowers the pen and M5 lifts it, each followed by
+    a G4 dwell; no Z move; one pen change per layer, one pen-down per dot."""
+    if importlib.util.find_spec("vpype_gcode") is None:
+        if EXPECT:
+            pytest.fail("PIXELPIE_EXPECT_VPYPE=1 but vpype-gcode is not installed")
+        pytest.skip("vpype-gcode is not installed")
+    image, _, counts = colour
+    out = tmp_path / "servo.gcode"
+    run_vpype("-c", str(PROFILE), "pixelpie", str(image), *COLOUR, "linesort",
+              "gwrite", "--profile", "pixelpie_servo", str(out))
+    gcode = out.read_text()
+    changes = re.findall(r"^M0 \(pen change: pen (\d), (\w+) (#[0-9a-f]{6})\)$", gcode, re.M)
+    assert changes == [(str(i), n, c) for i, (n, c) in enumerate(CMYK, start=1)]
+    blocks = re.split(r"^M0 .*$", gcode, flags=re.M)[1:]
+    assert [len(re.findall(r"^M3 S1000\nG4 P0.15$", b, re.M)) for b in blocks] == in_layers(counts)
+    assert [len(re.findall(r"^M5\nG4 P0.15$", b, re.M)) for b in blocks] == in_layers(counts)
+    assert not re.search(r"^G[01].*Z", gcode, re.M)
+    assert gcode.rstrip().endswith("M2")
+    xy = np.array(re.findall(r"^G[01] X(-?[\d.]+) Y(-?[\d.]+)", gcode, re.M), dtype=float)
+    assert xy[:, 0].min() >= 0 and xy[:, 0].max() <= 210
+    assert xy[:, 1].min() >= 0 and xy[:, 1].max() <= 297
+    # The servo's value and dwell give way to gwrite -d.
+    out2 = tmp_path / "servo2.gcode"
+    run_vpype("-c", str(PROFILE), "pixelpie", str(image), "--points", "300", "gwrite", "--profile",
+              "pixelpie_servo", "-d", "s_down", "30", "-d", "dwell", "0.25", str(out2))
+    text = out2.read_text()
+    assert "M3 S30\nG4 P0.25\n" in text and "S1000" not in text and "P0.15" not in text
+
+
 # --- the docs' examples -------------------------------------------------------
 
 
@@ -737,7 +767,8 @@ def test_the_docs_vpype_examples_run_as_written(tmp_path, page):
         out = subprocess.run(["sh", "-c", line], cwd=tmp_path, env=env, capture_output=True, text=True)
         assert out.returncode == 0, f"{page}: `{line}` failed:\n{out.stderr}"
     # What they write is there.
-    written = r"(?:write|gwrite --profile pixelpie)(?: --device \S+)?(?: --page-size \S+)?(?: --landscape)? (\S+)"
+    written = (r"(?:\bwrite|\bgwrite --profile \S+(?: -d \S+ \S+)*)"
+               r"(?: --device \S+)?(?: --page-size \S+)?(?: --landscape)? (\S+)")
     for name in re.findall(written, " ".join(lines)):
         assert not name.startswith("-"), name
         assert (tmp_path / name).stat().st_size > 0, name

@@ -251,6 +251,17 @@ impl PixelPieApp {
                     self.export_as(ext);
                 }
             }
+            if self.settings.job.poster.is_some()
+                && ui
+                    .button("Poster")
+                    .on_hover_text(
+                        "The poster as a folder (the path, its extension dropped): \
+                         one SVG a sheet and poster.json",
+                    )
+                    .clicked()
+            {
+                self.export_poster();
+            }
             ui.add(
                 egui::DragValue::new(&mut self.settings.job.scale)
                     .update_while_editing(false)

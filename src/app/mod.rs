@@ -13,6 +13,7 @@ mod panel;
 mod paper;
 mod pens;
 mod plot;
+mod poster;
 mod settings;
 pub mod shortcuts;
 mod status;
@@ -109,6 +110,9 @@ pub struct PixelPieApp {
     /// The stage the running job is in, as its run last reported it.
     stage: Option<crate::job::Stage>,
     dots_generation: u64,
+    /// The poster's sheet grid over the view, and the drawing and job it
+    /// was made for ([`Self::refresh_poster_grid`]).
+    poster_view: Option<((u64, crate::job::Job), Option<crate::job::SheetGrid>)>,
     dot_instances: Arc<Vec<dots::DotInstance>>,
     /// Why the last pen edit was refused (duplicate colours).
     pens_error: Option<String>,
@@ -258,6 +262,7 @@ impl PixelPieApp {
             relaxed: None,
             stage: None,
             dots_generation: 0,
+            poster_view: None,
             dot_instances: Arc::new(Vec::new()),
             pen_layers: Vec::new(),
             pens_error: None,

@@ -170,6 +170,8 @@ impl PixelPieApp {
                 set_custom(job, (w, h));
             }
         });
+        self.poster_ui(ui);
+        let job = &mut self.settings.job;
         ui.horizontal(|ui| {
             let l = ui.label("Paper colour");
             let now = job.paper_colour.unwrap_or(PaperColour::WHITE);

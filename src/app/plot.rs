@@ -205,18 +205,8 @@ impl PixelPieApp {
                 );
             }
         }
-        let s = Plotter::default();
-        text += &format!(
-            "How long an AxiDraw takes, as its motion planner (saxi) plans it: drawing at \
-             {} mm/s² up to {} mm/s, slowing for corners; travel at {} mm/s² up to {} mm/s; \
-             {} s to drop and {} s to lift the pen (the command line's plot statistics give the same).",
-            s.pen_down.acceleration,
-            s.pen_down.max_velocity,
-            s.pen_up.acceleration,
-            s.pen_up.max_velocity,
-            s.pen_drop_s,
-            s.pen_lift_s
-        );
+        text += &Plotter::default().describe();
+        text += " (the command line's plot statistics give the same).";
         text
     }
 

@@ -147,6 +147,7 @@ impl PixelPieApp {
         }
         self.paint_dots(ui, &painter, rect, &offsets, size);
         self.paint_line(&painter, rect, &offsets, size);
+        self.paint_poster(&painter, rect, size);
         if self.settings.show_travel && !self.is_line() {
             self.paint_travel(&painter, rect);
         }
@@ -299,7 +300,7 @@ impl PixelPieApp {
     }
 
     /// A rectangle in picture pixels on the screen, as the view shows it.
-    fn on_screen(&self, rect: Rect, r: Rect) -> Rect {
+    pub(super) fn on_screen(&self, rect: Rect, r: Rect) -> Rect {
         Rect::from_min_max(
             rect.min + self.view.pan + r.min.to_vec2() * self.view.zoom,
             rect.min + self.view.pan + r.max.to_vec2() * self.view.zoom,

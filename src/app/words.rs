@@ -38,6 +38,7 @@ pub fn label(key: &str) -> &str {
         "paper" => "Paper",
         "margin" => "Margin",
         "landscape" => "Landscape",
+        "poster" => "Poster",
         "size_px" => "SVG size in px",
         "pen_mm" => "Pen mm",
         "dot_path" => "Dot path",

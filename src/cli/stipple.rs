@@ -56,21 +56,24 @@ pub struct StippleArgs {
     /// an estimated plotting time (needs --pen-mm, and --width-mm or --paper).
     #[arg(long)]
     plot_stats: bool,
-    /// The plotter's motion profile for --plot-stats: a TOML file of
-    /// saxi's options (pen_down_acceleration, pen_down_max_velocity,
+    /// The plotter's motion profile for --plot-stats: axidraw (AxiDraw's
+    /// own software's planner, its defaults), saxi (saxi's), or a TOML file
+    /// of AxiDraw's option names (speed_pendown, speed_penup, accel,
+    /// pen_pos_up, pen_pos_down, pen_rate_lower, pen_rate_raise,
+    /// pen_delay_down, pen_delay_up, const_speed, model, resolution) or
+    /// saxi's (pen_down_acceleration, pen_down_max_velocity,
     /// pen_down_cornering_factor, pen_up_acceleration, pen_up_max_velocity,
-    /// pen_drop_duration, pen_lift_duration; mm and s) [default: an
-    /// AxiDraw's, as saxi plans it].
-    #[arg(long, value_name = "FILE.toml", requires = "plot_stats")]
+    /// pen_drop_duration, pen_lift_duration; mm and s) [default: axidraw].
+    #[arg(long, value_name = "axidraw|saxi|FILE.toml", requires = "plot_stats")]
     plotter: Option<PathBuf>,
-    /// Top pen-down speed for --plot-stats, mm/s [default: the profile's, an AxiDraw's 50].
+    /// Top pen-down speed for --plot-stats, mm/s [default: the profile's, an AxiDraw's 50.2].
     #[arg(long, requires = "plot_stats")]
     plot_speed: Option<f64>,
-    /// Top pen-up speed for --plot-stats, mm/s [default: the profile's, 200].
+    /// Top pen-up speed for --plot-stats, mm/s [default: the profile's, an AxiDraw's 150.6].
     #[arg(long, requires = "plot_stats")]
     travel_speed: Option<f64>,
     /// Seconds to drop and lift the pen, both together, for --plot-stats
-    /// [default: the profile's, 0.24].
+    /// [default: the profile's, an AxiDraw's 0.276].
     #[arg(long, requires = "plot_stats")]
     pen_delay: Option<f64>,
     /// Print the drawing's plan as JSON (every decision: the domain, the
@@ -109,8 +112,18 @@ fn is_folder(path: &Path) -> bool {
 pub fn run(a: &StippleArgs, matches: Option<&clap::ArgMatches>) -> Result<()> {
     pixelpie::importance::budget::set_max_memory(a.run.max_memory);
     let mut o = job(a, matches)?;
-    let batch = a.images.len() > 1 || is_folder(&a.output);
+    if o.poster.is_some() {
+        if a.images.len() > 1 {
+            bail!("--poster draws one picture into a folder of sheets: give one picture");
+        }
+        pixelpie::job::Poster::check_folder(&a.output)?;
+        if a.format.is_some_and(|f| f != Format::Svg) {
+            bail!("--poster writes SVG sheets: drop --format");
+        }
+    }
+    let batch = o.poster.is_none() && (a.images.len() > 1 || is_folder(&a.output));
     let format = match (batch, a.format) {
+        _ if o.poster.is_some() => Format::Svg,
         (true, f) => f.unwrap_or(Format::Svg),
         (false, None) => Format::from_path(&a.output)?,
         (false, Some(f)) => {
@@ -204,6 +217,92 @@ pub fn run(a: &StippleArgs, matches: Option<&clap::ArgMatches>) -> Result<()> {
     Ok(())
 }
 
+/// Prints --plot-stats: a row per pen of each sheet (named before its
+/// pens when there are several), and the total.
+fn print_plot_stats(sheets: &[(String, Vec<pixelpie::stipple::plot::PenPlot>)]) {
+    let named = sheets.len() > 1;
+    let sheet = if named { "sheet\t" } else { "" };
+    println!("{sheet}pen\tdots\tlifts\tpen-down mm\tpen-up mm\tdrawing min\ttravel min\tminutes");
+    for (name, plots) in sheets {
+        for p in plots {
+            let sheet = if named {
+                format!("{name}\t")
+            } else {
+                String::new()
+            };
+            println!(
+                "{sheet}{}\t{}\t{}\t{:.1}\t{:.1}\t{:.1}\t{:.1}\t{:.1}",
+                p.pen,
+                p.dots,
+                p.lifts,
+                p.pen_down_mm,
+                p.pen_up_mm,
+                p.pen_down_s / 60.0,
+                p.pen_up_s / 60.0,
+                p.seconds / 60.0
+            );
+        }
+    }
+    let total: f64 = sheets.iter().flat_map(|(_, p)| p).map(|p| p.seconds).sum();
+    let tabs = if named { "\t" } else { "" };
+    println!("total{tabs}\t\t\t\t\t\t\t{:.1}", total / 60.0);
+}
+
+/// Cuts `drawing` (made whole for job `o`'s poster) into sheets and
+/// writes them with `poster.json` to folder `output`; the preview, the
+/// points and the plot statistics as asked.
+fn write_poster(
+    a: &StippleArgs,
+    o: &Job,
+    picture: &Decoded,
+    drawing: &pixelpie::job::Stipple,
+    output: &Path,
+    plotter: &Plotter,
+) -> Result<()> {
+    let whole = o
+        .poster_whole(picture.picture())?
+        .context("a poster job without a poster")?;
+    let t0 = Instant::now();
+    let poster = o.poster(&whole, drawing, &mut || false)?;
+    let plotted = a.plot_stats.then_some(plotter);
+    poster.write(o, output, plotted)?;
+    if !a.run.quiet {
+        let g = &poster.grid;
+        eprintln!(
+            "poster: {} sheets ({} rows × {} columns of {} mm × {} mm, overlapping {} mm), {:.1} s to cut and write: {}",
+            poster.sheets.len(),
+            g.rows,
+            g.cols,
+            g.sheet_mm[0],
+            g.sheet_mm[1],
+            g.overlap_mm,
+            t0.elapsed().as_secs_f64(),
+            output.join("poster.json").display()
+        );
+    }
+    if let Some(path) = &a.preview {
+        let img = poster.preview(&whole, drawing)?;
+        io::write_atomic(path, |w| {
+            Ok(pixelpie::stipple::raster::write_png_rgb(
+                w,
+                &img,
+                drawing.points.len(),
+            )?)
+        })?;
+    }
+    if let Some(path) = &a.save_points {
+        whole.write(drawing, path)?;
+    }
+    if a.plot_stats {
+        let mut rows = Vec::with_capacity(poster.sheets.len());
+        for (i, s) in poster.sheets.iter().enumerate() {
+            rows.push((s.file_name(i), s.job.plot_stats(&s.drawing, plotter)?));
+        }
+        print_plot_stats(&rows);
+    }
+    Ok(())
+}
+
 /// The plotter profile of --plotter, with --plot-speed, --travel-speed
 /// and --pen-delay over it.
 fn plotter(a: &StippleArgs) -> Result<Plotter> {
@@ -222,17 +321,17 @@ fn plotter(a: &StippleArgs) -> Result<Plotter> {
         }
     }
     let mut p = match &a.plotter {
-        Some(path) => Plotter::from_file(path)?,
+        Some(value) => Plotter::from_name_or_file(value)?,
         None => Plotter::default(),
     };
     if let Some(v) = a.plot_speed {
-        p.pen_down.max_velocity = v;
+        p.set_pen_down_speed(v);
     }
     if let Some(v) = a.travel_speed {
-        p.pen_up.max_velocity = v;
+        p.set_pen_up_speed(v);
     }
     if let Some(v) = a.pen_delay {
-        (p.pen_drop_s, p.pen_lift_s) = (v / 2.0, v / 2.0);
+        p.set_pen_delay(v);
     }
     p.check()?;
     Ok(p)
@@ -372,6 +471,9 @@ fn draw(
             tour.start_length, tour.length, tour.moves,
         );
     }
+    if o.poster.is_some() {
+        return write_poster(a, o, &picture, &drawing, output, &plotter);
+    }
     o.write(&drawing, output)?;
     if let Some(path) = &a.preview {
         o.write_preview(&drawing, path)?;
@@ -385,23 +487,7 @@ fn draw(
         o.write(&drawing, path)?;
     }
     if a.plot_stats {
-        let plots = o.plot_stats(&drawing, &plotter)?;
-        println!("pen\tdots\tlifts\tpen-down mm\tpen-up mm\tdrawing min\ttravel min\tminutes");
-        for p in &plots {
-            println!(
-                "{}\t{}\t{}\t{:.1}\t{:.1}\t{:.1}\t{:.1}\t{:.1}",
-                p.pen,
-                p.dots,
-                p.lifts,
-                p.pen_down_mm,
-                p.pen_up_mm,
-                p.pen_down_s / 60.0,
-                p.pen_up_s / 60.0,
-                p.seconds / 60.0
-            );
-        }
-        let total: f64 = plots.iter().map(|p| p.seconds).sum();
-        println!("total\t\t\t\t\t\t\t{:.1}", total / 60.0);
+        print_plot_stats(&[(String::new(), o.plot_stats(&drawing, &plotter)?)]);
     }
     if a.run.verbose {
         let (lo, hi) = drawing

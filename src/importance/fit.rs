@@ -260,6 +260,41 @@ impl Prepared {
         Ok(base.clone().with_radius_map(Arc::new(m)))
     }
 
+    /// [`Self::predicted_points`] at `scale` split into `cells` parts:
+    /// `cell(x, y)` names the part of domain point (x, y). Read on a grid
+    /// of about 250K of the domain's pixels, the parts add up to the
+    /// whole's prediction (a poster's dots per sheet, `--plan`).
+    #[must_use]
+    pub fn predicted_in(
+        &self,
+        scale: f64,
+        cells: usize,
+        cell: impl Fn(f64, f64) -> usize,
+    ) -> Vec<f64> {
+        let (w, h) = self.domain();
+        let step = ((f64::from(w) * f64::from(h) / 250_000.0).sqrt().floor() as u32).max(1);
+        let range = self.range.scaled(scale);
+        let mut parts = vec![0.0; cells];
+        let mut sampled = 0usize;
+        for y in (0..h).step_by(step as usize) {
+            for x in (0..w).step_by(step as usize) {
+                sampled += 1;
+                let v = self.value(x, y);
+                if self.cutoff.is_some_and(|c| v > c) {
+                    continue;
+                }
+                let r = f64::from(self.mapping.radius(v.clamp(0.0, 1.0), range));
+                let density = super::ink::rsa_per_pixel(r) * super::ink::density(r);
+                if let Some(p) = parts.get_mut(cell(f64::from(x) + 0.5, f64::from(y) + 0.5)) {
+                    *p += density;
+                }
+            }
+        }
+        let per = f64::from(w) * f64::from(h) / sampled.max(1) as f64 * COUNT_BIAS;
+        parts.iter_mut().for_each(|p| *p *= per);
+        parts
+    }
+
     /// [`Self::predicted_points`] as a function of the scale, its table
     /// made once.
     pub fn predictor(&self) -> impl Fn(f64) -> f64 + '_ {

@@ -83,6 +83,11 @@ impl Job {
                 "«width_mm» and «paper» exclude each other: the paper sizes the drawing".into(),
             );
         }
+        if self.poster.is_some() && self.paper.is_none() {
+            return bad(
+                "«poster» needs «paper»: the sheets the poster is plotted on (e.g. a4)".into(),
+            );
+        }
         if self.paper.is_none() && (self.margin.is_some() || self.landscape) {
             return bad("«margin» and «landscape» need «paper»".into());
         }

@@ -227,17 +227,28 @@ impl Job {
     ) -> crate::Result<()> {
         let layers = self.layers(drawing)?;
         let opts = self.svg_options(drawing.domain)?;
-        let svg_layers: Vec<svg::Layer<'_>> = layers
-            .iter()
-            .map(|l| svg::Layer {
-                name: &l.name,
-                ink: l.ink,
-                pen_mm: l.pen_mm,
-                opaque: l.opacity >= 0.5,
-                dots: &l.dots,
-                strokes: &l.strokes,
-            })
-            .collect();
+        let crosses = self.registration(drawing.domain)?;
+        let first = layers.first();
+        let mut svg_layers: Vec<svg::Layer<'_>> = Vec::with_capacity(layers.len() + 1);
+        if !crosses.is_empty() {
+            // A poster sheet's crosses: plotted first, by the first pen.
+            svg_layers.push(svg::Layer {
+                name: super::poster::REGISTRATION_LAYER,
+                ink: first.map_or(self.ink_rgb(), |l| l.ink),
+                pen_mm: first.and_then(|l| l.pen_mm),
+                opaque: true,
+                dots: &[],
+                strokes: &crosses,
+            });
+        }
+        svg_layers.extend(layers.iter().map(|l| svg::Layer {
+            name: &l.name,
+            ink: l.ink,
+            pen_mm: l.pen_mm,
+            opaque: l.opacity >= 0.5,
+            dots: &l.dots,
+            strokes: &l.strokes,
+        }));
         svg::write_layers(out, &svg_layers, &opts)?;
         Ok(())
     }

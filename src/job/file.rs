@@ -45,6 +45,7 @@ pub const KEYS: &[&str] = &[
     "paper",
     "margin",
     "landscape",
+    "poster",
     "size_px",
     "pen_mm",
     "dot_path",

@@ -324,6 +324,7 @@ impl Job {
             memory_mb: crate::importance::budget::peak_mb(size, domain, self.colour()),
             style: Style::Line,
             line: Some(line),
+            poster: None,
         };
         let plan = Plan {
             seconds: plan.estimate(),

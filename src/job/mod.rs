@@ -29,6 +29,7 @@ mod line;
 mod options;
 mod plan;
 mod plot;
+mod poster;
 mod preview;
 mod radii;
 mod ramp;
@@ -41,6 +42,7 @@ pub use options::{
     Correction, DotMode, Format, Ink, LayerOrder, Order, PaperColour, Spacing, Style,
 };
 pub use plan::{PenChoice, Plan, Planned};
+pub use poster::{Manifest, ManifestSheet, Poster, PosterPlan, Sheet, SheetGrid};
 pub use preview::{PenCheck, PlotPen, plotted_dot, short_of};
 pub use radii::default_domain;
 pub use ramp::{RampError, ramp_error, ramp_error_sized};
@@ -200,6 +202,18 @@ pub struct Job {
     #[cfg_attr(feature = "cli", arg(long))]
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub landscape: bool,
+    /// A poster of WxH mm (or a paper name) plotted sheet by sheet: the
+    /// drawing is made whole at the poster's size, then each dot goes to
+    /// one --paper sheet (inside its --margin; the sheets overlap where
+    /// they meet), with registration crosses on the seams; -o names a
+    /// folder of one SVG a sheet and poster.json (docs/plotter.md).
+    #[cfg_attr(feature = "cli", arg(long, value_name = "WxH"))]
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub poster: Option<Paper>,
+    /// The sheet of a poster this job writes (set by [`Job::poster`]).
+    #[cfg_attr(feature = "cli", arg(skip))]
+    #[serde(skip)]
+    pub(crate) sheet: Option<poster::SheetPage>,
     /// Write the SVG's width and height in CSS px (96 per inch) instead of
     /// mm: the same page, for tools that drop units (saxi's command line).
     #[cfg_attr(feature = "cli", arg(long))]
@@ -291,6 +305,8 @@ impl Default for Job {
             paper: None,
             margin: None,
             landscape: false,
+            poster: None,
+            sheet: None,
             size_px: false,
             pen_mm: None,
             dot_path: DotPath::Spiral,
@@ -337,7 +353,9 @@ impl Job {
             key.paper = None;
             key.margin = None;
             key.landscape = false;
+            key.poster = None;
         }
+        key.sheet = None;
         key
     }
 }

@@ -82,6 +82,9 @@ pub struct Plan {
     /// `line_plan`: `line` is the plan's one-line summary).
     #[serde(rename = "line_plan", skip_serializing_if = "Option::is_none")]
     pub line: Option<super::line::LinePlan>,
+    /// A poster's sheets (`--poster`): the frame, the grid, the overlap.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub poster: Option<super::PosterPlan>,
 }
 
 /// The pens a plan chose from a pen box.
@@ -144,6 +147,12 @@ impl Job {
     /// Prepares the picture's maps (the prepare stage); nothing is sampled.
     pub fn plan(&self, picture: Picture<'_>) -> crate::Result<Planned> {
         self.check()?;
+        // A poster is drawn whole, then cut into sheets.
+        if let Some(whole) = self.poster_whole(picture)? {
+            let mut planned = whole.plan(picture)?;
+            planned.plan.poster = self.poster_plan(&whole, &planned)?;
+            return Ok(planned);
+        }
         // The pen choice is the plan's first step: the rest plans the job
         // with the pens chosen, which [`Planned::job`] hands on to the
         // writers.
@@ -225,6 +234,7 @@ impl Job {
             memory_mb: crate::importance::budget::peak_mb(size, domain, colour),
             style: super::Style::Dots,
             line: None,
+            poster: None,
         };
         let plan = Plan {
             seconds: plan.estimate(),
@@ -378,6 +388,26 @@ impl Plan {
         });
         if self.spread && self.relax > 0 {
             parts.push("pens spread apart".into());
+        }
+        if let Some(p) = &self.poster {
+            let (lo, hi) = p
+                .sheet_dots
+                .iter()
+                .fold((usize::MAX, 0), |(lo, hi), &d| (lo.min(d), hi.max(d)));
+            parts.push(format!(
+                "{} sheets ({} × {}, overlapping {} mm), {}–{} {} a sheet",
+                p.sheets,
+                p.grid.rows,
+                p.grid.cols,
+                p.grid.overlap_mm,
+                grouped(lo.min(hi)),
+                grouped(hi),
+                if self.line.is_some() {
+                    "points"
+                } else {
+                    "dots"
+                }
+            ));
         }
         if let Some(c) = &self.chosen {
             parts.push(format!("pens chosen: {}", c.pens.join(", ")));

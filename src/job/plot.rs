@@ -23,6 +23,9 @@ impl Job {
         let origin = self
             .placement(drawing.domain)?
             .map_or((0.0, 0.0), |p| p.origin_mm);
+        // The sheet, where the plotter's home is.
+        let opts = self.svg_options(drawing.domain)?;
+        let sheet_mm = opts.sheet_mm.or(opts.size_mm);
         // Pen by pen, in plotting order.
         let layers = self.layers_split(drawing, None)?;
         Ok(layers
@@ -62,7 +65,7 @@ impl Job {
                     // As the file holds it, on the plotter's grid.
                     svg::on_grid(buf);
                 };
-                plot_paths_of(&layer.name, n, n + strokes.len(), &path, plotter)
+                plot_paths_of(&layer.name, n, n + strokes.len(), &path, plotter, sheet_mm)
             })
             .collect())
     }

@@ -166,8 +166,18 @@ impl Job {
         self.margin.unwrap_or(DEFAULT_MARGIN_MM)
     }
 
-    /// Where a drawing of `domain` px lies on the job's paper, if any.
+    /// Where a drawing of `domain` px lies on the job's paper (a
+    /// poster's whole on the poster), if any.
     pub fn placement(&self, domain: (u32, u32)) -> crate::Result<Option<Placement>> {
+        if let Some(sheet) = &self.sheet {
+            return Ok(Some(sheet.placement));
+        }
+        // A poster's whole drawing lies on the poster, its frame centred
+        // (the sheets' own placements come with [`Job::poster`]).
+        if let Some(poster) = &self.poster {
+            let wide = poster.width_mm > poster.height_mm;
+            return Ok(Some(poster.place(domain, wide, 0.0)?));
+        }
         match &self.paper {
             Some(paper) => Ok(Some(paper.place(domain, self.landscape, self.margin())?)),
             None => Ok(None),

@@ -134,7 +134,11 @@ impl Job {
     /// with `pen_mm`; one Inkscape layer per pen in colour.
     pub fn svg(&self, drawing: &Stipple) -> crate::Result<Vec<u8>> {
         let mut out = Vec::new();
-        if drawing.pens.is_some() || self.refill_mm.is_some() || !drawing.strokes.is_empty() {
+        if drawing.pens.is_some()
+            || self.refill_mm.is_some()
+            || !drawing.strokes.is_empty()
+            || self.sheet.is_some()
+        {
             self.write_layered_svg(drawing, &mut out)?;
         } else {
             let dots = self.dots(drawing);

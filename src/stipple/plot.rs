@@ -1,14 +1,18 @@
 //! Plot statistics: what a pen plotter does to draw a pen drawing
 //! (`--pen-mm`), pen by pen: its dots, its pen lifts, the distance drawn
-//! with the pen down and travelled with it up, and the time a motion
-//! planner of an AxiDraw's kind takes.
+//! with the pen down and travelled with it up, and the time an AxiDraw's
+//! motion planner takes.
 //!
 //! Each pen's layer is a plot of its own (a pen change between layers): it
-//! starts at the home corner (0, 0), draws its paths in the drawing's order
-//! — each path one travel, one drop, one stroke and one lift — and returns
+//! starts at the home corner, draws its paths in the drawing's order —
+//! each path one travel, one drop, one stroke and one lift — and returns
 //! home.
 //!
-//! # The motion model
+//! Two planners time it ([`Plotter`]): AxiDraw's own software's, the
+//! default ([`AxiDraw`], in `plot/axidraw.rs`: 25 ms slices, whole motor
+//! steps), and saxi's, below.
+//!
+//! # saxi's motion model
 //!
 //! Each stroke and each travel starts and ends at rest. Along it the
 //! carriage accelerates and brakes at the profile's constant acceleration
@@ -24,12 +28,14 @@
 //! each corner the next can be reached, and the stroke stopped at its end,
 //! within the acceleration. The pen takes a fixed time to drop and to lift.
 //!
-//! The default profile is an AxiDraw's as its motion planners drive it
-//! (saxi's defaults): pen down 200 mm/s² up to 50 mm/s with cornering
+//! saxi's defaults: pen down 200 mm/s² up to 50 mm/s with cornering
 //! factor 0.127 mm, pen up 400 mm/s² up to 200 mm/s, 0.12 s to drop and to
-//! lift. `docs/plotter.md` compares the estimate with saxi's own plan.
+//! lift. `docs/plotter.md` compares both estimates with the programs' own.
 
 use super::Error;
+
+mod axidraw;
+pub use axidraw::AxiDraw;
 
 /// How the carriage moves with the pen in one position.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -168,9 +174,9 @@ fn segment_s(len: f64, v0: f64, v1: f64, a: f64, top: f64) -> f64 {
     }
 }
 
-/// A plotter's motion profile, by default an AxiDraw's as saxi plans it.
+/// saxi's motion profile for an AxiDraw: the model above.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Plotter {
+pub struct Saxi {
     /// Drawing, with the pen down.
     pub pen_down: Motion,
     /// Travel, with the pen up.
@@ -181,7 +187,8 @@ pub struct Plotter {
     pub pen_lift_s: f64,
 }
 
-impl Default for Plotter {
+impl Default for Saxi {
+    /// saxi's defaults.
     fn default() -> Self {
         Self {
             pen_down: Motion {
@@ -200,34 +207,9 @@ impl Default for Plotter {
     }
 }
 
-/// A plotter profile file's keys (saxi's option names, with underscores),
-/// all optional: the default profile fills in the rest.
-#[derive(Debug, Default, serde::Deserialize)]
-#[serde(deny_unknown_fields)]
-struct ProfileFile {
-    pen_down_acceleration: Option<f64>,
-    pen_down_max_velocity: Option<f64>,
-    pen_down_cornering_factor: Option<f64>,
-    pen_up_acceleration: Option<f64>,
-    pen_up_max_velocity: Option<f64>,
-    pen_drop_duration: Option<f64>,
-    pen_lift_duration: Option<f64>,
-}
-
-/// A profile file's keys, for its errors.
-pub const PROFILE_KEYS: [&str; 7] = [
-    "pen_down_acceleration",
-    "pen_down_max_velocity",
-    "pen_down_cornering_factor",
-    "pen_up_acceleration",
-    "pen_up_max_velocity",
-    "pen_drop_duration",
-    "pen_lift_duration",
-];
-
-impl Plotter {
+impl Saxi {
     /// Checks every number: a one-line message naming the key.
-    pub fn check(&self) -> Result<(), Error> {
+    fn check(&self) -> Result<(), String> {
         let delays = [
             ("pen_drop_duration", self.pen_drop_s),
             ("pen_lift_duration", self.pen_lift_s),
@@ -241,11 +223,171 @@ impl Plotter {
                     None => Ok(()),
                 },
             )
-            .map_err(Error::Setting)
+    }
+}
+
+/// A plotter's motion profile: AxiDraw's own planner (the default, as
+/// AxiDraw's software estimates a plot) or saxi's.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Plotter {
+    /// AxiDraw's planner ([`AxiDraw`]).
+    AxiDraw(AxiDraw),
+    /// saxi's ([`Saxi`]).
+    Saxi(Saxi),
+}
+
+impl Default for Plotter {
+    fn default() -> Self {
+        Self::AxiDraw(AxiDraw::default())
+    }
+}
+
+/// A plotter profile file's keys, all optional: AxiDraw's option names or
+/// saxi's (with underscores), not both; the planner's defaults fill in
+/// the rest.
+#[derive(Debug, Default, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ProfileFile {
+    speed_pendown: Option<f64>,
+    speed_penup: Option<f64>,
+    accel: Option<f64>,
+    pen_pos_up: Option<f64>,
+    pen_pos_down: Option<f64>,
+    pen_rate_lower: Option<f64>,
+    pen_rate_raise: Option<f64>,
+    pen_delay_down: Option<f64>,
+    pen_delay_up: Option<f64>,
+    const_speed: Option<bool>,
+    model: Option<u8>,
+    resolution: Option<u8>,
+    pen_down_acceleration: Option<f64>,
+    pen_down_max_velocity: Option<f64>,
+    pen_down_cornering_factor: Option<f64>,
+    pen_up_acceleration: Option<f64>,
+    pen_up_max_velocity: Option<f64>,
+    pen_drop_duration: Option<f64>,
+    pen_lift_duration: Option<f64>,
+}
+
+/// A profile file's keys for AxiDraw's planner: its software's option
+/// names (speeds and rates in %, delays in ms).
+pub const AXIDRAW_KEYS: [&str; 12] = [
+    "speed_pendown",
+    "speed_penup",
+    "accel",
+    "pen_pos_up",
+    "pen_pos_down",
+    "pen_rate_lower",
+    "pen_rate_raise",
+    "pen_delay_down",
+    "pen_delay_up",
+    "const_speed",
+    "model",
+    "resolution",
+];
+
+/// A profile file's keys for saxi's planner (mm and s).
+pub const PROFILE_KEYS: [&str; 7] = [
+    "pen_down_acceleration",
+    "pen_down_max_velocity",
+    "pen_down_cornering_factor",
+    "pen_up_acceleration",
+    "pen_up_max_velocity",
+    "pen_drop_duration",
+    "pen_lift_duration",
+];
+
+impl Plotter {
+    /// The built-in profiles' names, for `--plotter NAME`.
+    pub const NAMES: [&str; 2] = ["axidraw", "saxi"];
+
+    /// The built-in profile `name` (`axidraw` or `saxi`), with its
+    /// software's defaults.
+    #[must_use]
+    pub fn named(name: &str) -> Option<Self> {
+        match name {
+            "axidraw" => Some(Self::AxiDraw(AxiDraw::default())),
+            "saxi" => Some(Self::Saxi(Saxi::default())),
+            _ => None,
+        }
     }
 
-    /// A profile file's text (TOML): any of [`PROFILE_KEYS`], in mm and
-    /// seconds, over the default profile. Errors name the key.
+    /// Checks every number: a one-line message naming the key.
+    pub fn check(&self) -> Result<(), Error> {
+        match self {
+            Self::AxiDraw(a) => a.check(),
+            Self::Saxi(s) => s.check(),
+        }
+        .map_err(Error::Setting)
+    }
+
+    /// Sets the top pen-down speed, mm/s (`--plot-speed`).
+    pub fn set_pen_down_speed(&mut self, mm_s: f64) {
+        match self {
+            Self::AxiDraw(a) => a.set_pen_down_mm_s(mm_s),
+            Self::Saxi(s) => s.pen_down.max_velocity = mm_s,
+        }
+    }
+
+    /// Sets the top pen-up speed, mm/s (`--travel-speed`).
+    pub fn set_pen_up_speed(&mut self, mm_s: f64) {
+        match self {
+            Self::AxiDraw(a) => a.set_pen_up_mm_s(mm_s),
+            Self::Saxi(s) => s.pen_up.max_velocity = mm_s,
+        }
+    }
+
+    /// Sets the seconds to drop and to lift the pen, both together, half
+    /// each (`--pen-delay`).
+    pub fn set_pen_delay(&mut self, seconds: f64) {
+        let half = seconds / 2.0;
+        match self {
+            Self::AxiDraw(a) => a.pen_times_s = Some((half, half)),
+            Self::Saxi(s) => (s.pen_drop_s, s.pen_lift_s) = (half, half),
+        }
+    }
+
+    /// Seconds to drop the pen and to lift it.
+    #[must_use]
+    pub fn pen_s(&self) -> (f64, f64) {
+        match self {
+            Self::AxiDraw(a) => a.pen_s(),
+            Self::Saxi(s) => (s.pen_drop_s, s.pen_lift_s),
+        }
+    }
+
+    /// One sentence on how the profile times a plot, its figures in mm
+    /// and s.
+    #[must_use]
+    pub fn describe(&self) -> String {
+        let (drop, lift) = self.pen_s();
+        match self {
+            Self::AxiDraw(a) => {
+                let (down, up) = a.accel_mm_s2();
+                format!(
+                    "How long an AxiDraw takes, as its own software plans it: drawing at {down:.0} \
+                     mm/s² up to {:.0} mm/s, slowing for corners; travel at {up:.0} mm/s² up to \
+                     {:.0} mm/s; {drop} s to drop and {lift} s to lift the pen",
+                    a.pen_down_mm_s(),
+                    a.pen_up_mm_s()
+                )
+            }
+            Self::Saxi(s) => format!(
+                "How long an AxiDraw takes, as saxi plans it: drawing at {} mm/s² up to {} mm/s, \
+                 slowing for corners; travel at {} mm/s² up to {} mm/s; {drop} s to drop and \
+                 {lift} s to lift the pen",
+                s.pen_down.acceleration,
+                s.pen_down.max_velocity,
+                s.pen_up.acceleration,
+                s.pen_up.max_velocity
+            ),
+        }
+    }
+
+    /// A profile file's text (TOML): AxiDraw's option names
+    /// ([`AXIDRAW_KEYS`]) over AxiDraw's defaults, or saxi's
+    /// ([`PROFILE_KEYS`], mm and s) over saxi's; an empty file is
+    /// AxiDraw's. Errors name the key, and an unknown key lists the known.
     pub fn from_toml(text: &str) -> Result<Self, Error> {
         let file: ProfileFile = toml::from_str(text).map_err(|e| {
             let message = e.message();
@@ -260,46 +402,139 @@ impl Plotter {
                     format!("{line}: expected {expected}")
                 }
                 _ => format!(
-                    "{}; the keys are {}",
+                    "{}; the keys are AxiDraw's {} or saxi's {}",
                     crate::text::single_line(message),
+                    AXIDRAW_KEYS.join(", "),
                     PROFILE_KEYS.join(", ")
                 ),
             })
         })?;
-        let d = Self::default();
-        let p = Self {
-            pen_down: Motion {
-                acceleration: file
-                    .pen_down_acceleration
-                    .unwrap_or(d.pen_down.acceleration),
-                max_velocity: file
-                    .pen_down_max_velocity
-                    .unwrap_or(d.pen_down.max_velocity),
-                cornering: file
-                    .pen_down_cornering_factor
-                    .unwrap_or(d.pen_down.cornering),
-            },
-            pen_up: Motion {
-                acceleration: file.pen_up_acceleration.unwrap_or(d.pen_up.acceleration),
-                max_velocity: file.pen_up_max_velocity.unwrap_or(d.pen_up.max_velocity),
-                cornering: d.pen_up.cornering,
-            },
-            pen_drop_s: file.pen_drop_duration.unwrap_or(d.pen_drop_s),
-            pen_lift_s: file.pen_lift_duration.unwrap_or(d.pen_lift_s),
+        let saxi_keys = [
+            file.pen_down_acceleration,
+            file.pen_down_max_velocity,
+            file.pen_down_cornering_factor,
+            file.pen_up_acceleration,
+            file.pen_up_max_velocity,
+            file.pen_drop_duration,
+            file.pen_lift_duration,
+        ];
+        let axidraw_keys = [
+            file.speed_pendown,
+            file.speed_penup,
+            file.accel,
+            file.pen_pos_up,
+            file.pen_pos_down,
+            file.pen_rate_lower,
+            file.pen_rate_raise,
+            file.pen_delay_down,
+            file.pen_delay_up,
+        ];
+        let saxi = saxi_keys.iter().any(Option::is_some);
+        let axidraw = axidraw_keys.iter().any(Option::is_some)
+            || file.const_speed.is_some()
+            || file.model.is_some()
+            || file.resolution.is_some();
+        if saxi && axidraw {
+            return Err(Error::Setting(
+                "a plotter profile takes AxiDraw's option names (speed_pendown, accel, …) or \
+                 saxi's (pen_down_max_velocity, …), not both"
+                    .into(),
+            ));
+        }
+        let p = if saxi {
+            let d = Saxi::default();
+            Self::Saxi(Saxi {
+                pen_down: Motion {
+                    acceleration: file
+                        .pen_down_acceleration
+                        .unwrap_or(d.pen_down.acceleration),
+                    max_velocity: file
+                        .pen_down_max_velocity
+                        .unwrap_or(d.pen_down.max_velocity),
+                    cornering: file
+                        .pen_down_cornering_factor
+                        .unwrap_or(d.pen_down.cornering),
+                },
+                pen_up: Motion {
+                    acceleration: file.pen_up_acceleration.unwrap_or(d.pen_up.acceleration),
+                    max_velocity: file.pen_up_max_velocity.unwrap_or(d.pen_up.max_velocity),
+                    cornering: d.pen_up.cornering,
+                },
+                pen_drop_s: file.pen_drop_duration.unwrap_or(d.pen_drop_s),
+                pen_lift_s: file.pen_lift_duration.unwrap_or(d.pen_lift_s),
+            })
+        } else {
+            let d = AxiDraw::default();
+            Self::AxiDraw(AxiDraw {
+                speed_pendown: file.speed_pendown.unwrap_or(d.speed_pendown),
+                speed_penup: file.speed_penup.unwrap_or(d.speed_penup),
+                accel: file.accel.unwrap_or(d.accel),
+                pen_pos_up: file.pen_pos_up.unwrap_or(d.pen_pos_up),
+                pen_pos_down: file.pen_pos_down.unwrap_or(d.pen_pos_down),
+                pen_rate_lower: file.pen_rate_lower.unwrap_or(d.pen_rate_lower),
+                pen_rate_raise: file.pen_rate_raise.unwrap_or(d.pen_rate_raise),
+                pen_delay_down: file.pen_delay_down.unwrap_or(d.pen_delay_down),
+                pen_delay_up: file.pen_delay_up.unwrap_or(d.pen_delay_up),
+                const_speed: file.const_speed.unwrap_or(d.const_speed),
+                model: file.model.unwrap_or(d.model),
+                resolution: file.resolution.unwrap_or(d.resolution),
+                pen_times_s: None,
+            })
         };
         p.check()?;
         Ok(p)
+    }
+
+    /// `--plotter`'s value: a built-in profile's name ([`Self::NAMES`]) or
+    /// a profile file (see [`Self::from_toml`]); errors name the file.
+    pub fn from_name_or_file(value: &std::path::Path) -> Result<Self, Error> {
+        if let Some(p) = value.to_str().and_then(Self::named) {
+            return Ok(p);
+        }
+        Self::from_file(value)
     }
 
     /// [`Self::from_toml`] of a file; errors name the file.
     pub fn from_file(path: &std::path::Path) -> Result<Self, Error> {
         let text = std::fs::read_to_string(path).map_err(|e| {
             Error::Setting(format!(
-                "cannot read plotter profile '{}': {e}",
-                path.display()
+                "cannot read plotter profile '{}' (not {} either): {e}",
+                path.display(),
+                Self::NAMES.join(" or ")
             ))
         })?;
         Self::from_toml(&text).map_err(|e| Error::Setting(format!("{}: {e}", path.display())))
+    }
+
+    /// Where the plot starts and ends, mm on a sheet of `sheet_mm`: the
+    /// sheet's top-left corner, or for AxiDraw's software a portrait
+    /// sheet's top-right (it turns the sheet onto the machine).
+    fn home(&self, sheet_mm: Option<(f64, f64)>) -> (f64, f64) {
+        match (self, sheet_mm) {
+            (Self::AxiDraw(_), Some((w, h))) if h > w => (w, 0.0),
+            _ => (0.0, 0.0),
+        }
+    }
+
+    /// Seconds of a pen-up move from `a` to `b` (mm).
+    fn travel_s(&self, a: (f64, f64), b: (f64, f64), sheet_mm: Option<(f64, f64)>) -> f64 {
+        match self {
+            Self::AxiDraw(x) => x.travel_s(x.steps_at(a, sheet_mm), x.steps_at(b, sheet_mm)),
+            Self::Saxi(s) => s.pen_up.straight_s((a.0 - b.0).hypot(a.1 - b.1)),
+        }
+    }
+
+    /// Seconds to draw `path` (mm) with the pen down.
+    fn stroke_s(
+        &self,
+        path: &[(f64, f64)],
+        sheet_mm: Option<(f64, f64)>,
+        scratch: &mut (Scratch, axidraw::Scratch),
+    ) -> f64 {
+        match self {
+            Self::AxiDraw(x) => x.stroke_s(path, sheet_mm, &mut scratch.1),
+            Self::Saxi(s) => s.pen_down.path_s(path, &mut scratch.0),
+        }
     }
 }
 
@@ -331,7 +566,9 @@ pub type PathOf<'a> = dyn Fn(usize, &mut Vec<(f64, f64)>) + Sync + 'a;
 const CHUNK: usize = 4096;
 
 /// The plot of `count` paths, `path(i, buffer)` filling path `i` (a
-/// polyline in mm, in drawing order), from home and back. Paths are made
+/// polyline in mm, in drawing order), from home and back, on a sheet of
+/// `sheet_mm` (where home is: AxiDraw's software turns a portrait sheet,
+/// and starts at its top-right corner; `None`: at (0, 0)). Paths are made
 /// and timed in parallel, a chunk at a time, and added in order: the same
 /// figures whatever the number of threads.
 #[must_use]
@@ -341,6 +578,7 @@ pub fn plot_paths_of(
     count: usize,
     path: &PathOf<'_>,
     plotter: &Plotter,
+    sheet_mm: Option<(f64, f64)>,
 ) -> PenPlot {
     use rayon::prelude::*;
     let dist = |a: (f64, f64), b: (f64, f64)| ((a.0 - b.0).powi(2) + (a.1 - b.1).powi(2)).sqrt();
@@ -359,7 +597,7 @@ pub fn plot_paths_of(
     let parts: Vec<Part> = (0..count.div_ceil(CHUNK))
         .into_par_iter()
         .map(|c| {
-            let (mut buf, mut scratch) = (Vec::new(), Scratch::default());
+            let (mut buf, mut scratch) = (Vec::new(), Default::default());
             let mut part = Part::default();
             for i in c * CHUNK..count.min((c + 1) * CHUNK) {
                 buf.clear();
@@ -370,12 +608,11 @@ pub fn plot_paths_of(
                 if part.first.is_none() {
                     part.first = Some(first);
                 } else {
-                    let d = dist(part.last, first);
-                    part.up_mm += d;
-                    part.up_s += plotter.pen_up.straight_s(d);
+                    part.up_mm += dist(part.last, first);
+                    part.up_s += plotter.travel_s(part.last, first, sheet_mm);
                 }
                 part.down_mm += buf.windows(2).map(|w| dist(w[0], w[1])).sum::<f64>();
-                part.down_s += plotter.pen_down.path_s(&buf, &mut scratch);
+                part.down_s += plotter.stroke_s(&buf, sheet_mm, &mut scratch);
                 part.last = last;
                 part.lifts += 1;
             }
@@ -392,27 +629,25 @@ pub fn plot_paths_of(
         pen_up_s: 0.0,
         seconds: 0.0,
     };
-    let mut at = (0.0, 0.0);
+    let home = plotter.home(sheet_mm);
+    let mut at = home;
     for part in &parts {
         let Some(first) = part.first else { continue };
-        let d = dist(at, first);
-        plot.pen_up_mm += d + part.up_mm;
-        plot.pen_up_s += plotter.pen_up.straight_s(d) + part.up_s;
+        plot.pen_up_mm += dist(at, first) + part.up_mm;
+        plot.pen_up_s += plotter.travel_s(at, first, sheet_mm) + part.up_s;
         plot.pen_down_mm += part.down_mm;
         plot.pen_down_s += part.down_s;
         plot.lifts += part.lifts;
         at = part.last;
     }
-    let home = dist(at, (0.0, 0.0));
-    plot.pen_up_mm += home;
-    plot.pen_up_s += plotter.pen_up.straight_s(home);
-    plot.seconds = plot.pen_down_s
-        + plot.pen_up_s
-        + plot.lifts as f64 * (plotter.pen_drop_s + plotter.pen_lift_s);
+    plot.pen_up_mm += dist(at, home);
+    plot.pen_up_s += plotter.travel_s(at, home, sheet_mm);
+    let (drop, lift) = plotter.pen_s();
+    plot.seconds = plot.pen_down_s + plot.pen_up_s + plot.lifts as f64 * (drop + lift);
     plot
 }
 
-/// [`plot_paths_of`] for paths in memory.
+/// [`plot_paths_of`] for paths in memory, home at (0, 0).
 #[must_use]
 pub fn plot_paths(pen: &str, dots: usize, paths: &[Vec<(f64, f64)>], plotter: &Plotter) -> PenPlot {
     plot_paths_of(
@@ -421,6 +656,7 @@ pub fn plot_paths(pen: &str, dots: usize, paths: &[Vec<(f64, f64)>], plotter: &P
         paths.len(),
         &|i, buf| buf.extend_from_slice(&paths[i]),
         plotter,
+        None,
     )
 }
 
@@ -439,7 +675,7 @@ mod tests {
     /// Two one-touch dots and a square path, by hand.
     #[test]
     fn the_estimate_adds_up_by_hand() {
-        let plotter = Plotter {
+        let plotter = Plotter::Saxi(Saxi {
             pen_down: slow(),
             pen_up: Motion {
                 acceleration: 1000.0,
@@ -448,7 +684,7 @@ mod tests {
             },
             pen_drop_s: 0.2,
             pen_lift_s: 0.3,
-        };
+        });
         let paths = vec![
             vec![(3.0, 4.0), (3.01, 4.0)],
             vec![(3.01, 8.0), (3.02, 8.0)],
@@ -528,11 +764,33 @@ mod tests {
 
     #[test]
     fn profiles_read_from_toml_and_errors_name_the_key() {
-        let p =
-            Plotter::from_toml("pen_down_max_velocity = 25\npen_lift_duration = 0.2\n").unwrap();
+        let Plotter::Saxi(p) =
+            Plotter::from_toml("pen_down_max_velocity = 25\npen_lift_duration = 0.2\n").unwrap()
+        else {
+            panic!("saxi's names make a saxi profile")
+        };
         assert_eq!(p.pen_down.max_velocity, 25.0);
         assert_eq!(p.pen_lift_s, 0.2);
-        assert_eq!(p.pen_up, Plotter::default().pen_up);
+        assert_eq!(p.pen_up, Saxi::default().pen_up);
+        // AxiDraw's own option names, over its defaults.
+        let Plotter::AxiDraw(a) = Plotter::from_toml(
+            "speed_pendown = 50\naccel = 100\npen_rate_lower = 80\npen_delay_up = 20\n\
+             const_speed = true\nmodel = 2\n",
+        )
+        .unwrap() else {
+            panic!("AxiDraw's names make an AxiDraw profile")
+        };
+        assert_eq!(
+            (a.speed_pendown, a.accel, a.pen_rate_lower),
+            (50.0, 100.0, 80.0)
+        );
+        assert_eq!((a.pen_delay_up, a.const_speed, a.model), (20.0, true, 2));
+        assert_eq!(a.speed_penup, AxiDraw::default().speed_penup);
+        // An empty file, and the names, are AxiDraw's defaults.
+        assert_eq!(Plotter::from_toml("").unwrap(), Plotter::default());
+        assert_eq!(Plotter::named("axidraw"), Some(Plotter::default()));
+        assert_eq!(Plotter::named("saxi"), Some(Plotter::Saxi(Saxi::default())));
+        assert_eq!(Plotter::named("hp7475a"), None);
         for (text, want) in [
             (
                 "pen_down_max_velocity = \"fast\"\n",
@@ -546,10 +804,41 @@ mod tests {
                 "pen_drop_duration = nan\n",
                 "pen_drop_duration = NaN: expected",
             ),
-            ("pen_speed = 3\n", "pen_down_acceleration"),
+            ("accel = 0\n", "accel = 0: expected a number from 1 to 110"),
+            ("speed_penup = 300\n", "speed_penup = 300: expected"),
+            ("model = 9\n", "model = 9: expected an AxiDraw model"),
+            ("const_speed = 1\n", "const_speed = 1: expected"),
+            ("accel = 50\npen_up_acceleration = 300\n", "not both"),
         ] {
             let e = Plotter::from_toml(text).unwrap_err().to_string();
             assert!(e.contains(want) && !e.contains('\n'), "{text}: {e}");
+        }
+        // An unknown name lists every known one, AxiDraw's and saxi's.
+        let e = Plotter::from_toml("pen_speed = 3\n")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("pen_speed") && !e.contains('\n'), "{e}");
+        for key in AXIDRAW_KEYS.iter().chain(&PROFILE_KEYS) {
+            assert!(e.contains(key), "{key}: {e}");
+        }
+    }
+
+    #[test]
+    fn the_flags_set_either_planners_speeds_and_pen_times() {
+        for mut p in [Plotter::default(), Plotter::named("saxi").unwrap()] {
+            p.set_pen_down_speed(40.0);
+            p.set_pen_up_speed(120.0);
+            p.set_pen_delay(0.5);
+            assert_eq!(p.pen_s(), (0.25, 0.25));
+            let (down, up) = match p {
+                Plotter::AxiDraw(a) => (a.pen_down_mm_s(), a.pen_up_mm_s()),
+                Plotter::Saxi(s) => (s.pen_down.max_velocity, s.pen_up.max_velocity),
+            };
+            assert!(
+                (down - 40.0).abs() < 1e-9 && (up - 120.0).abs() < 1e-9,
+                "{p:?}"
+            );
+            assert!(p.check().is_ok());
         }
     }
 
@@ -571,7 +860,12 @@ mod tests {
                 .num_threads(threads)
                 .build()
                 .unwrap()
-                .install(|| plot_paths("k", paths.len(), &paths, &Plotter::default()))
+                .install(|| {
+                    Plotter::NAMES.map(|name| {
+                        let p = Plotter::named(name).unwrap();
+                        plot_paths("k", paths.len(), &paths, &p)
+                    })
+                })
         };
         assert_eq!(run(1), run(3));
     }

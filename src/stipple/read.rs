@@ -236,7 +236,10 @@ impl Document {
                 .flatten()
                 .find_map(|c| crate::colour::pens::parse_hex(c).ok())
                 .unwrap_or([0, 0, 0]);
-            let label = attrs.get("inkscape:label").unwrap_or_default().to_owned();
+            // A pen's name, without the pause mark of the layers after
+            // the first (svg::layer_label).
+            let label = attrs.get("inkscape:label").unwrap_or_default();
+            let label = label.strip_prefix('!').unwrap_or(label).to_owned();
             self.layers.push((label, colour));
             layer = Some(self.layers.len() - 1);
         }

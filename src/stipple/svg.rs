@@ -436,9 +436,28 @@ pub struct Layer<'a> {
     pub strokes: &'a [Stroke],
 }
 
+/// The label of the `index`-th plotted layer (from 0), named `name`, as
+/// plotter software reads it: after the first, a leading `!`, on which
+/// AxiDraw's software pauses before the layer (for the pen change or the
+/// refill between layers; saxi and vpype ignore it, and vpype still
+/// numbers the layer by the label's first digits). A leading `%` or `!` of
+/// the name itself is dropped: `%` would make the layer one that plotters
+/// skip.
+#[must_use]
+pub fn layer_label(index: usize, name: &str) -> String {
+    let name = name.trim_start_matches(['%', '!']);
+    if index == 0 {
+        name.to_owned()
+    } else {
+        format!("!{name}")
+    }
+}
+
 /// Writes a colour drawing: one Inkscape layer per pen
 /// (`<g inkscape:groupmode="layer" inkscape:label="cyan" fill="#00ffff">`,
-/// or `stroke` with a pen), in the layers' order. The options' ink is not
+/// or `stroke` with a pen), in the layers' order, labelled by
+/// [`layer_label`] (`"!magenta"`: a pause before each layer after the
+/// first). The options' ink is not
 /// used; each layer has its own. Each layer multiplies what lies below it
 /// (`style="mix-blend-mode:multiply"`), as transparent inks do on paper
 /// and in the PNG, so that browsers and Inkscape show what the plot will;
@@ -447,37 +466,53 @@ pub fn write_layers(w: &mut dyn Write, layers: &[Layer<'_>], opts: &SvgOptions) 
     let pen = opts.pen()?;
     let all: Vec<Dot> = layers.iter().flat_map(|l| l.dots.iter().copied()).collect();
     check_finite(&all)?;
+    let pen_layers = layers
+        .iter()
+        .filter(|l| !l.name.contains("registration"))
+        .count();
     let (width, height, view, scale, offset) = opts.frame(pen.is_some());
     writeln!(w, r#"<?xml version="1.0" encoding="UTF-8"?>"#)?;
     writeln!(
         w,
         r#"<svg xmlns="http://www.w3.org/2000/svg" xmlns:inkscape="http://www.inkscape.org/namespaces/inkscape" version="1.1" width="{width}" height="{height}" viewBox="0 0 {view}">"#
     )?;
-    let strokes: usize = layers.iter().map(|l| l.strokes.len()).sum();
+    // A poster's crosses are not the drawing's marks.
+    let marked = |l: &&Layer<'_>| !l.name.contains("registration");
+    let strokes: usize = layers.iter().filter(marked).map(|l| l.strokes.len()).sum();
     if strokes == 0 {
         writeln!(
             w,
             "<!-- {} dots in {} pens, made by pixelpie -->",
             all.len(),
-            layers.len()
+            pen_layers
         )?;
     } else {
         let vertices: usize = layers
             .iter()
+            .filter(marked)
             .flat_map(|l| l.strokes)
             .map(|s| s.points.len())
             .sum();
         writeln!(
             w,
             "<!-- {strokes} lines through {vertices} points in {} pens, made by pixelpie -->",
-            layers.len()
+            pen_layers
         )?;
     }
     write_paper(w, opts, &view)?;
-    for (i, l) in layers.iter().enumerate() {
+    let mut pens = 0;
+    for l in layers {
         let ink = super::super::colour::pens::hex_of(l.ink);
-        let id = i + 1;
-        let label = l.name.replace(['"', '<', '>', '&'], "_");
+        // A poster's crosses are no pen's layer: the pens keep their ids,
+        // and the first pen follows the crosses without a pause (the
+        // crosses are drawn with it).
+        let (id, index) = if l.name.contains("registration") {
+            ("registration".to_owned(), 0)
+        } else {
+            pens += 1;
+            (format!("layer{pens}"), pens - 1)
+        };
+        let label = layer_label(index, l.name).replace(['"', '<', '>', '&'], "_");
         let blend = if l.opaque {
             ""
         } else {
@@ -487,7 +522,7 @@ pub fn write_layers(w: &mut dyn Write, layers: &[Layer<'_>], opts: &SvgOptions) 
             None => {
                 writeln!(
                     w,
-                    r#"<g inkscape:groupmode="layer" id="layer{id}" inkscape:label="{label}" fill="{ink}" stroke="none"{blend}>"#
+                    r#"<g inkscape:groupmode="layer" id="{id}" inkscape:label="{label}" fill="{ink}" stroke="none"{blend}>"#
                 )?;
                 write_circles(w, l.dots, scale, offset)?;
                 for s in l.strokes {
@@ -505,7 +540,7 @@ pub fn write_layers(w: &mut dyn Write, layers: &[Layer<'_>], opts: &SvgOptions) 
                 let pen = l.pen_mm.unwrap_or(pen);
                 writeln!(
                     w,
-                    r#"<g inkscape:groupmode="layer" id="layer{id}" inkscape:label="{label}" fill="none" stroke="{ink}" stroke-width="{}" stroke-linecap="round" stroke-linejoin="round"{blend}>"#,
+                    r#"<g inkscape:groupmode="layer" id="{id}" inkscape:label="{label}" fill="none" stroke="{ink}" stroke-width="{}" stroke-linecap="round" stroke-linejoin="round"{blend}>"#,
                     num(pen)
                 )?;
                 write_pen_dots(w, l.dots, (scale, offset), pen, opts.dot_path)?;

@@ -1,8 +1,22 @@
-//! Brute-force checkers shared by the integration tests. They use nothing of
+//! Brute-force checkers shared by the integration tests, and the binary's
+//! runner. They use nothing of
 //! the sampler but its output and the policy's definition.
 #![allow(dead_code, reason = "each test binary uses a subset")]
 
 use pixelpie::sampler::{Point, Policy};
+
+/// Runs the `pixelpie` binary with `args`.
+pub fn pixelpie(args: &[&str]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_pixelpie"))
+        .args(args)
+        .output()
+        .expect("run pixelpie")
+}
+
+/// The path of bundled asset `name`.
+pub fn asset(name: &str) -> String {
+    format!("{}/assets/{name}", env!("CARGO_MANIFEST_DIR"))
+}
 
 /// The policy's separation f(r_earlier, r_later) in pixels.
 pub fn separation(policy: Policy, earlier: f64, later: f64) -> f64 {

@@ -310,7 +310,7 @@ impl Chart {
                 w,
                 r#"<g inkscape:groupmode="layer" id="layer{}" inkscape:label="{}" fill="none" stroke="{}" stroke-width="{}" stroke-linecap="round" stroke-linejoin="round">"#,
                 i + 1,
-                escape(&pen.name),
+                escape(&crate::stipple::svg::layer_label(i, &pen.name)),
                 pen.colour,
                 num(wd)
             )?;
@@ -337,7 +337,7 @@ impl Chart {
         }
         writeln!(
             w,
-            r##"<g inkscape:groupmode="layer" id="labels" inkscape:label="labels (not plotted)" fill="#777777" font-family="sans-serif" font-size="2.5">"##
+            r##"<g inkscape:groupmode="layer" id="labels" inkscape:label="% labels (not plotted)" fill="#777777" font-family="sans-serif" font-size="2.5">"##
         )?;
         for (i, pen) in self.spec.pens.iter().enumerate() {
             let y = self.patches[i * FRACTIONS.len()].origin_mm.1;
