@@ -115,6 +115,60 @@ fn the_lines_ink_is_the_pictures_tone() {
     }
 }
 
+/// The line is refined toward the picture's tones by rendering it: its
+/// grey blurred by the mean spacing of its points (as the issue measures)
+/// is at least 5 dB closer to the picture's than the same line's without
+/// the refinement (`--correction off`), and its mean grey is closer too.
+#[test]
+fn the_refined_line_holds_the_pictures_blurred_tones() {
+    use pixelpie::stipple::refine::gauss;
+    let dir = tempfile::tempdir().unwrap();
+    let photo = asset("rocket.jpg");
+    let picture = image::open(&photo).unwrap().to_luma8();
+    let (w, h) = picture.dimensions();
+    let grey = |img: &image::GrayImage| -> Vec<f32> {
+        img.pixels().map(|p| f32::from(p.0[0]) / 255.0).collect()
+    };
+    let sigma = (f64::from(w) * f64::from(h) / 4000.0).sqrt();
+    let want = gauss(&grey(&picture), (w, h), sigma);
+    let mean = |v: &[f32]| v.iter().map(|&x| f64::from(x)).sum::<f64>() / v.len() as f64;
+    let measure = |extra: &[&str], name: &str| -> (f64, f64) {
+        let out = dir.path().join(name);
+        let mut args = vec![
+            photo.as_str(),
+            "--style",
+            "line",
+            "--points",
+            "4000",
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        stipple(&args);
+        let drawing = image::imageops::resize(
+            &image::open(&out).unwrap().to_luma8(),
+            w,
+            h,
+            image::imageops::FilterType::Triangle,
+        );
+        let got = gauss(&grey(&drawing), (w, h), sigma);
+        let mse = want
+            .iter()
+            .zip(&got)
+            .map(|(&a, &b)| f64::from(a - b).powi(2))
+            .sum::<f64>()
+            / want.len() as f64;
+        (10.0 * (1.0 / mse).log10(), (mean(&got) - mean(&want)).abs())
+    };
+    let (off, off_mean) = measure(&["--correction", "off"], "off.png");
+    let (on, on_mean) = measure(&[], "on.png");
+    assert!(on > off + 5.0, "blurred PSNR {off:.2} → {on:.2} dB");
+    assert!(
+        on_mean < off_mean.max(0.01),
+        "mean grey off by {off_mean:.3} → {on_mean:.3}"
+    );
+}
+
 /// With a pen the count follows from the pen and the page: a pen half as
 /// wide needs about four times the points; a count far from the pen's asks
 /// for a warning, and `--plan` says why the count is what it is.

@@ -632,9 +632,9 @@ impl PixelPieApp {
                 egui::Checkbox::new(&mut correct, "Correct tones by rendering"),
             )
             .on_hover_text(if line {
-                "Render the line, blur it, compare it with the picture and spread the points \
-                 again for the ink each part lacks (up to 30 000 points). Off: the \
-                 calibration alone."
+                "Render the line, blur it, compare it with the picture and move its points \
+                 toward the ink each part lacks (up to 100 000 points; with a pen, up to \
+                 30 000 are first spread again for it). Off: the calibration alone."
             } else {
                 "Render the drawing, blur it by the dot spacing, compare it with the picture and \
                  resize each dot for the ink its neighbourhood lacks. Off: the \

@@ -14,10 +14,14 @@
 //! weights, and [`crate::stipple::tsp`] orders them into a path without
 //! self-crossings. At black the passes lie about one pen width apart.
 //!
-//! The drawing is then corrected by rendering its line ([`correct`]): the
-//! blurred ink against the blurred picture scales the darkness the points
-//! are spread for, the points take more Lloyd steps toward it, and the
-//! tour is made again.
+//! The drawing is then corrected by rendering its line. Where the pen sets
+//! the count ([`correct`]), the blurred ink against the blurred picture
+//! scales the darkness the points are spread for and recounts them, and
+//! the line is sampled, relaxed and toured again. Then every line is
+//! refined ([`refined`], [`crate::stipple::refine`]): its vertices move
+//! down the gradient of the blurred tone error, as far as keeps its tour
+//! within [`TOUR_SLACK`] of the best a search finds through them, and
+//! clear of its other segments ([`CLEARANCE`]).
 
 use super::count;
 use super::plan::{Maps, Plan, Planned};
@@ -25,7 +29,7 @@ use super::run::{Stage, Step, along_curve, stage};
 use super::{DEFAULT_POINTS, Job, Picture, Stipple, Style};
 use crate::importance::{ImportanceMap, Mapping, Prepared, RadiusRange};
 use crate::sampler::{Params, Point, SampleSet};
-use crate::stipple::{Stroke, line, tsp};
+use crate::stipple::{Stroke, line, refine, tsp};
 use crate::text::grouped;
 use serde::Serialize;
 
@@ -47,13 +51,32 @@ const LINE_PX: f64 = 4.0;
 const MIN_LINE_SIDE: f64 = 256.0;
 /// Lloyd steps of the line's points before the tour.
 pub(crate) const LINE_RELAX: u32 = 2;
-/// The most points a line is corrected for: the correction's render,
-/// Lloyd steps and second tour lifted the blurred PSNR by 0.3 dB at 4K
-/// and 10K points of the bundled photo, and lowered it by 0.3 dB at 100K
-/// (where the blur is finer than the correction's), at 2.5× the time.
-pub(crate) const LINE_CORRECTED_UP_TO: usize = 30_000;
+/// The most points a line is refined toward its tones by rendering it
+/// ([`refined`]; `--plan`'s "corrected").
+pub(crate) const LINE_CORRECTED_UP_TO: usize = 100_000;
+/// The most points a line whose count follows its pen is drawn twice for
+/// its count ([`correct`]): the correction's render, Lloyd steps and
+/// second tour lifted the blurred PSNR by 0.3 dB at 4K and 10K points of
+/// the bundled photo, and lowered it by 0.3 dB at 100K (where the blur is
+/// finer than the correction's), at 2.5× the time.
+const LINE_RECOUNTED_UP_TO: usize = 30_000;
 /// Render pixels across the line in the correction.
 const CORRECT_PX: f64 = 2.0;
+/// Render pixels across the line in its refinement ([`refined`]): 2 px
+/// held the blurred PSNR of 3 px within 0.2 dB on five photos, at two
+/// thirds of the time.
+const REFINE_PX: f64 = 2.0;
+/// How much longer than the best tour 2-opt and Or-opt find through its
+/// vertices a refined line may be ([`refined`]): its tour stays within
+/// about 3% of an LKH-class tour's (the first tour is 1–2% over one).
+const TOUR_SLACK: f64 = 0.007;
+/// The parts of the way toward the refined line [`refined`] tries, most
+/// first.
+const BLENDS: [f64; 9] = [1.0, 0.7, 0.5, 0.35, 0.25, 0.18, 0.12, 0.08, 0.04];
+/// How far a refined line's vertices keep from its other segments, in pen
+/// widths: 0.03 mm of a 1 mm pen, three times what the file's 0.01 mm
+/// grid moves a point.
+const CLEARANCE: f64 = 0.03;
 /// How far a count may be from the one the pen's ink needs before a
 /// warning says the tones are out of reach.
 const COUNT_TOLERANCE: f64 = 0.15;
@@ -307,7 +330,7 @@ impl Job {
             spread: false,
             corrected,
             why: if corrected {
-                "the line is corrected by rendering it".into()
+                "the line is refined toward the picture's tones by rendering it".into()
             } else if self.correction == super::Correction::Off {
                 "the correction is off".into()
             } else {
@@ -484,9 +507,18 @@ pub(crate) fn run_line(
     }
     let t_relax = lap();
     stage(&mut progress, Stage::Order)?;
-    // A tour to be corrected is only rendered: the drawings' search does
-    // (its length within about 1.5% of the line's own).
-    let first = if plan.corrected {
+    // A line whose count follows its pen's ink is drawn twice: the first
+    // tour is only rendered, for the count and spread the second is drawn
+    // with ([`correct`]); the drawings' search does for it (its length
+    // within about 1.5% of the line's own).
+    let recount: Vec<bool> = (0..lines.len())
+        .map(|k| {
+            plan.corrected
+                && setup.pens[k].follows_ink
+                && (3..=LINE_RECOUNTED_UP_TO).contains(&lines[k].len())
+        })
+        .collect();
+    let first = if recount.contains(&true) {
         tsp::TspOptions::default()
     } else {
         tsp::TspOptions::line()
@@ -497,10 +529,10 @@ pub(crate) fn run_line(
         .collect();
     let t_order = lap();
     stage(&mut progress, Stage::Size)?;
-    if plan.corrected {
+    if recount.contains(&true) {
         let of = setup.pens.len() as u8;
         for (k, pen) in setup.pens.iter().enumerate() {
-            if lines[k].len() <= 2 {
+            if !recount[k] {
                 continue;
             }
             stage(
@@ -516,12 +548,9 @@ pub(crate) fn run_line(
             // steps from the first points moved too little to move ink
             // between areas), the count the corrected ink's where the pen
             // sets it.
-            let points = if pen.follows_ink {
-                ((DENSITY * ink_squared(&spread) / (pen.width_px * pen.width_px)).round() as usize)
-                    .max(1)
-            } else {
-                pen.points
-            };
+            let points = ((DENSITY * ink_squared(&spread) / (pen.width_px * pen.width_px)).round()
+                as usize)
+                .max(1);
             let mut corrected = line_map(&spread, domain)?;
             // One run, not a fit: the count at the scale the corrected map
             // predicts, with the first fit's bias (predicted against got).
@@ -551,6 +580,32 @@ pub(crate) fn run_line(
             )?;
             tours[k] = toured(&lines[k], tsp::TspOptions::line(), &mut progress);
         }
+    }
+    // The line fitted to its tones: the vertices moved down the blurred
+    // error's gradient, the crossings that made undone.
+    let of = setup.pens.len() as u8;
+    for (k, pen) in setup.pens.iter().enumerate() {
+        if !plan.corrected || lines[k].len() <= 2 {
+            continue;
+        }
+        stage(
+            &mut progress,
+            Stage::Correct {
+                round: k as u8 + 1,
+                of,
+            },
+        )?;
+        let line = std::mem::take(&mut lines[k]);
+        let (moved, t) = refined(
+            pen,
+            domain,
+            &line,
+            &tours[k],
+            job.line_smooth,
+            &mut progress,
+        );
+        lines[k] = moved;
+        tours[k] = t;
     }
     let t_size = lap();
     let mut all = Vec::new();
@@ -646,6 +701,118 @@ fn toured(
     tsp::uncross(&xy, &mut tour.order);
     tour.length = tsp::path_length(&xy, &tour.order);
     tour
+}
+
+/// The line through `line` in `tour`'s order, `pen`'s width, its vertices
+/// moved toward `pen`'s darkness ([`refine::refine`], rendered
+/// [`REFINE_PX`] px across the line), then uncrossed: the points in their
+/// new drawing order and its tour.
+fn refined(
+    pen: &PenLine,
+    domain: (u32, u32),
+    line: &[Point],
+    tour: &tsp::Tour,
+    smooth: bool,
+    progress: &mut impl FnMut(Step) -> bool,
+) -> (Vec<Point>, tsp::Tour) {
+    let mut ordered: Vec<Point> = tour.order.iter().map(|&i| line[i]).collect();
+    let mut xy: Vec<[f64; 2]> = ordered
+        .iter()
+        .map(|p| [f64::from(p.x), f64::from(p.y)])
+        .collect();
+    let scale = (REFINE_PX / pen.width_px).clamp(0.25, 1.0);
+    let grid = (
+        ((f64::from(domain.0) * scale).round() as u32).max(1),
+        ((f64::from(domain.1) * scale).round() as u32).max(1),
+    );
+    let want = mean_on(&pen.darkness, domain, grid);
+    let first = xy.clone();
+    refine::refine(
+        &mut xy,
+        pen.width_px,
+        &want,
+        grid,
+        scale,
+        refine::RefineOptions {
+            // Half the steps past the recounted lines: a 100K-point line
+            // then takes 1.75× the time of its dots, not 1.9×
+            // (docs/benchmarks.md).
+            steps: if first.len() > LINE_RECOUNTED_UP_TO {
+                3
+            } else {
+                6
+            },
+            smooth,
+            ..refine::RefineOptions::default()
+        },
+        &mut || !progress(Step::Busy(Stage::Size)),
+    );
+    // A refined line lays ink by bending, so a search through its vertices
+    // finds a shorter tour: it is taken only as far toward the refinement
+    // as keeps it within [`TOUR_SLACK`] of that tour (whose length is
+    // taken between the first tour's and the refined vertices' tour's).
+    let along: Vec<usize> = (0..xy.len()).collect();
+    let length = |p: &[[f64; 2]]| tsp::path_length(p, &along);
+    let before = length(&first);
+    let best = tsp::path_length(&xy, &tsp::improve(&xy, &along, tsp::TspOptions::default()));
+    let blend = |a: f64| -> Vec<[f64; 2]> {
+        first
+            .iter()
+            .zip(&xy)
+            .map(|(p, q)| [p[0] + a * (q[0] - p[0]), p[1] + a * (q[1] - p[1])])
+            .collect()
+    };
+    let xy = BLENDS
+        .iter()
+        .map(|&a| (a, blend(a)))
+        .find(|(a, p)| {
+            let searched = before + a * (best.min(before) - before);
+            length(p) <= (1.0 + TOUR_SLACK) * searched
+        })
+        .map_or(first, |(_, p)| p);
+    let (w, h) = (domain.0 as f32, domain.1 as f32);
+    for (p, q) in ordered.iter_mut().zip(&xy) {
+        // Within the domain's pixels, as the sampler's points are.
+        p.x = (q[0] as f32).clamp(0.0, w.next_down());
+        p.y = (q[1] as f32).clamp(0.0, h.next_down());
+    }
+    let mut xy: Vec<[f64; 2]> = ordered
+        .iter()
+        .map(|p| [f64::from(p.x), f64::from(p.y)])
+        .collect();
+    let mut order: Vec<usize> = (0..ordered.len()).collect();
+    // Clear of the line's other segments by a few hundredths of a mm
+    // (a file rounds to 0.01 mm): no crossing appears when it is written.
+    let eps = CLEARANCE * pen.width_px;
+    for _ in 0..2 {
+        tsp::uncross(&xy, &mut order);
+        let mut path: Vec<[f64; 2]> = order.iter().map(|&i| xy[i]).collect();
+        if refine::keep_clear(&mut path, eps) == 0 {
+            break;
+        }
+        for (&i, q) in order.iter().zip(&path) {
+            xy[i] = *q;
+        }
+    }
+    for (p, q) in ordered.iter_mut().zip(&xy) {
+        p.x = (q[0] as f32).clamp(0.0, w.next_down());
+        p.y = (q[1] as f32).clamp(0.0, h.next_down());
+    }
+    let xy: Vec<[f64; 2]> = ordered
+        .iter()
+        .map(|p| [f64::from(p.x), f64::from(p.y)])
+        .collect();
+    tsp::uncross(&xy, &mut order);
+    let length = tsp::path_length(&xy, &order);
+    (
+        ordered,
+        tsp::Tour {
+            order,
+            start_length: tour.start_length,
+            length,
+            moves: tour.moves,
+        },
+    )
 }
 
 /// The darkness to spread the points for, corrected by rendering the line

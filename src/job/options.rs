@@ -86,7 +86,9 @@ pub enum Correction {
     /// The drawing is rendered, blurred by its mean dot spacing and
     /// compared with the picture, blurred alike; each sized dot is resized
     /// for the ink its neighbourhood lacks, in two to five rounds
-    /// (`job::correct::Schedule`).
+    /// (`job::correct::Schedule`). A line (`--style line`, up to 100 000
+    /// points) is refined: its vertices move toward the picture's blurred
+    /// tones, its tour kept near the shortest.
     #[default]
     On,
     /// The calibration's curves alone (the drawings of earlier versions).

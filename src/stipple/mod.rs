@@ -11,6 +11,7 @@ pub mod paper;
 pub mod plot;
 pub mod raster;
 pub mod read;
+pub mod refine;
 pub mod relax;
 pub(crate) mod spatial;
 pub mod svg;

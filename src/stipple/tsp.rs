@@ -184,6 +184,36 @@ pub fn plan_until(points: &[[f64; 2]], opts: TspOptions, stop: &mut dyn FnMut() 
     }
 }
 
+/// The path 2-opt and Or-opt make of `order` through `points` (without
+/// perturbations, Or-opt up to the count [`plan`] uses it for): how much
+/// shorter a local search makes a path that was changed after it was
+/// planned.
+///
+/// ```
+/// use pixelpie::stipple::tsp;
+/// // A zigzag along a row: the search walks it end to end.
+/// let pts: Vec<[f64; 2]> = (0..20).map(|i| [i as f64, 0.0]).collect();
+/// let zigzag: Vec<usize> = (0..10).map(|i| 2 * i).chain((0..10).rev().map(|i| 2 * i + 1)).collect();
+/// let order = tsp::improve(&pts, &zigzag, tsp::TspOptions::default());
+/// assert!((tsp::path_length(&pts, &order) - 19.0).abs() < 1e-9);
+/// ```
+#[must_use]
+pub fn improve(points: &[[f64; 2]], order: &[usize], opts: TspOptions) -> Vec<usize> {
+    let n = order.len();
+    if n < 4 {
+        return order.to_vec();
+    }
+    let along_path: Vec<[f64; 2]> = order.iter().map(|&i| points[i]).collect();
+    let Some(lists) = nearest_lists(&along_path, opts.neighbours, &mut || false) else {
+        return order.to_vec();
+    };
+    let along: Vec<usize> = (0..n).collect();
+    let mut opt = TwoOpt::new(&along_path, &along, opts.max_reversal.max(1));
+    opt.use_or_opt = n <= FULL_SEARCH_UP_TO;
+    opt.run(&lists, &mut || false);
+    opt.open_path().into_iter().map(|s| order[s]).collect()
+}
+
 /// Points of the neighbour lists found in parallel between two calls of
 /// [`nearest_lists`]'s `stop`.
 const LISTS_AT_ONCE: usize = 1 << 16;
