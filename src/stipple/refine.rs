@@ -88,7 +88,13 @@ pub fn refine(
         after: 0.0,
         steps: 0,
     };
-    if xy.len() < 3 || gw == 0 || gh == 0 || want.len() != gw * gh || !(width > 0.0) {
+    if xy.len() < 3
+        || gw == 0
+        || gh == 0
+        || want.len() != gw * gh
+        || !width.is_finite()
+        || width <= 0.0
+    {
         return none;
     }
     let sigma = (gw as f64 * gh as f64 / xy.len() as f64).sqrt();
@@ -142,7 +148,7 @@ pub fn refine(
         let mut norms: Vec<f64> = grad.iter().map(|g| g[0].hypot(g[1])).collect();
         let at = norms.len() * 9 / 10;
         let (_, &mut p90, _) = norms.select_nth_unstable_by(at, f64::total_cmp);
-        if !(p90 > 0.0) {
+        if p90.is_nan() || p90 <= 0.0 {
             break;
         }
         let k = step / p90;
@@ -182,7 +188,7 @@ pub fn refine(
 /// ```
 pub fn keep_clear(xy: &mut [[f64; 2]], eps: f64) -> usize {
     let n = xy.len();
-    if n < 4 || !(eps > 0.0) {
+    if n < 4 || eps.is_nan() || eps <= 0.0 {
         return 0;
     }
     let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
@@ -288,7 +294,7 @@ fn gradient(xy: &[[f64; 2]], scale: f64, field: &[f32], grid: (u32, u32)) -> Vec
             let b = [s[1][0] * scale, s[1][1] * scale];
             let d = [b[0] - a[0], b[1] - a[1]];
             let len = d[0].hypot(d[1]);
-            if !(len > 1e-9) {
+            if len.is_nan() || len <= 1e-9 {
                 return [[0.0; 2]; 2];
             }
             let m = (len.ceil() as usize).clamp(2, 64);
