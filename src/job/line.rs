@@ -54,8 +54,8 @@ pub(crate) const LINE_RELAX: u32 = 2;
 /// The most points a line is refined toward its tones by rendering it
 /// ([`refined`]; `--plan`'s "corrected").
 pub(crate) const LINE_CORRECTED_UP_TO: usize = 100_000;
-/// The most points a line whose count follows its pen is drawn twice for
-/// its count ([`correct`]): the correction's render, Lloyd steps and
+/// The most points a line is drawn twice for its spread and, where its
+/// pen sets it, its count ([`correct`]): the correction's render, Lloyd steps and
 /// second tour lifted the blurred PSNR by 0.3 dB at 4K and 10K points of
 /// the bundled photo, and lowered it by 0.3 dB at 100K (where the blur is
 /// finer than the correction's), at 2.5× the time.
@@ -66,6 +66,8 @@ const CORRECT_PX: f64 = 2.0;
 /// held the blurred PSNR of 3 px within 0.2 dB on five photos, at two
 /// thirds of the time.
 const REFINE_PX: f64 = 2.0;
+/// Gradient steps of the refinement ([`refined`]).
+const REFINE_STEPS: u32 = 4;
 /// How much longer than the best tour 2-opt and Or-opt find through its
 /// vertices a refined line may be ([`refined`]): its tour stays within
 /// about 3% of an LKH-class tour's (the first tour is 1–2% over one).
@@ -492,36 +494,42 @@ pub(crate) fn run_line(
         sets.push((fitted.set, points));
     }
     let t_sample = lap();
+    // A line of up to [`LINE_RECOUNTED_UP_TO`] points is drawn twice: the
+    // first tour is only rendered, for the spread (and, where the pen sets
+    // the count, the count) the second is drawn with ([`correct`]). The
+    // drawings' search does for it (its length within about 1.5% of the
+    // line's own); where the count is given, it is neither relaxed nor
+    // perturbed (what that changes in its ink scales the spread alike
+    // everywhere, and the count is kept).
+    let redrawn: Vec<bool> = (0..sets.len())
+        .map(|k| plan.corrected && (3..=LINE_RECOUNTED_UP_TO).contains(&sets[k].1.len()))
+        .collect();
+    let recounted = (0..sets.len()).any(|k| redrawn[k] && setup.pens[k].follows_ink);
     stage(&mut progress, Stage::Relax)?;
     let mut lines = Vec::new();
-    for ((_, points), (map, &range)) in sets.iter_mut().zip(maps.iter().zip(&ranges)) {
+    for (k, ((_, points), (map, &range))) in
+        sets.iter_mut().zip(maps.iter().zip(&ranges)).enumerate()
+    {
+        let drafted = redrawn[k] && !setup.pens[k].follows_ink;
         let moved = relaxed(
             &job,
             map,
             range,
             std::mem::take(points),
-            plan.relax,
+            if drafted { 0 } else { plan.relax },
             &mut progress,
         )?;
         lines.push(moved);
     }
     let t_relax = lap();
     stage(&mut progress, Stage::Order)?;
-    // A line whose count follows its pen's ink is drawn twice: the first
-    // tour is only rendered, for the count and spread the second is drawn
-    // with ([`correct`]); the drawings' search does for it (its length
-    // within about 1.5% of the line's own).
-    let recount: Vec<bool> = (0..lines.len())
-        .map(|k| {
-            plan.corrected
-                && setup.pens[k].follows_ink
-                && (3..=LINE_RECOUNTED_UP_TO).contains(&lines[k].len())
-        })
-        .collect();
-    let first = if recount.contains(&true) {
-        tsp::TspOptions::default()
-    } else {
-        tsp::TspOptions::line()
+    let first = match (redrawn.contains(&true), recounted) {
+        (false, _) => tsp::TspOptions::line(),
+        (true, true) => tsp::TspOptions::default(),
+        (true, false) => tsp::TspOptions {
+            kicks_per_dot: 0.0,
+            ..tsp::TspOptions::default()
+        },
     };
     let mut tours: Vec<tsp::Tour> = lines
         .iter()
@@ -529,10 +537,10 @@ pub(crate) fn run_line(
         .collect();
     let t_order = lap();
     stage(&mut progress, Stage::Size)?;
-    if recount.contains(&true) {
+    if redrawn.contains(&true) {
         let of = setup.pens.len() as u8;
         for (k, pen) in setup.pens.iter().enumerate() {
-            if !recount[k] {
+            if !redrawn[k] {
                 continue;
             }
             stage(
@@ -548,9 +556,12 @@ pub(crate) fn run_line(
             // steps from the first points moved too little to move ink
             // between areas), the count the corrected ink's where the pen
             // sets it.
-            let points = ((DENSITY * ink_squared(&spread) / (pen.width_px * pen.width_px)).round()
-                as usize)
-                .max(1);
+            let points = if pen.follows_ink {
+                ((DENSITY * ink_squared(&spread) / (pen.width_px * pen.width_px)).round() as usize)
+                    .max(1)
+            } else {
+                pen.points
+            };
             let mut corrected = line_map(&spread, domain)?;
             // One run, not a fit: the count at the scale the corrected map
             // predicts, with the first fit's bias (predicted against got).
@@ -734,14 +745,10 @@ fn refined(
         grid,
         scale,
         refine::RefineOptions {
-            // Half the steps past the recounted lines: a 100K-point line
-            // then takes 1.75× the time of its dots, not 1.9×
-            // (docs/benchmarks.md).
-            steps: if first.len() > LINE_RECOUNTED_UP_TO {
-                3
-            } else {
-                6
-            },
+            // Four steps: the redrawn lines' spread is already corrected,
+            // and the time of a 10K- or 100K-point line stays within 2× its
+            // dots' (docs/benchmarks.md).
+            steps: REFINE_STEPS,
             smooth,
             ..refine::RefineOptions::default()
         },
