@@ -356,7 +356,7 @@ fn a_smooth_line_is_curves_through_its_points() {
     assert_eq!((numbers(s) - 2) / 2, (numbers(c) - 2) / 6, "as many points");
     let start = |d: &str| -> Vec<f64> {
         d[1..]
-            .split(|ch| ch == 'l' || ch == 'c')
+            .split(['l', 'c'])
             .next()
             .unwrap()
             .split(' ')
