@@ -633,8 +633,8 @@ impl PixelPieApp {
             )
             .on_hover_text(if line {
                 "Render the line, blur it, compare it with the picture and move its points \
-                 toward the ink each part lacks (up to 100 000 points; with a pen, up to \
-                 30 000 are first spread again for it). Off: the calibration alone."
+                 toward the ink each part lacks (up to 100 000 points; up to 30 000 are first \
+                 spread again for it). Off: the calibration alone."
             } else {
                 "Render the drawing, blur it by the dot spacing, compare it with the picture and \
                  resize each dot for the ink its neighbourhood lacks. Off: the \
