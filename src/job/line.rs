@@ -537,19 +537,22 @@ pub(crate) fn run_line(
         .collect();
     let t_order = lap();
     stage(&mut progress, Stage::Size)?;
-    if redrawn.contains(&true) {
-        let of = setup.pens.len() as u8;
-        for (k, pen) in setup.pens.iter().enumerate() {
-            if !redrawn[k] {
-                continue;
-            }
-            stage(
-                &mut progress,
-                Stage::Correct {
-                    round: k as u8 + 1,
-                    of,
-                },
-            )?;
+    // Each pen's line redrawn for its corrected spread (and count), then
+    // fitted to its tones: the vertices moved down the blurred error's
+    // gradient, the crossings that made undone.
+    let of = setup.pens.len() as u8;
+    for (k, pen) in setup.pens.iter().enumerate() {
+        if !plan.corrected || lines[k].len() <= 2 {
+            continue;
+        }
+        stage(
+            &mut progress,
+            Stage::Correct {
+                round: k as u8 + 1,
+                of,
+            },
+        )?;
+        if redrawn[k] {
             let ordered: Vec<Point> = tours[k].order.iter().map(|&i| lines[k][i]).collect();
             let spread = correct(pen, domain, &ordered, pen.width_px);
             // Drawn again on the corrected spread: sampled afresh (Lloyd
@@ -591,21 +594,6 @@ pub(crate) fn run_line(
             )?;
             tours[k] = toured(&lines[k], tsp::TspOptions::line(), &mut progress);
         }
-    }
-    // The line fitted to its tones: the vertices moved down the blurred
-    // error's gradient, the crossings that made undone.
-    let of = setup.pens.len() as u8;
-    for (k, pen) in setup.pens.iter().enumerate() {
-        if !plan.corrected || lines[k].len() <= 2 {
-            continue;
-        }
-        stage(
-            &mut progress,
-            Stage::Correct {
-                round: k as u8 + 1,
-                of,
-            },
-        )?;
         let line = std::mem::take(&mut lines[k]);
         let (moved, t) = refined(
             pen,
@@ -778,16 +766,21 @@ fn refined(
         })
         .map_or(first, |(_, p)| p);
     let (w, h) = (domain.0 as f32, domain.1 as f32);
-    for (p, q) in ordered.iter_mut().zip(&xy) {
-        // Within the domain's pixels, as the sampler's points are.
-        p.x = (q[0] as f32).clamp(0.0, w.next_down());
-        p.y = (q[1] as f32).clamp(0.0, h.next_down());
-    }
-    let mut xy: Vec<[f64; 2]> = ordered
-        .iter()
-        .map(|p| [f64::from(p.x), f64::from(p.y)])
-        .collect();
-    let mut order: Vec<usize> = (0..ordered.len()).collect();
+    // The points moved to `xy`, within the domain's pixels as the sampler's
+    // are, at the precision the drawing holds them; their places.
+    let mut settle = |xy: &[[f64; 2]]| -> Vec<[f64; 2]> {
+        ordered
+            .iter_mut()
+            .zip(xy)
+            .map(|(p, q)| {
+                p.x = (q[0] as f32).clamp(0.0, w.next_down());
+                p.y = (q[1] as f32).clamp(0.0, h.next_down());
+                [f64::from(p.x), f64::from(p.y)]
+            })
+            .collect()
+    };
+    let mut xy = settle(&xy);
+    let mut order: Vec<usize> = (0..xy.len()).collect();
     // Clear of the line's other segments by a few hundredths of a mm
     // (a file rounds to 0.01 mm): no crossing appears when it is written.
     let eps = CLEARANCE * pen.width_px;
@@ -801,14 +794,7 @@ fn refined(
             xy[i] = *q;
         }
     }
-    for (p, q) in ordered.iter_mut().zip(&xy) {
-        p.x = (q[0] as f32).clamp(0.0, w.next_down());
-        p.y = (q[1] as f32).clamp(0.0, h.next_down());
-    }
-    let xy: Vec<[f64; 2]> = ordered
-        .iter()
-        .map(|p| [f64::from(p.x), f64::from(p.y)])
-        .collect();
+    let xy = settle(&xy);
     tsp::uncross(&xy, &mut order);
     let length = tsp::path_length(&xy, &order);
     (
